@@ -1,0 +1,84 @@
+//! Compiles `shaders-rs` to SPIR-V with rust-gpu, then adds the `Patch` decoration
+//! that rust-gpu 0.11 leaves off the tessellation-level built-ins.
+//!
+//! Without it lavapipe tessellates nothing and NVIDIA draws with wrong levels, while
+//! spirv-val and the validation layer stay silent; glslang always emits it.
+
+use rspirv::binary::Assemble;
+use rspirv::dr::{Instruction, Module, Operand};
+use rspirv::spirv::{BuiltIn, Decoration, Op};
+use spirv_builder::{Capability, SpirvBuilder};
+use std::path::{Path, PathBuf};
+
+fn main() {
+    if let Err(e) = build() {
+        // A build script's panic buries the message; say it and fail plainly.
+        eprintln!("error: shader build failed: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn build() -> Result<(), Box<dyn std::error::Error>> {
+    let crate_dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR")?);
+    let shaders = crate_dir.join("../shaders-rs");
+    let mut builder = SpirvBuilder::new(&shaders, "spirv-unknown-vulkan1.2")
+        .capability(Capability::Tessellation)
+        // Device-scope atomics (the visible-blade counter) under the Vulkan memory model.
+        .capability(Capability::VulkanMemoryModelDeviceScope);
+    builder.build_script.defaults = true;
+    let result = builder.build()?;
+    let spv = result.module.unwrap_single();
+
+    let mut module = rspirv::dr::load_bytes(std::fs::read(spv)?)
+        .map_err(|e| format!("cannot parse {}: {e}", spv.display()))?;
+    let added = add_patch_decorations(&mut module);
+    if added == 0 {
+        return Err("no tessellation-level built-in found in the shader module".into());
+    }
+    let out = Path::new(&std::env::var("OUT_DIR")?).join("grass.spv");
+    let words = module.assemble();
+    std::fs::write(&out, bytemuck_words(&words))?;
+    println!("cargo::rustc-env=GRASS_SPIRV={}", out.display());
+    Ok(())
+}
+
+/// Decorates every `TessLevelOuter`/`TessLevelInner` variable with `Patch` unless it
+/// already is. Returns how many variables it looked at.
+fn add_patch_decorations(module: &mut Module) -> usize {
+    let decorated = |module: &Module, id: u32, pred: &dyn Fn(&[Operand]) -> bool| {
+        module.annotations.iter().any(|i| {
+            i.class.opcode == Op::Decorate
+                && i.operands.first() == Some(&Operand::IdRef(id))
+                && pred(&i.operands[1..])
+        })
+    };
+    let levels: Vec<u32> = module
+        .annotations
+        .iter()
+        .filter(|i| i.class.opcode == Op::Decorate)
+        .filter_map(|i| match i.operands.as_slice() {
+            [
+                Operand::IdRef(id),
+                Operand::Decoration(Decoration::BuiltIn),
+                Operand::BuiltIn(BuiltIn::TessLevelOuter | BuiltIn::TessLevelInner),
+            ] => Some(*id),
+            _ => None,
+        })
+        .collect();
+    for &id in &levels {
+        let is_patch = |ops: &[Operand]| ops == [Operand::Decoration(Decoration::Patch)];
+        if !decorated(module, id, &is_patch) {
+            module.annotations.push(Instruction::new(
+                Op::Decorate,
+                None,
+                None,
+                vec![Operand::IdRef(id), Operand::Decoration(Decoration::Patch)],
+            ));
+        }
+    }
+    levels.len()
+}
+
+fn bytemuck_words(words: &[u32]) -> Vec<u8> {
+    words.iter().flat_map(|w| w.to_le_bytes()).collect()
+}

@@ -1,0 +1,105 @@
+//! Headless rendering: an offscreen colour image, N frames at 1/60 s, a PNG of the last.
+
+use crate::camera::OrbitCamera;
+use crate::cli::{Common, RenderArgs};
+use crate::renderer::{Renderer, Target};
+use crate::scene::{Scene, Settings};
+use crate::vulkan::{Buffer, Context, ContextOptions, Image};
+use anyhow::{Context as _, Result, bail};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use shared::layout::SimulatePush;
+use shared::simulate::SimClock;
+
+/// Colour format of the offscreen image (written to PNG as is).
+pub const FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+
+/// What a headless render produced.
+pub struct RenderReport {
+    /// RGBA8 pixels, sRGB, row-major.
+    pub pixels: Vec<u8>,
+    /// Visible blades in the last frame.
+    pub visible: u32,
+    /// Blades in the field.
+    pub blades: u32,
+    /// Validation errors reported (0 without validation).
+    pub validation_errors: u32,
+}
+
+/// Renders as `args` asks and writes the PNG.
+pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
+    let report = render(common, args)?;
+    image::save_buffer(&args.out, &report.pixels, args.width, args.height, image::ColorType::Rgba8)
+        .with_context(|| format!("write {}", args.out.display()))?;
+    log::info!(
+        "wrote {} ({}x{}, {} frames, {} of {} blades visible)",
+        args.out.display(),
+        args.width,
+        args.height,
+        args.frames,
+        report.visible,
+        report.blades
+    );
+    if report.validation_errors > 0 {
+        bail!("{} validation errors (see the log above)", report.validation_errors);
+    }
+    Ok(report)
+}
+
+/// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
+pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
+    let ctx = Context::new(ContextOptions {
+        validation: common.validation_requested(),
+        ..Default::default()
+    })?;
+    let count = super::blade_count(common, &ctx);
+    let scene = Scene::square(count, common.seed);
+    let settings = Settings::for_field(scene.side);
+    let camera = OrbitCamera::framing(scene.side);
+    let mut renderer = Renderer::new(&ctx, &scene.blades, FORMAT)?;
+
+    let extent = vk::Extent2D { width: args.width, height: args.height };
+    let color = Image::new(
+        &ctx,
+        "offscreen colour",
+        extent,
+        FORMAT,
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+        vk::ImageAspectFlags::COLOR,
+    )?;
+    let bytes = u64::from(args.width) * u64::from(args.height) * 4;
+    let capture = Buffer::new(
+        &ctx,
+        "capture",
+        bytes,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let target = Target {
+        image: color.image,
+        view: color.view,
+        extent,
+        final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    };
+    let aspect = args.width as f32 / args.height as f32;
+    let uniforms = settings.uniforms(&camera, aspect, &scene);
+    let mut clock = SimClock::default();
+    let progress_every = (args.frames / 10).max(1);
+    for frame in 0..args.frames {
+        let slot = renderer.begin_frame()?;
+        let (first_step, steps) = clock.advance(1.0 / 60.0);
+        let last = frame + 1 == args.frames;
+        let push = SimulatePush { first_step, steps };
+        renderer.render(slot, &target, &uniforms, push, None, None, last.then_some(&capture))?;
+        if args.frames >= 100 && (frame + 1) % progress_every == 0 {
+            log::info!("frame {}/{}", frame + 1, args.frames);
+        }
+    }
+    renderer.finish()?;
+    Ok(RenderReport {
+        pixels: capture.read::<u8>(bytes as usize)?,
+        visible: renderer.visible.unwrap_or(0),
+        blades: count,
+        validation_errors: ctx.validation_errors(),
+    })
+}

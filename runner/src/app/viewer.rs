@@ -1,0 +1,259 @@
+//! The window viewer: winit event loop, orbit camera, swapchain recreated on resize,
+//! frame rate and visible blades in the title once a second.
+
+use crate::camera::OrbitCamera;
+use crate::cli::{Common, ViewArgs};
+use crate::renderer::{Renderer, Target};
+use crate::scene::{Scene, Settings};
+use crate::vulkan::swapchain::Swapchain;
+use crate::vulkan::{Context, ContextOptions};
+use anyhow::{Context as _, Result, bail};
+use ash::vk;
+use shared::layout::SimulatePush;
+use shared::simulate::SimClock;
+use std::time::Instant;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{Key, ModifiersState, NamedKey};
+use winit::raw_window_handle::HasDisplayHandle;
+use winit::window::{Window, WindowId};
+
+/// Opens the window and runs until it is closed (or Esc).
+pub fn run(common: &Common, args: &ViewArgs) -> Result<()> {
+    let event_loop = EventLoop::new().context(
+        "cannot open a window (no display?); `grass render` works without one",
+    )?;
+    let mut app = Viewer { common: common.clone(), args: args.clone(), state: None, error: None };
+    event_loop.run_app(&mut app).context("event loop")?;
+    match app.error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+struct Viewer {
+    common: Common,
+    args: ViewArgs,
+    state: Option<Running>,
+    error: Option<anyhow::Error>,
+}
+
+/// Mouse state for the orbit camera.
+#[derive(Default)]
+struct Mouse {
+    rotating: bool,
+    panning: bool,
+    last: Option<(f64, f64)>,
+    modifiers: ModifiersState,
+}
+
+/// FPS over the last second.
+struct Stats {
+    since: Instant,
+    frames: u32,
+}
+
+// Fields drop in order: GPU objects first, the context, then the window its surface
+// belongs to.
+struct Running {
+    renderer: Renderer,
+    swapchain: Option<Swapchain>,
+    ctx: std::sync::Arc<Context>,
+    scene: Scene,
+    settings: Settings,
+    camera: OrbitCamera,
+    clock: SimClock,
+    mouse: Mouse,
+    stats: Stats,
+    last_frame: Instant,
+    frames: u64,
+    recreate: bool,
+    window: Window,
+}
+
+impl Running {
+    fn new(event_loop: &ActiveEventLoop, common: &Common, args: &ViewArgs) -> Result<Self> {
+        let attributes = Window::default_attributes()
+            .with_title("grass")
+            .with_inner_size(PhysicalSize::new(args.width, args.height));
+        let window = event_loop.create_window(attributes).context("create window")?;
+        let display = window.display_handle().context("display handle")?.as_raw();
+        let extensions = ash_window::enumerate_required_extensions(display)
+            .context("Vulkan surface extensions for this window system")?;
+        let ctx = Context::new(ContextOptions {
+            validation: common.validation_requested(),
+            surface_extensions: extensions,
+            window: Some(&window),
+        })?;
+        let count = super::blade_count(common, &ctx);
+        let scene = Scene::square(count, common.seed);
+        let size = window.inner_size();
+        let swapchain = Swapchain::new(&ctx, (size.width, size.height), None)?;
+        let renderer = Renderer::new(&ctx, &scene.blades, swapchain.format)?;
+        log::info!(
+            "{count} blades; drag to rotate, right-drag or shift-drag to pan, wheel to zoom, Esc quits"
+        );
+        Ok(Self {
+            renderer,
+            swapchain: Some(swapchain),
+            ctx,
+            settings: Settings::for_field(scene.side),
+            camera: OrbitCamera::framing(scene.side),
+            scene,
+            clock: SimClock::default(),
+            mouse: Mouse::default(),
+            stats: Stats { since: Instant::now(), frames: 0 },
+            last_frame: Instant::now(),
+            frames: 0,
+            recreate: false,
+            window,
+        })
+    }
+
+    /// Draws one frame; returns without drawing while minimised.
+    fn frame(&mut self) -> Result<()> {
+        let size = self.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(());
+        }
+        if self.recreate || self.swapchain.is_none() {
+            self.ctx.wait_idle()?;
+            let old = self.swapchain.take();
+            let new = Swapchain::new(&self.ctx, (size.width, size.height), old.as_ref())?;
+            if old.as_ref().is_some_and(|o| o.format != new.format) {
+                bail!("the window's surface format changed from {:?} to {:?}", old.map(|o| o.format), new.format);
+            }
+            self.swapchain = Some(new);
+            self.recreate = false;
+        }
+        let Some(swapchain) = self.swapchain.as_ref() else { return Ok(()) };
+        let slot = self.renderer.begin_frame()?;
+        let available = self.renderer.image_available(slot);
+        let Some((index, suboptimal)) = swapchain.acquire(available)? else {
+            self.recreate = true;
+            return Ok(());
+        };
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f64();
+        self.last_frame = now;
+        let (first_step, steps) = self.clock.advance(dt);
+        let extent = swapchain.extent;
+        let aspect = extent.width as f32 / extent.height as f32;
+        let uniforms = self.settings.uniforms(&self.camera, aspect, &self.scene);
+        let target = Target {
+            image: swapchain.images[index as usize],
+            view: swapchain.views[index as usize],
+            extent,
+            final_layout: vk::ImageLayout::PRESENT_SRC_KHR,
+        };
+        let finished = swapchain.render_finished[index as usize].semaphore;
+        self.renderer.render(
+            slot,
+            &target,
+            &uniforms,
+            SimulatePush { first_step, steps },
+            Some(available),
+            Some(finished),
+            None,
+        )?;
+        if !swapchain.present(index)? || suboptimal {
+            self.recreate = true;
+        }
+        self.frames += 1;
+        self.report();
+        Ok(())
+    }
+
+    /// Once a second: frame rate and visible blades in the title and the log.
+    fn report(&mut self) {
+        self.stats.frames += 1;
+        let elapsed = self.stats.since.elapsed().as_secs_f64();
+        if elapsed >= 1.0 {
+            let fps = f64::from(self.stats.frames) / elapsed;
+            let visible = self.renderer.visible.unwrap_or(0);
+            let line = format!(
+                "{fps:.1} fps, {visible} of {} blades visible",
+                self.renderer.field.blade_count
+            );
+            self.window.set_title(&format!("grass: {line}"));
+            log::info!("{line}");
+            self.stats = Stats { since: Instant::now(), frames: 0 };
+        }
+    }
+
+    fn mouse_moved(&mut self, x: f64, y: f64) {
+        if let Some((lx, ly)) = self.mouse.last {
+            let (dx, dy) = ((x - lx) as f32, (y - ly) as f32);
+            let pan = self.mouse.panning || (self.mouse.rotating && self.mouse.modifiers.shift_key());
+            if pan {
+                self.camera.pan(dx, dy);
+            } else if self.mouse.rotating {
+                self.camera.rotate(dx, dy);
+            }
+        }
+        self.mouse.last = Some((x, y));
+    }
+}
+
+impl ApplicationHandler for Viewer {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_none() {
+            match Running::new(event_loop, &self.common, &self.args) {
+                Ok(state) => self.state = Some(state),
+                Err(e) => {
+                    self.error = Some(e);
+                    event_loop.exit();
+                }
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(state) = self.state.as_mut() else { return };
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state == ElementState::Pressed
+                    && event.logical_key == Key::Named(NamedKey::Escape) =>
+            {
+                event_loop.exit()
+            }
+            WindowEvent::ModifiersChanged(m) => state.mouse.modifiers = m.state(),
+            WindowEvent::Resized(_) => state.recreate = true,
+            WindowEvent::MouseInput { state: pressed, button, .. } => {
+                let down = pressed == ElementState::Pressed;
+                match button {
+                    MouseButton::Left => state.mouse.rotating = down,
+                    MouseButton::Right | MouseButton::Middle => state.mouse.panning = down,
+                    _ => {}
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => state.mouse_moved(position.x, position.y),
+            WindowEvent::CursorLeft { .. } => state.mouse.last = None,
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                state.camera.zoom(steps);
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = state.frame() {
+                    self.error = Some(e);
+                    event_loop.exit();
+                } else if self.args.frames.is_some_and(|n| state.frames >= n) {
+                    event_loop.exit();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+}

@@ -1,0 +1,157 @@
+//! The field on the GPU: blade, visible, counter, draw and uniform buffers, and the one
+//! descriptor set and pipeline layout every pass uses.
+
+use crate::vulkan::commands::CommandPool;
+use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
+use crate::vulkan::pipeline::PipelineLayout;
+use crate::vulkan::{Buffer, Context};
+use anyhow::{Result, bail};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use shared::Blade;
+use shared::layout::{self, ChunkPush, FrameUniforms, SimulatePush};
+use shared::lod::blades_per_chunk;
+use std::sync::Arc;
+
+/// Stages that read the uniform block.
+const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::COMPUTE.as_raw()
+        | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
+        | vk::ShaderStageFlags::VERTEX.as_raw()
+        | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+);
+
+const fn storage(binding: u32) -> BindingSpec {
+    BindingSpec {
+        binding,
+        ty: vk::DescriptorType::STORAGE_BUFFER,
+        stages: vk::ShaderStageFlags::COMPUTE,
+    }
+}
+
+/// The one descriptor set layout of every pipeline.
+pub const BINDINGS: [BindingSpec; 5] = [
+    BindingSpec {
+        binding: layout::BINDING_UNIFORMS,
+        ty: vk::DescriptorType::UNIFORM_BUFFER,
+        stages: UNIFORM_STAGES,
+    },
+    storage(layout::BINDING_BLADES),
+    storage(layout::BINDING_VISIBLE),
+    storage(layout::BINDING_COUNTERS),
+    storage(layout::BINDING_DRAWS),
+];
+
+/// Push-constant range of the pipeline layout: the larger compute push block.
+pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
+    vk::ShaderStageFlags::COMPUTE,
+    max(size_of::<SimulatePush>(), size_of::<ChunkPush>()) as u32,
+);
+
+const fn max(a: usize, b: usize) -> usize {
+    if a > b { a } else { b }
+}
+
+/// The field's buffers and their bindings.
+pub struct Field {
+    /// Number of blades.
+    pub blade_count: u32,
+    /// Blades per indirect draw command.
+    pub chunk_size: u32,
+    /// Number of indirect draw commands.
+    pub chunk_count: u32,
+    /// The blades, simulated in place.
+    pub blades: Buffer,
+    /// This frame's visible blades, compacted; the grass draw's vertex buffer.
+    pub visible: Buffer,
+    /// The counters (`layout::COUNTER_*`).
+    pub counters: Buffer,
+    /// One `VkDrawIndirectCommand` per chunk.
+    pub draws: Buffer,
+    /// The frame's uniform block, updated by a transfer at the start of each frame.
+    pub uniforms: Buffer,
+    /// Descriptor set over the buffers above.
+    pub descriptors: DescriptorSet,
+    /// Pipeline layout shared by every pipeline.
+    pub layout: PipelineLayout,
+}
+
+impl Field {
+    /// Uploads `blades` and creates the rest, checking the device's limits first.
+    pub fn new(ctx: &Arc<Context>, pool: &CommandPool, blades: &[Blade]) -> Result<Self> {
+        let count = u32::try_from(blades.len()).unwrap_or(u32::MAX);
+        let bytes = blades.len() as u64 * size_of::<Blade>() as u64;
+        let limits = &ctx.properties.limits;
+        if count == 0 {
+            bail!("the field needs at least one blade");
+        }
+        if bytes > u64::from(limits.max_storage_buffer_range) {
+            bail!(
+                "{count} blades need {bytes} bytes, more than this device's \
+                 maxStorageBufferRange ({} bytes, {} blades)",
+                limits.max_storage_buffer_range,
+                limits.max_storage_buffer_range / size_of::<Blade>() as u32
+            );
+        }
+        let chunk_size = blades_per_chunk();
+        let chunk_count = count.div_ceil(chunk_size);
+        if chunk_count > limits.max_draw_indirect_count {
+            bail!(
+                "{count} blades need {chunk_count} draws, more than this device's \
+                 maxDrawIndirectCount ({})",
+                limits.max_draw_indirect_count
+            );
+        }
+
+        use vk::BufferUsageFlags as U;
+        let gpu = MemoryLocation::GpuOnly;
+        let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
+        let blade_buffer = device_buffer("blades", bytes, U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC)?;
+        let visible = device_buffer("visible", bytes, U::STORAGE_BUFFER | U::VERTEX_BUFFER | U::TRANSFER_SRC)?;
+        let counters = device_buffer(
+            "counters",
+            (layout::COUNTER_COUNT * 4) as u64,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
+        )?;
+        let draws = device_buffer(
+            "draws",
+            u64::from(chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64,
+            U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
+        )?;
+        let uniforms = device_buffer(
+            "uniforms",
+            size_of::<FrameUniforms>() as u64,
+            U::UNIFORM_BUFFER | U::TRANSFER_DST,
+        )?;
+
+        let mut staging = Buffer::new(ctx, "blade upload", bytes, U::TRANSFER_SRC, MemoryLocation::CpuToGpu)?;
+        staging.write(blades)?;
+        pool.one_shot(|rec| rec.copy_buffer(staging.buffer, blade_buffer.buffer, bytes))?;
+
+        let descriptors = DescriptorSet::new(ctx, &BINDINGS)?;
+        let bind = |binding: u32, buffer: &Buffer| {
+            let ty = BINDINGS.iter().find(|b| b.binding == binding).map(|b| b.ty);
+            descriptors.write_buffer(binding, ty.unwrap_or(vk::DescriptorType::STORAGE_BUFFER), buffer.buffer);
+        };
+        bind(layout::BINDING_UNIFORMS, &uniforms);
+        bind(layout::BINDING_BLADES, &blade_buffer);
+        bind(layout::BINDING_VISIBLE, &visible);
+        bind(layout::BINDING_COUNTERS, &counters);
+        bind(layout::BINDING_DRAWS, &draws);
+        let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
+
+        Ok(Self {
+            blade_count: count,
+            chunk_size,
+            chunk_count,
+            blades: blade_buffer,
+            visible,
+            counters,
+            draws,
+            uniforms,
+            descriptors,
+            layout,
+        })
+    }
+}

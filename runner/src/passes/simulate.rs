@@ -1,0 +1,66 @@
+//! The compute pass: simulate and cull every blade (appending survivors through the
+//! visible counter), then write one indirect draw command per chunk.
+
+use crate::field::Field;
+use crate::shaders;
+use crate::vulkan::pipeline::{Pipeline, ShaderModule};
+use crate::vulkan::{Context, Recorder};
+use anyhow::Result;
+use ash::vk;
+use shared::layout::{CHUNK_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SimulatePush};
+use std::sync::Arc;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
+
+/// The simulate-and-cull and write-draws compute pipelines.
+pub struct SimulatePass {
+    ctx: Arc<Context>,
+    simulate: Pipeline,
+    write_draws: Pipeline,
+}
+
+impl SimulatePass {
+    /// Both compute pipelines.
+    pub fn new(ctx: &Arc<Context>, module: &ShaderModule, field: &Field) -> Result<Self> {
+        Ok(Self {
+            ctx: ctx.clone(),
+            simulate: Pipeline::compute(ctx, &field.layout, module, shaders::SIMULATE_CULL)?,
+            write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
+        })
+    }
+
+    /// Workgroups for `items` threads of `size`: x up to the device's limit, then y.
+    fn workgroups(&self, items: u32, size: u32) -> (u32, u32) {
+        let groups = items.div_ceil(size).max(1);
+        let x = groups.min(self.ctx.properties.limits.max_compute_work_group_count[0]);
+        (x, groups.div_ceil(x))
+    }
+
+    /// Records the pass. The counter reset and the uniform update must come before,
+    /// with their barrier; this leaves the draw commands and the visible buffer ready
+    /// for the indirect draw, and the counters for a transfer read.
+    pub fn record(&self, rec: &Recorder, field: &Field, push: SimulatePush) {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        rec.bind_pipeline(compute, self.simulate.pipeline, layout, set);
+        rec.push_compute(layout, bytemuck::bytes_of(&push));
+        rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
+        // The visible count is complete before the chunk pass reads it.
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_READ),
+        );
+        let chunks = ChunkPush { chunk_size: field.chunk_size, chunk_count: field.chunk_count };
+        rec.bind_pipeline(compute, self.write_draws.pipeline, layout, set);
+        rec.push_compute(layout, bytemuck::bytes_of(&chunks));
+        rec.dispatch(self.workgroups(field.chunk_count, CHUNK_WORKGROUP));
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (
+                S::DRAW_INDIRECT | S::VERTEX_ATTRIBUTE_INPUT | S::COPY,
+                A::INDIRECT_COMMAND_READ | A::VERTEX_ATTRIBUTE_READ | A::TRANSFER_READ,
+            ),
+        );
+    }
+}

@@ -1,0 +1,21 @@
+//! The SPIR-V module built from `shaders-rs` by `build.rs`, and its entry points.
+
+/// Every entry point, in one module (Patch decorations added by the build script).
+pub const SPIRV: &[u8] = include_bytes!(env!("GRASS_SPIRV"));
+
+/// Compute: simulate, cull and compact.
+pub const SIMULATE_CULL: &str = "compute::simulate_cull";
+/// Compute: one indirect draw command per chunk of visible blades.
+pub const WRITE_DRAWS: &str = "compute::write_draws";
+/// Grass vertex stage.
+pub const GRASS_VS: &str = "grass::grass_vs";
+/// Grass tessellation control stage (LOD).
+pub const GRASS_TCS: &str = "grass::grass_tcs";
+/// Grass tessellation evaluation stage (blade shape).
+pub const GRASS_TES: &str = "grass::grass_tes";
+/// Grass fragment stage.
+pub const GRASS_FS: &str = "grass::grass_fs";
+/// Ground vertex stage.
+pub const GROUND_VS: &str = "ground::ground_vs";
+/// Ground fragment stage.
+pub const GROUND_FS: &str = "ground::ground_fs";

@@ -1,0 +1,98 @@
+//! Buffers with their memory, from the allocator.
+
+use super::Context;
+use anyhow::{Context as _, Result, bail};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use std::sync::Arc;
+
+/// A buffer and its memory; freed on drop.
+pub struct Buffer {
+    ctx: Arc<Context>,
+    /// The Vulkan buffer.
+    pub buffer: vk::Buffer,
+    /// Size in bytes.
+    pub size: u64,
+    allocation: Option<Allocation>,
+}
+
+impl Buffer {
+    /// A buffer of `size` bytes (at least 4) in `location`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Self> {
+        let size = size.max(4);
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let device = &ctx.device;
+        let buffer = unsafe { device.create_buffer(&info, None) }
+            .with_context(|| format!("create buffer {name} ({size} bytes)"))?;
+        let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
+        let allocation = ctx.allocator.lock().expect("allocator lock").allocate(
+            &AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            },
+        );
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                unsafe { device.destroy_buffer(buffer, None) };
+                bail!("allocate {size} bytes for buffer {name}: {e}");
+            }
+        };
+        unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) }
+            .with_context(|| format!("bind memory of buffer {name}"))?;
+        Ok(Self { ctx: ctx.clone(), buffer, size, allocation: Some(allocation) })
+    }
+
+    fn mapped(&self) -> Result<&[u8]> {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .context("buffer is not host visible")
+    }
+
+    /// Writes `data` at the start of a host-visible buffer.
+    pub fn write<T: bytemuck::Pod>(&mut self, data: &[T]) -> Result<()> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let mapped = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .context("buffer is not host visible")?;
+        mapped
+            .get_mut(..bytes.len())
+            .context("data larger than the buffer")?
+            .copy_from_slice(bytes);
+        Ok(())
+    }
+
+    /// Reads `count` values of `T` from the start of a host-visible buffer.
+    pub fn read<T: bytemuck::Pod>(&self, count: usize) -> Result<Vec<T>> {
+        let bytes = self
+            .mapped()?
+            .get(..count * size_of::<T>())
+            .context("read past the end of the buffer")?;
+        Ok(bytemuck::pod_collect_to_vec(bytes))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_buffer(self.buffer, None) };
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.ctx.allocator.lock().map(|mut a| a.free(allocation));
+        }
+    }
+}

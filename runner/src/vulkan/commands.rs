@@ -1,0 +1,124 @@
+//! Command pool, per-frame command buffers, fences and semaphores, and one-shot
+//! submissions for uploads.
+
+use super::{Context, Recorder};
+use anyhow::{Context as _, Result};
+use ash::vk;
+use std::sync::Arc;
+
+/// A command pool whose buffers are re-recorded every frame.
+pub struct CommandPool {
+    ctx: Arc<Context>,
+    /// The pool.
+    pub pool: vk::CommandPool,
+}
+
+impl CommandPool {
+    /// A resettable pool on the context's queue family.
+    pub fn new(ctx: &Arc<Context>) -> Result<Self> {
+        let info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let pool = unsafe { ctx.device.create_command_pool(&info, None) }
+            .context("create command pool")?;
+        Ok(Self { ctx: ctx.clone(), pool })
+    }
+
+    /// `count` primary command buffers.
+    pub fn allocate(&self, count: u32) -> Result<Vec<vk::CommandBuffer>> {
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(count);
+        unsafe { self.ctx.device.allocate_command_buffers(&info) }
+            .context("allocate command buffers")
+    }
+
+    /// Records `record` into a fresh command buffer, submits it and waits for it.
+    pub fn one_shot(&self, record: impl FnOnce(&Recorder)) -> Result<()> {
+        let device = &self.ctx.device;
+        let cmd = self.allocate(1)?[0];
+        let fence = Fence::new(&self.ctx, false)?;
+        unsafe {
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device.begin_command_buffer(cmd, &begin)?;
+            record(&Recorder::new(device, cmd));
+            device.end_command_buffer(cmd)?;
+            let cmds = [cmd];
+            let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+            device
+                .queue_submit(self.ctx.queue, &[submit], fence.fence)
+                .context("submit one-shot commands")?;
+            fence.wait()?;
+            device.free_command_buffers(self.pool, &cmds);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for CommandPool {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_command_pool(self.pool, None) };
+    }
+}
+
+/// A fence, destroyed on drop.
+pub struct Fence {
+    ctx: Arc<Context>,
+    /// The fence.
+    pub fence: vk::Fence,
+}
+
+/// Longest wait for the GPU before giving up with an error instead of hanging.
+const GPU_TIMEOUT_NS: u64 = 60_000_000_000;
+
+impl Fence {
+    /// A fence, signalled already if `signaled`.
+    pub fn new(ctx: &Arc<Context>, signaled: bool) -> Result<Self> {
+        let flags =
+            if signaled { vk::FenceCreateFlags::SIGNALED } else { vk::FenceCreateFlags::empty() };
+        let fence = unsafe { ctx.device.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }
+            .context("create fence")?;
+        Ok(Self { ctx: ctx.clone(), fence })
+    }
+
+    /// Waits for the fence (a minute at most: a longer wait is a lost device).
+    pub fn wait(&self) -> Result<()> {
+        unsafe { self.ctx.device.wait_for_fences(&[self.fence], true, GPU_TIMEOUT_NS) }
+            .context("wait for the GPU")
+    }
+
+    /// Back to unsignalled.
+    pub fn reset(&self) -> Result<()> {
+        unsafe { self.ctx.device.reset_fences(&[self.fence]) }.context("reset fence")
+    }
+}
+
+impl Drop for Fence {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_fence(self.fence, None) };
+    }
+}
+
+/// A binary semaphore, destroyed on drop.
+pub struct Semaphore {
+    ctx: Arc<Context>,
+    /// The semaphore.
+    pub semaphore: vk::Semaphore,
+}
+
+impl Semaphore {
+    /// A new binary semaphore.
+    pub fn new(ctx: &Arc<Context>) -> Result<Self> {
+        let semaphore = unsafe { ctx.device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
+            .context("create semaphore")?;
+        Ok(Self { ctx: ctx.clone(), semaphore })
+    }
+}
+
+impl Drop for Semaphore {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_semaphore(self.semaphore, None) };
+    }
+}

@@ -1,0 +1,355 @@
+//! Entry, instance, validation messenger, physical device, device, queue, allocator.
+
+use anyhow::{Context as _, Result, bail};
+use ash::{ext, khr, vk};
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::ffi::{CStr, c_void};
+use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Why no device could be used: the caller (and the user) must know which.
+#[derive(Debug, thiserror::Error)]
+pub enum DeviceError {
+    /// The Vulkan loader could not be loaded at all.
+    #[error(
+        "no Vulkan loader found ({0}); install a Vulkan driver, e.g. \
+         `sudo apt-get install mesa-vulkan-drivers` for the software device lavapipe"
+    )]
+    NoVulkan(String),
+    /// The loader works but reports no physical device.
+    #[error(
+        "no Vulkan device found; install a driver, e.g. `sudo apt-get install mesa-vulkan-drivers`"
+    )]
+    NoDevice,
+    /// Devices exist, but none has what the renderer needs.
+    #[error("no usable Vulkan device: {0}")]
+    Unsuitable(String),
+}
+
+/// What the context is created for.
+#[derive(Default)]
+pub struct ContextOptions<'a> {
+    /// Enable `VK_LAYER_KHRONOS_validation` and count its errors.
+    pub validation: bool,
+    /// Instance extensions the window system needs (empty when headless).
+    pub surface_extensions: &'a [*const std::ffi::c_char],
+    /// Create a surface for this window and pick a device that can present to it.
+    pub window: Option<&'a winit::window::Window>,
+}
+
+/// The device and everything created once per run; shared by `Arc`.
+pub struct Context {
+    /// Loaded Vulkan entry points.
+    pub entry: ash::Entry,
+    /// The instance.
+    pub instance: ash::Instance,
+    /// The chosen physical device.
+    pub physical: vk::PhysicalDevice,
+    /// Its properties (name, limits, type).
+    pub properties: vk::PhysicalDeviceProperties,
+    /// The logical device.
+    pub device: ash::Device,
+    /// The one graphics + compute queue.
+    pub queue: vk::Queue,
+    /// Its family index.
+    pub queue_family: u32,
+    /// Surface of the window, when there is one.
+    pub surface: Option<vk::SurfaceKHR>,
+    /// Surface functions.
+    pub surface_fn: khr::surface::Instance,
+    /// Memory allocator; dropped before the device.
+    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    debug: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    validation_errors: Box<AtomicU32>,
+}
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+impl Context {
+    /// Loads Vulkan, creates the instance (with validation if asked) and the device
+    /// that has every feature the renderer needs.
+    pub fn new(options: ContextOptions) -> Result<Arc<Self>> {
+        let entry = unsafe { ash::Entry::load() }
+            .map_err(|e| DeviceError::NoVulkan(e.to_string()))?;
+        let validation_errors = Box::new(AtomicU32::new(0));
+
+        let mut layers = Vec::new();
+        let mut extensions = options.surface_extensions.to_vec();
+        if options.validation {
+            let available = unsafe { entry.enumerate_instance_layer_properties()? };
+            if !available
+                .iter()
+                .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
+            {
+                bail!(
+                    "validation requested but {} is not installed \
+                     (Debian/Ubuntu: `sudo apt-get install vulkan-validationlayers`)",
+                    VALIDATION_LAYER.to_string_lossy()
+                );
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+            extensions.push(ext::debug_utils::NAME.as_ptr());
+        }
+
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"grass")
+            .api_version(vk::API_VERSION_1_3);
+        let instance_info = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        let instance = unsafe { entry.create_instance(&instance_info, None) }
+            .context("create Vulkan instance")?;
+
+        let debug = if options.validation {
+            let utils = ext::debug_utils::Instance::new(&entry, &instance);
+            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(debug_callback))
+                .user_data(&*validation_errors as *const AtomicU32 as *mut c_void);
+            let messenger = unsafe { utils.create_debug_utils_messenger(&info, None)? };
+            Some((utils, messenger))
+        } else {
+            None
+        };
+
+        let surface_fn = khr::surface::Instance::new(&entry, &instance);
+        let surface = match options.window {
+            Some(window) => Some(create_surface(&entry, &instance, window)?),
+            None => None,
+        };
+
+        let (physical, queue_family) = pick_device(&instance, &surface_fn, surface)?;
+        let properties = unsafe { instance.get_physical_device_properties(physical) };
+        let device = create_device(&instance, physical, queue_family, surface.is_some())?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .context("create memory allocator")?;
+
+        let ctx = Self {
+            entry,
+            instance,
+            physical,
+            properties,
+            device,
+            queue,
+            queue_family,
+            surface,
+            surface_fn,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            debug,
+            validation_errors,
+        };
+        log::info!(
+            "device: {} ({:?}), Vulkan {}.{}.{}",
+            ctx.device_name(),
+            ctx.properties.device_type,
+            vk::api_version_major(ctx.properties.api_version),
+            vk::api_version_minor(ctx.properties.api_version),
+            vk::api_version_patch(ctx.properties.api_version),
+        );
+        Ok(Arc::new(ctx))
+    }
+
+    /// The device's name as the driver reports it.
+    pub fn device_name(&self) -> String {
+        self.properties
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    }
+
+    /// True for a software rasteriser such as lavapipe.
+    pub fn is_software(&self) -> bool {
+        self.properties.device_type == vk::PhysicalDeviceType::CPU
+    }
+
+    /// Validation errors reported so far (0 when validation is off).
+    pub fn validation_errors(&self) -> u32 {
+        self.validation_errors.load(Ordering::SeqCst)
+    }
+
+    /// Waits until the device is idle (before destroying what it may still use).
+    pub fn wait_idle(&self) -> Result<()> {
+        unsafe { self.device.device_wait_idle() }.context("wait for device idle")
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some(surface) = self.surface {
+                self.surface_fn.destroy_surface(surface, None);
+            }
+            if let Some((utils, messenger)) = self.debug.take() {
+                utils.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+fn create_surface(
+    entry: &ash::Entry,
+    instance: &ash::Instance,
+    window: &winit::window::Window,
+) -> Result<vk::SurfaceKHR> {
+    use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+    let display = window.display_handle().context("window display handle")?;
+    let handle = window.window_handle().context("window handle")?;
+    unsafe { ash_window::create_surface(entry, instance, display.as_raw(), handle.as_raw(), None) }
+        .context("create window surface")
+}
+
+/// Features the renderer cannot run without, by name, as (name, present) pairs.
+fn missing_features(instance: &ash::Instance, physical: vk::PhysicalDevice) -> Vec<&'static str> {
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut v12)
+        .push_next(&mut v13);
+    unsafe { instance.get_physical_device_features2(physical, &mut features) };
+    let core = features.features;
+    [
+        ("tessellationShader", core.tessellation_shader),
+        ("multiDrawIndirect", core.multi_draw_indirect),
+        ("fillModeNonSolid", core.fill_mode_non_solid),
+        ("vulkanMemoryModel", v12.vulkan_memory_model),
+        ("vulkanMemoryModelDeviceScope", v12.vulkan_memory_model_device_scope),
+        ("dynamicRendering", v13.dynamic_rendering),
+        ("synchronization2", v13.synchronization2),
+    ]
+    .into_iter()
+    .filter(|(_, have)| *have == vk::FALSE)
+    .map(|(name, _)| name)
+    .collect()
+}
+
+/// The first discrete GPU, else the first other device, that has Vulkan 1.3, every
+/// feature and a graphics + compute queue (able to present, with a surface).
+fn pick_device(
+    instance: &ash::Instance,
+    surface_fn: &khr::surface::Instance,
+    surface: Option<vk::SurfaceKHR>,
+) -> Result<(vk::PhysicalDevice, u32)> {
+    let devices = unsafe { instance.enumerate_physical_devices() }.unwrap_or_default();
+    if devices.is_empty() {
+        return Err(DeviceError::NoDevice.into());
+    }
+    let mut reasons = Vec::new();
+    let mut candidates = Vec::new();
+    for physical in devices {
+        let props = unsafe { instance.get_physical_device_properties(physical) };
+        let name = props
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if props.api_version < vk::API_VERSION_1_3 {
+            reasons.push(format!("{name}: Vulkan 1.3 is required"));
+            continue;
+        }
+        let missing = missing_features(instance, physical);
+        if !missing.is_empty() {
+            reasons.push(format!("{name}: missing feature {}", missing.join(", ")));
+            continue;
+        }
+        let families =
+            unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let family = families.iter().enumerate().position(|(i, f)| {
+            let flags = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+            let presents = surface.is_none_or(|s| unsafe {
+                surface_fn
+                    .get_physical_device_surface_support(physical, i as u32, s)
+                    .unwrap_or(false)
+            });
+            f.queue_flags.contains(flags) && presents
+        });
+        match family {
+            Some(family) => candidates.push((props.device_type, physical, family as u32)),
+            None => reasons.push(format!("{name}: no graphics queue that can present")),
+        }
+    }
+    let rank = |t: vk::PhysicalDeviceType| match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    };
+    candidates.sort_by_key(|(t, _, _)| rank(*t));
+    match candidates.first() {
+        Some(&(_, physical, family)) => Ok((physical, family)),
+        None => Err(DeviceError::Unsuitable(reasons.join("; ")).into()),
+    }
+}
+
+fn create_device(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    queue_family: u32,
+    present: bool,
+) -> Result<ash::Device> {
+    let priorities = [1.0];
+    let queues = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(queue_family)
+        .queue_priorities(&priorities)];
+    let core = vk::PhysicalDeviceFeatures::default()
+        .tessellation_shader(true)
+        .multi_draw_indirect(true)
+        .fill_mode_non_solid(true);
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+        .vulkan_memory_model(true)
+        .vulkan_memory_model_device_scope(true);
+    let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
+        .dynamic_rendering(true)
+        .synchronization2(true);
+    let extensions = if present { vec![khr::swapchain::NAME.as_ptr()] } else { Vec::new() };
+    let info = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queues)
+        .enabled_features(&core)
+        .enabled_extension_names(&extensions)
+        .push_next(&mut v12)
+        .push_next(&mut v13);
+    unsafe { instance.create_device(physical, &info, None) }.context("create Vulkan device")
+}
+
+unsafe extern "system" fn debug_callback(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    let message = unsafe { data.as_ref() }
+        .and_then(|d| unsafe { d.message_as_c_str() })
+        .map(|m| m.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+        if let Some(counter) = unsafe { (user as *const AtomicU32).as_ref() } {
+            counter.fetch_add(1, Ordering::SeqCst);
+        }
+        log::error!("validation: {message}");
+    } else {
+        log::warn!("validation: {message}");
+    }
+    vk::FALSE
+}

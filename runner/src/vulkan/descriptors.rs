@@ -1,0 +1,93 @@
+//! A descriptor set layout, its pool and its one set.
+
+use super::Context;
+use anyhow::{Context as _, Result};
+use ash::vk;
+use std::sync::Arc;
+
+/// One binding of a set, as the runner declares it (a test compares these with the
+/// bindings the compiled shaders declare).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct BindingSpec {
+    /// Binding number.
+    pub binding: u32,
+    /// Descriptor type.
+    pub ty: vk::DescriptorType,
+    /// Stages that see it.
+    pub stages: vk::ShaderStageFlags,
+}
+
+/// A set layout with one set allocated from its own pool.
+pub struct DescriptorSet {
+    ctx: Arc<Context>,
+    /// The layout.
+    pub layout: vk::DescriptorSetLayout,
+    pool: vk::DescriptorPool,
+    /// The set.
+    pub set: vk::DescriptorSet,
+}
+
+impl DescriptorSet {
+    /// Layout, pool and set for `bindings`.
+    pub fn new(ctx: &Arc<Context>, bindings: &[BindingSpec]) -> Result<Self> {
+        let device = &ctx.device;
+        let layout_bindings: Vec<_> = bindings
+            .iter()
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b.binding)
+                    .descriptor_type(b.ty)
+                    .descriptor_count(1)
+                    .stage_flags(b.stages)
+            })
+            .collect();
+        let layout = unsafe {
+            device.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
+                None,
+            )
+        }
+        .context("create descriptor set layout")?;
+        let sizes: Vec<_> = bindings
+            .iter()
+            .map(|b| vk::DescriptorPoolSize { ty: b.ty, descriptor_count: 1 })
+            .collect();
+        let pool = unsafe {
+            device.create_descriptor_pool(
+                &vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes),
+                None,
+            )
+        }
+        .context("create descriptor pool")?;
+        let layouts = [layout];
+        let set = unsafe {
+            device.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default()
+                    .descriptor_pool(pool)
+                    .set_layouts(&layouts),
+            )
+        }
+        .context("allocate descriptor set")?[0];
+        Ok(Self { ctx: ctx.clone(), layout, pool, set })
+    }
+
+    /// Points `binding` (of type `ty`) at the whole of `buffer`.
+    pub fn write_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
+        let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(ty)
+            .buffer_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        unsafe {
+            self.ctx.device.destroy_descriptor_pool(self.pool, None);
+            self.ctx.device.destroy_descriptor_set_layout(self.layout, None);
+        }
+    }
+}

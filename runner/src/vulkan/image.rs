@@ -1,0 +1,91 @@
+//! 2D images with one view: depth buffers and offscreen colour targets.
+
+use super::Context;
+use anyhow::{Context as _, Result};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use std::sync::Arc;
+
+/// An image, its memory and a view of the whole of it; freed on drop.
+pub struct Image {
+    ctx: Arc<Context>,
+    /// The Vulkan image.
+    pub image: vk::Image,
+    /// A view of its one mip level and layer.
+    pub view: vk::ImageView,
+    /// Pixel format.
+    pub format: vk::Format,
+    /// Size in pixels.
+    pub extent: vk::Extent2D,
+    allocation: Option<Allocation>,
+}
+
+impl Image {
+    /// A device-local 2D image with a view over `aspect`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Self> {
+        let device = &ctx.device;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let image = unsafe { device.create_image(&info, None) }
+            .with_context(|| format!("create image {name}"))?;
+        let requirements = unsafe { device.get_image_memory_requirements(image) };
+        let allocation = ctx
+            .allocator
+            .lock()
+            .expect("allocator lock")
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .with_context(|| format!("allocate image {name}"))?;
+        unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
+            .with_context(|| format!("bind memory of image {name}"))?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(image)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(subresource_range(aspect));
+        let view = unsafe { device.create_image_view(&view_info, None) }
+            .with_context(|| format!("create view of image {name}"))?;
+        Ok(Self { ctx: ctx.clone(), image, view, format, extent, allocation: Some(allocation) })
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        unsafe {
+            self.ctx.device.destroy_image_view(self.view, None);
+            self.ctx.device.destroy_image(self.image, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.ctx.allocator.lock().map(|mut a| a.free(allocation));
+        }
+    }
+}
+
+/// The one mip level and layer of an image, for `aspect`.
+pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange::default()
+        .aspect_mask(aspect)
+        .level_count(1)
+        .layer_count(1)
+}

@@ -1,0 +1,16 @@
+//! The low Vulkan layer: the only place with raw `unsafe` ash calls. One Vulkan
+//! object (or close family) per module; each owns its destruction.
+
+pub mod buffer;
+pub mod commands;
+pub mod context;
+pub mod descriptors;
+pub mod image;
+pub mod pipeline;
+pub mod recorder;
+pub mod swapchain;
+
+pub use buffer::Buffer;
+pub use context::{Context, ContextOptions};
+pub use image::Image;
+pub use recorder::Recorder;

@@ -1,0 +1,194 @@
+//! Shader module, pipeline layout, compute and graphics pipelines.
+
+use super::Context;
+use anyhow::{Context as _, Result};
+use ash::vk;
+use std::ffi::CString;
+use std::sync::Arc;
+
+/// A SPIR-V module holding every entry point.
+pub struct ShaderModule {
+    ctx: Arc<Context>,
+    /// The module.
+    pub module: vk::ShaderModule,
+}
+
+impl ShaderModule {
+    /// Creates the module from SPIR-V bytes.
+    pub fn new(ctx: &Arc<Context>, spirv: &[u8]) -> Result<Self> {
+        let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).context("read SPIR-V")?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        let module = unsafe { ctx.device.create_shader_module(&info, None) }
+            .context("create shader module")?;
+        Ok(Self { ctx: ctx.clone(), module })
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_shader_module(self.module, None) };
+    }
+}
+
+/// A pipeline layout: one descriptor set and at most one push-constant range.
+pub struct PipelineLayout {
+    ctx: Arc<Context>,
+    /// The layout.
+    pub layout: vk::PipelineLayout,
+}
+
+impl PipelineLayout {
+    /// A layout of `set` and `push` (stages, size in bytes; size 0 for none).
+    pub fn new(
+        ctx: &Arc<Context>,
+        set: vk::DescriptorSetLayout,
+        push: (vk::ShaderStageFlags, u32),
+    ) -> Result<Self> {
+        let sets = [set];
+        let ranges = [vk::PushConstantRange { stage_flags: push.0, offset: 0, size: push.1 }];
+        let ranges: &[_] = if push.1 == 0 { &[] } else { &ranges };
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&sets)
+            .push_constant_ranges(ranges);
+        let layout = unsafe { ctx.device.create_pipeline_layout(&info, None) }
+            .context("create pipeline layout")?;
+        Ok(Self { ctx: ctx.clone(), layout })
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_pipeline_layout(self.layout, None) };
+    }
+}
+
+/// A compute or graphics pipeline, destroyed on drop.
+pub struct Pipeline {
+    ctx: Arc<Context>,
+    /// The pipeline.
+    pub pipeline: vk::Pipeline,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_pipeline(self.pipeline, None) };
+    }
+}
+
+impl Pipeline {
+    /// The compute pipeline of `entry` in `module`.
+    pub fn compute(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        module: &ShaderModule,
+        entry: &str,
+    ) -> Result<Self> {
+        let name = CString::new(entry)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.module)
+            .name(&name);
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.layout);
+        let pipeline = unsafe {
+            ctx.device
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+                .map_err(|(_, e)| e)
+        }
+        .with_context(|| format!("create compute pipeline {entry}"))?[0];
+        Ok(Self { ctx: ctx.clone(), pipeline })
+    }
+
+    /// A graphics pipeline as `desc` describes it.
+    pub fn graphics(ctx: &Arc<Context>, desc: &GraphicsDesc) -> Result<Self> {
+        let names: Vec<CString> =
+            desc.stages.iter().map(|(_, e)| CString::new(*e)).collect::<Result<_, _>>()?;
+        let stages: Vec<_> = desc
+            .stages
+            .iter()
+            .zip(&names)
+            .map(|((stage, _), name)| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(*stage)
+                    .module(desc.module.module)
+                    .name(name)
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(desc.vertex_bindings)
+            .vertex_attribute_descriptions(desc.vertex_attributes);
+        let topology = if desc.patch_control_points > 0 {
+            vk::PrimitiveTopology::PATCH_LIST
+        } else {
+            vk::PrimitiveTopology::TRIANGLE_LIST
+        };
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
+        let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+            .patch_control_points(desc.patch_control_points);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(desc.polygon_mode)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+        let blend = [vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let color_blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let color_formats = [desc.color_format];
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(desc.depth_format);
+        let mut info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&color_blend)
+            .dynamic_state(&dynamic)
+            .layout(desc.layout.layout)
+            .push_next(&mut rendering);
+        if desc.patch_control_points > 0 {
+            info = info.tessellation_state(&tessellation);
+        }
+        let pipeline = unsafe {
+            ctx.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+                .map_err(|(_, e)| e)
+        }
+        .with_context(|| format!("create graphics pipeline {}", desc.stages[0].1))?[0];
+        Ok(Self { ctx: ctx.clone(), pipeline })
+    }
+}
+
+/// What a graphics pipeline is made of.
+pub struct GraphicsDesc<'a> {
+    /// The module with every entry point.
+    pub module: &'a ShaderModule,
+    /// (stage, entry point name), in pipeline order.
+    pub stages: &'a [(vk::ShaderStageFlags, &'a str)],
+    /// The layout.
+    pub layout: &'a PipelineLayout,
+    /// Vertex buffer bindings.
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    /// Vertex attributes.
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    /// Control points per patch; 0 for triangle lists.
+    pub patch_control_points: u32,
+    /// Fill or wireframe.
+    pub polygon_mode: vk::PolygonMode,
+    /// Colour attachment format.
+    pub color_format: vk::Format,
+    /// Depth attachment format.
+    pub depth_format: vk::Format,
+}

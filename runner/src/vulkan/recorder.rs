@@ -1,0 +1,192 @@
+//! Command recording: the frame's passes record through this, so the `unsafe` ash
+//! calls stay in the Vulkan layer.
+
+use super::image::subresource_range;
+use ash::vk;
+
+/// A command buffer being recorded on a device.
+#[derive(Copy, Clone)]
+pub struct Recorder<'a> {
+    device: &'a ash::Device,
+    /// The command buffer.
+    pub cmd: vk::CommandBuffer,
+}
+
+/// (stages, accesses) of one side of a dependency.
+pub type Scope = (vk::PipelineStageFlags2, vk::AccessFlags2);
+
+impl<'a> Recorder<'a> {
+    /// Records into `cmd`, which must be in the recording state.
+    pub fn new(device: &'a ash::Device, cmd: vk::CommandBuffer) -> Self {
+        Self { device, cmd }
+    }
+
+    /// A global memory dependency: `src` before `dst`.
+    pub fn memory_barrier(&self, src: Scope, dst: Scope) {
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)];
+        let info = vk::DependencyInfo::default().memory_barriers(&barrier);
+        unsafe { self.device.cmd_pipeline_barrier2(self.cmd, &info) };
+    }
+
+    /// A layout transition of a whole single-level image, with its dependency.
+    pub fn image_barrier(
+        &self,
+        image: vk::Image,
+        aspect: vk::ImageAspectFlags,
+        layouts: (vk::ImageLayout, vk::ImageLayout),
+        src: Scope,
+        dst: Scope,
+    ) {
+        let barrier = [vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)
+            .old_layout(layouts.0)
+            .new_layout(layouts.1)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(image)
+            .subresource_range(subresource_range(aspect))];
+        let info = vk::DependencyInfo::default().image_memory_barriers(&barrier);
+        unsafe { self.device.cmd_pipeline_barrier2(self.cmd, &info) };
+    }
+
+    /// Writes `data` (at most 64 KiB) at the start of `buffer`.
+    pub fn update_buffer(&self, buffer: vk::Buffer, data: &[u8]) {
+        unsafe { self.device.cmd_update_buffer(self.cmd, buffer, 0, data) };
+    }
+
+    /// Fills the whole of `buffer` with `value`.
+    pub fn fill_buffer(&self, buffer: vk::Buffer, value: u32) {
+        unsafe { self.device.cmd_fill_buffer(self.cmd, buffer, 0, vk::WHOLE_SIZE, value) };
+    }
+
+    /// Copies `size` bytes from the start of `src` to the start of `dst`.
+    pub fn copy_buffer(&self, src: vk::Buffer, dst: vk::Buffer, size: u64) {
+        let region = vk::BufferCopy { src_offset: 0, dst_offset: 0, size };
+        unsafe { self.device.cmd_copy_buffer(self.cmd, src, dst, &[region]) };
+    }
+
+    /// Copies a colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
+    pub fn copy_image_to_buffer(&self, image: vk::Image, extent: vk::Extent2D, dst: vk::Buffer) {
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+        unsafe {
+            self.device.cmd_copy_image_to_buffer(
+                self.cmd,
+                image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst,
+                &[region],
+            )
+        };
+    }
+
+    /// Binds `pipeline` and `set` (set 0) at `bind_point`.
+    pub fn bind_pipeline(
+        &self,
+        bind_point: vk::PipelineBindPoint,
+        pipeline: vk::Pipeline,
+        layout: vk::PipelineLayout,
+        set: vk::DescriptorSet,
+    ) {
+        unsafe {
+            self.device.cmd_bind_pipeline(self.cmd, bind_point, pipeline);
+            self.device.cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, &[set], &[]);
+        }
+    }
+
+    /// Sets the compute push constants.
+    pub fn push_compute(&self, layout: vk::PipelineLayout, data: &[u8]) {
+        unsafe {
+            self.device.cmd_push_constants(
+                self.cmd,
+                layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                data,
+            )
+        };
+    }
+
+    /// Dispatches (x, y, 1) workgroups.
+    pub fn dispatch(&self, groups: (u32, u32)) {
+        unsafe { self.device.cmd_dispatch(self.cmd, groups.0, groups.1, 1) };
+    }
+
+    /// Starts rendering to `color` (cleared to `clear`) with `depth` (cleared to 1),
+    /// viewport and scissor covering `extent`.
+    pub fn begin_rendering(
+        &self,
+        color: vk::ImageView,
+        depth: vk::ImageView,
+        extent: vk::Extent2D,
+        clear: [f32; 4],
+    ) {
+        let color_attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(color)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+            });
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachment)
+            .depth_attachment(&depth_attachment);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        unsafe {
+            self.device.cmd_begin_rendering(self.cmd, &info);
+            self.device.cmd_set_viewport(self.cmd, 0, &[viewport]);
+            self.device.cmd_set_scissor(self.cmd, 0, &[area]);
+        }
+    }
+
+    /// Ends the rendering scope.
+    pub fn end_rendering(&self) {
+        unsafe { self.device.cmd_end_rendering(self.cmd) };
+    }
+
+    /// Binds `buffer` as vertex buffer 0.
+    pub fn bind_vertex_buffer(&self, buffer: vk::Buffer) {
+        unsafe { self.device.cmd_bind_vertex_buffers(self.cmd, 0, &[buffer], &[0]) };
+    }
+
+    /// Draws `vertices` vertices, one instance.
+    pub fn draw(&self, vertices: u32) {
+        unsafe { self.device.cmd_draw(self.cmd, vertices, 1, 0, 0) };
+    }
+
+    /// `count` indirect draws read from `buffer`.
+    pub fn draw_indirect(&self, buffer: vk::Buffer, count: u32) {
+        let stride = size_of::<vk::DrawIndirectCommand>() as u32;
+        unsafe { self.device.cmd_draw_indirect(self.cmd, buffer, 0, count, stride) };
+    }
+}

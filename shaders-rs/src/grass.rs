@@ -1,0 +1,94 @@
+//! The grass pipeline: one visible blade is one patch of one control point.
+//!
+//! rust-gpu has no `patch` decoration for user outputs, so the blade travels from the
+//! control to the evaluation stage as per-vertex arrays of length 1. The tessellation
+//! levels get their `Patch` decoration from the runner's build script.
+
+use shared::Blade;
+use shared::layout::FrameUniforms;
+use shared::lod::{tess_levels, vertical_segments};
+use shared::shade::shade_blade;
+use shared::shape::surface_point;
+use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
+use spirv_std::spirv;
+
+/// Passes the blade (four vertex attributes of the visible buffer) on.
+#[spirv(vertex)]
+pub fn grass_vs(
+    v0: Vec4,
+    v1: Vec4,
+    v2: Vec4,
+    up: Vec4,
+    out_v0: &mut Vec4,
+    out_v1: &mut Vec4,
+    out_v2: &mut Vec4,
+    out_up: &mut Vec4,
+) {
+    *out_v0 = v0;
+    *out_v1 = v1;
+    *out_v2 = v2;
+    *out_up = up;
+}
+
+/// Level of detail: vertical segments from the blade's distance to the camera.
+#[allow(clippy::too_many_arguments)]
+#[spirv(tessellation_control(output_vertices = 1))]
+pub fn grass_tcs(
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    in_v0: [Vec4; 1],
+    in_v1: [Vec4; 1],
+    in_v2: [Vec4; 1],
+    in_up: [Vec4; 1],
+    out_v0: &mut [Vec4; 1],
+    out_v1: &mut [Vec4; 1],
+    out_v2: &mut [Vec4; 1],
+    out_up: &mut [Vec4; 1],
+    #[spirv(tess_level_outer)] outer: &mut [f32; 4],
+    #[spirv(tess_level_inner)] inner: &mut [f32; 2],
+) {
+    out_v0[0] = in_v0[0];
+    out_v1[0] = in_v1[0];
+    out_v2[0] = in_v2[0];
+    out_up[0] = in_up[0];
+    let distance = (in_v0[0].xyz() - frame.camera_pos()).length();
+    let lod = frame.lod;
+    let (o, i) = tess_levels(vertical_segments(distance, lod.x, lod.y, lod.z, lod.w));
+    *outer = o;
+    *inner = i;
+}
+
+/// Blade shape: the surface point at (u, v) of the tessellated quad, in clip space.
+#[allow(clippy::too_many_arguments)]
+#[spirv(tessellation_evaluation(quads, spacing_equal, vertex_order_ccw))]
+pub fn grass_tes(
+    #[spirv(tess_coord)] coord: Vec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    in_v0: [Vec4; 1],
+    in_v1: [Vec4; 1],
+    in_v2: [Vec4; 1],
+    in_up: [Vec4; 1],
+    #[spirv(position)] out_position: &mut Vec4,
+    out_normal: &mut Vec3,
+    out_world: &mut Vec3,
+    out_uv: &mut Vec2,
+) {
+    let blade = Blade { v0: in_v0[0], v1: in_v1[0], v2: in_v2[0], up: in_up[0] };
+    let p = surface_point(&blade, coord.x, coord.y, frame.flags.y, frame.ground.y);
+    *out_position = frame.view_proj * p.position.extend(1.0);
+    *out_normal = p.normal;
+    *out_world = p.position;
+    *out_uv = coord.truncate();
+}
+
+/// Lambert plus ambient with the base-to-tip gradient, both faces lit.
+#[spirv(fragment)]
+pub fn grass_fs(
+    normal: Vec3,
+    world: Vec3,
+    uv: Vec2,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    out_color: &mut Vec4,
+) {
+    let n = normal.normalize_or_zero();
+    *out_color = shade_blade(n, world, frame.camera_pos(), frame.light, uv.y).extend(1.0);
+}

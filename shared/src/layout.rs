@@ -1,0 +1,107 @@
+//! The interface between the runner and the shaders: descriptor set/binding numbers,
+//! the uniform block and the push constants. Both sides use these definitions, and a
+//! test compares them with what the compiled SPIR-V declares.
+
+use crate::cull::CullParams;
+use crate::simulate::Environment;
+use spirv_std::glam::{Mat4, UVec3, UVec4, Vec3, Vec4};
+
+/// Threads per workgroup of the simulate-and-cull pass.
+pub const SIMULATE_WORKGROUP: u32 = 64;
+/// Threads per workgroup of the pass writing one draw command per chunk.
+pub const CHUNK_WORKGROUP: u32 = 64;
+
+/// The flat thread index of a dispatch of (x, y, 1) workgroups of `workgroup_size`
+/// threads: x alone cannot hold 2^22 blades (65,535 workgroups at most on many
+/// devices), so larger dispatches spill into y.
+pub fn flat_index(global_id: UVec3, workgroups: UVec3, workgroup_size: u32) -> u32 {
+    global_id.x + global_id.y * workgroups.x * workgroup_size
+}
+
+/// Descriptor set of every pipeline (each pipeline has exactly one).
+pub const SET: u32 = 0;
+/// Binding of [`FrameUniforms`] (uniform buffer), in every pipeline.
+pub const BINDING_UNIFORMS: u32 = 0;
+/// Binding of the blade buffer (storage, read-write), in the compute pipelines.
+pub const BINDING_BLADES: u32 = 1;
+/// Binding of the visible blades, compacted (storage, written by the compute pass,
+/// then the grass draw's vertex buffer).
+pub const BINDING_VISIBLE: u32 = 2;
+/// Binding of the counters (storage, `u32` array; [`COUNTER_VISIBLE`] first).
+pub const BINDING_COUNTERS: u32 = 3;
+/// Binding of the indirect draw commands, one per chunk (storage).
+pub const BINDING_DRAWS: u32 = 4;
+
+/// Index in the counter buffer of the number of visible blades.
+pub const COUNTER_VISIBLE: usize = 0;
+/// Number of `u32` counters.
+pub const COUNTER_COUNT: usize = 4;
+
+/// Per-frame values, one uniform block shared by every stage.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    /// World to clip space (Vulkan: y down, depth 0..1).
+    pub view_proj: Mat4,
+    /// Camera position (xyz).
+    pub camera: Vec4,
+    /// Unit direction towards the light (xyz) and ambient term (w).
+    pub light: Vec4,
+    /// Gravity direction (xyz) and acceleration (w).
+    pub gravity: Vec4,
+    /// Wind direction (xyz) and strength (w).
+    pub wind: Vec4,
+    /// Orientation threshold, frustum tolerance, max distance, bucket count.
+    pub cull: Vec4,
+    /// LOD: near distance, far distance, most and fewest vertical segments.
+    pub lod: Vec4,
+    /// Ground: half size of the square (x), tip start of the triangle-tip shape (y).
+    pub ground: Vec4,
+    /// Enabled cull tests (x, mask of `cull::*`), blade shape (y), blade count (z).
+    pub flags: UVec4,
+}
+
+impl FrameUniforms {
+    /// The forces' environment.
+    pub fn environment(&self) -> Environment {
+        Environment { gravity: self.gravity, wind: self.wind }
+    }
+    /// The cull thresholds and enabled tests.
+    pub fn cull_params(&self) -> CullParams {
+        CullParams {
+            orientation_threshold: self.cull.x,
+            frustum_tolerance: self.cull.y,
+            max_distance: self.cull.z,
+            buckets: self.cull.w as u32,
+            enabled: self.flags.x,
+        }
+    }
+    /// Camera position.
+    pub fn camera_pos(&self) -> Vec3 {
+        self.camera.truncate()
+    }
+    /// Number of blades in the field.
+    pub fn blade_count(&self) -> u32 {
+        self.flags.z
+    }
+}
+
+/// Push constants of the simulate-and-cull dispatch: which fixed steps to run.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SimulatePush {
+    /// Index of the first fixed step of this frame.
+    pub first_step: u32,
+    /// Number of fixed steps this frame.
+    pub steps: u32,
+}
+
+/// Push constants of the chunk pass: how the visible blades split into draws.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ChunkPush {
+    /// Blades per draw command.
+    pub chunk_size: u32,
+    /// Number of draw commands written.
+    pub chunk_count: u32,
+}

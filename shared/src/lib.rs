@@ -1,0 +1,23 @@
+//! The grass model of Jahrmann & Wimmer, *Responsive Real-Time Grass Rendering for
+//! General 3D Scenes* (I3D 2017), as pure functions shared by the GPU and the host.
+//!
+//! The same code runs in the rust-gpu shaders (`shaders-rs`) and in the host tests, so
+//! a formula lives exactly once: change it here and both sides follow.
+#![cfg_attr(target_arch = "spirv", no_std)]
+#![deny(missing_docs)]
+
+pub mod blade;
+pub mod cull;
+pub mod forces;
+#[cfg(not(target_arch = "spirv"))]
+pub mod generate;
+pub mod layout;
+pub mod lod;
+pub mod shade;
+pub mod shape;
+pub mod simulate;
+pub mod validate;
+pub mod wind;
+
+pub use blade::Blade;
+pub use spirv_std::glam;

@@ -1,0 +1,230 @@
+//! The compiled SPIR-V module: valid for Vulkan, tessellation levels decorated `Patch`,
+//! and its interface (bindings, push constants, workgroup sizes, entry points) equal
+//! to what the runner creates.
+
+use ash::vk;
+use rspirv::dr::{Module, Operand};
+use rspirv::spirv::{BuiltIn, Decoration, ExecutionMode, ExecutionModel, Op, StorageClass};
+use runner::field::{BINDINGS, PUSH_CONSTANTS};
+use runner::shaders;
+use shared::layout;
+use std::collections::{BTreeMap, BTreeSet};
+
+fn module() -> Module {
+    rspirv::dr::load_bytes(shaders::SPIRV).expect("parse the shader module")
+}
+
+fn decorations(m: &Module, id: u32) -> Vec<&[Operand]> {
+    m.annotations
+        .iter()
+        .filter(|i| i.class.opcode == Op::Decorate && i.operands[0] == Operand::IdRef(id))
+        .map(|i| &i.operands[1..])
+        .collect()
+}
+
+fn decoration_value(m: &Module, id: u32, which: Decoration) -> Option<u32> {
+    decorations(m, id).into_iter().find_map(|ops| match ops {
+        [Operand::Decoration(d), Operand::LiteralBit32(v)] if *d == which => Some(*v),
+        _ => None,
+    })
+}
+
+/// Entry point name → (execution model, interface ids, function id).
+fn entry_points(m: &Module) -> BTreeMap<String, (ExecutionModel, Vec<u32>, u32)> {
+    m.entry_points
+        .iter()
+        .map(|e| {
+            let model = match e.operands[0] {
+                Operand::ExecutionModel(model) => model,
+                _ => unreachable!(),
+            };
+            let function = e.operands[1].unwrap_id_ref();
+            let name = e.operands[2].unwrap_literal_string().to_string();
+            let interface = e.operands[3..].iter().map(|o| o.unwrap_id_ref()).collect();
+            (name, (model, interface, function))
+        })
+        .collect()
+}
+
+#[test]
+fn module_passes_spirv_val_for_vulkan() {
+    let path = std::env::temp_dir().join(format!("grass-{}.spv", std::process::id()));
+    std::fs::write(&path, shaders::SPIRV).unwrap();
+    let out = std::process::Command::new("spirv-val")
+        .args(["--target-env", "vulkan1.3"])
+        .arg(&path)
+        .output()
+        .expect("run spirv-val (Debian/Ubuntu: apt-get install spirv-tools)");
+    let _ = std::fs::remove_file(&path);
+    assert!(
+        out.status.success(),
+        "spirv-val rejected the module:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn tessellation_levels_are_patch_decorated() {
+    let m = module();
+    let mut seen = BTreeSet::new();
+    for i in &m.annotations {
+        if let [
+            Operand::IdRef(id),
+            Operand::Decoration(Decoration::BuiltIn),
+            Operand::BuiltIn(b @ (BuiltIn::TessLevelOuter | BuiltIn::TessLevelInner)),
+        ] = i.operands.as_slice()
+        {
+            let patch = decorations(&m, *id)
+                .iter()
+                .any(|ops| *ops == [Operand::Decoration(Decoration::Patch)]);
+            assert!(patch, "{b:?} (id {id}) lacks the Patch decoration");
+            seen.insert(format!("{b:?}"));
+        }
+    }
+    assert_eq!(seen.len(), 2, "both tessellation levels must be declared: {seen:?}");
+}
+
+#[test]
+fn every_entry_point_the_runner_uses_exists_with_its_stage() {
+    let entries = entry_points(&module());
+    let expected = [
+        (shaders::SIMULATE_CULL, ExecutionModel::GLCompute),
+        (shaders::WRITE_DRAWS, ExecutionModel::GLCompute),
+        (shaders::GRASS_VS, ExecutionModel::Vertex),
+        (shaders::GRASS_TCS, ExecutionModel::TessellationControl),
+        (shaders::GRASS_TES, ExecutionModel::TessellationEvaluation),
+        (shaders::GRASS_FS, ExecutionModel::Fragment),
+        (shaders::GROUND_VS, ExecutionModel::Vertex),
+        (shaders::GROUND_FS, ExecutionModel::Fragment),
+    ];
+    for (name, model) in expected {
+        let found = entries.get(name).map(|e| e.0);
+        assert_eq!(found, Some(model), "entry point {name}; the module has {:?}", entries.keys());
+    }
+}
+
+fn stage_of(model: ExecutionModel) -> vk::ShaderStageFlags {
+    match model {
+        ExecutionModel::GLCompute => vk::ShaderStageFlags::COMPUTE,
+        ExecutionModel::Vertex => vk::ShaderStageFlags::VERTEX,
+        ExecutionModel::TessellationControl => vk::ShaderStageFlags::TESSELLATION_CONTROL,
+        ExecutionModel::TessellationEvaluation => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+        ExecutionModel::Fragment => vk::ShaderStageFlags::FRAGMENT,
+        other => panic!("unexpected stage {other:?}"),
+    }
+}
+
+/// The type a pointer variable points to, and its storage class.
+fn pointee(m: &Module, var: u32) -> Option<(StorageClass, u32)> {
+    let var = m.types_global_values.iter().find(|i| i.result_id == Some(var))?;
+    if var.class.opcode != Op::Variable {
+        return None;
+    }
+    let ptr = m.types_global_values.iter().find(|i| i.result_id == var.result_type)?;
+    match ptr.operands.as_slice() {
+        [Operand::StorageClass(sc), Operand::IdRef(ty)] => Some((*sc, *ty)),
+        _ => None,
+    }
+}
+
+/// Size in bytes of a struct type of 32-bit scalars, vectors and matrices (what the
+/// push-constant blocks are made of), from its member offsets.
+fn struct_size(m: &Module, ty: u32) -> u32 {
+    let def = m.types_global_values.iter().find(|i| i.result_id == Some(ty)).unwrap();
+    let scalar_size = |t: u32| -> u32 {
+        let d = m.types_global_values.iter().find(|i| i.result_id == Some(t)).unwrap();
+        match d.class.opcode {
+            Op::TypeInt | Op::TypeFloat => 4,
+            Op::TypeVector => 4 * d.operands[1].unwrap_literal_bit32(),
+            Op::TypeMatrix => 16 * d.operands[1].unwrap_literal_bit32(),
+            other => panic!("push-constant member of type {other:?}"),
+        }
+    };
+    let members: Vec<u32> = def.operands.iter().map(|o| o.unwrap_id_ref()).collect();
+    let mut end = 0;
+    for (i, member) in members.iter().enumerate() {
+        let offset = m
+            .annotations
+            .iter()
+            .find_map(|a| match a.operands.as_slice() {
+                [Operand::IdRef(s), Operand::LiteralBit32(idx), Operand::Decoration(Decoration::Offset), Operand::LiteralBit32(off)]
+                    if *s == ty && *idx as usize == i =>
+                {
+                    Some(*off)
+                }
+                _ => None,
+            })
+            .expect("member offset");
+        end = end.max(offset + scalar_size(*member));
+    }
+    end
+}
+
+#[test]
+fn descriptor_bindings_and_push_constants_match_the_runner() {
+    let m = module();
+    for (name, (model, interface, _)) in entry_points(&m) {
+        let stage = stage_of(model);
+        // SPIR-V 1.4+: the interface lists every global the entry point uses.
+        for &var in &interface {
+            let Some((class, ty)) = pointee(&m, var) else { continue };
+            match class {
+                StorageClass::Uniform | StorageClass::StorageBuffer => {
+                    let set = decoration_value(&m, var, Decoration::DescriptorSet);
+                    let binding = decoration_value(&m, var, Decoration::Binding);
+                    assert_eq!(set, Some(layout::SET), "{name}: descriptor set of id {var}");
+                    let binding = binding.expect("binding decoration");
+                    let spec = BINDINGS
+                        .iter()
+                        .find(|b| b.binding == binding)
+                        .unwrap_or_else(|| panic!("{name} uses binding {binding}, which the runner does not create"));
+                    let ty_expected = if class == StorageClass::Uniform {
+                        vk::DescriptorType::UNIFORM_BUFFER
+                    } else {
+                        vk::DescriptorType::STORAGE_BUFFER
+                    };
+                    assert_eq!(spec.ty, ty_expected, "{name}: type of binding {binding}");
+                    assert!(spec.stages.contains(stage), "{name}: binding {binding} not visible to {stage:?}");
+                }
+                StorageClass::PushConstant => {
+                    let size = struct_size(&m, ty);
+                    assert!(PUSH_CONSTANTS.0.contains(stage), "{name}: push constants not in its stage");
+                    assert!(size <= PUSH_CONSTANTS.1, "{name}: push block of {size} bytes, runner range {}", PUSH_CONSTANTS.1);
+                    let expected = match name.as_str() {
+                        n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
+                        n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
+                        _ => panic!("{name} has push constants the runner does not push"),
+                    };
+                    assert_eq!(size as usize, expected, "{name}: push block size");
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+#[test]
+fn compute_workgroup_sizes_match_the_dispatches() {
+    let m = module();
+    let entries = entry_points(&m);
+    for (name, size) in [
+        (shaders::SIMULATE_CULL, layout::SIMULATE_WORKGROUP),
+        (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
+    ] {
+        let function = entries[name].2;
+        let local_size = m
+            .execution_modes
+            .iter()
+            .find_map(|i| match i.operands.as_slice() {
+                [Operand::IdRef(f), Operand::ExecutionMode(ExecutionMode::LocalSize), Operand::LiteralBit32(x), ..]
+                    if *f == function =>
+                {
+                    Some(*x)
+                }
+                _ => None,
+            })
+            .expect("LocalSize");
+        assert_eq!(local_size, size, "{name}: threads per workgroup");
+    }
+}

@@ -55,7 +55,11 @@ pub struct ViewArgs {
 
 impl Default for ViewArgs {
     fn default() -> Self {
-        Self { width: 1280, height: 720, frames: None }
+        Self {
+            width: 1280,
+            height: 720,
+            frames: None,
+        }
     }
 }
 

@@ -107,8 +107,16 @@ impl Field {
         use vk::BufferUsageFlags as U;
         let gpu = MemoryLocation::GpuOnly;
         let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
-        let blade_buffer = device_buffer("blades", bytes, U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC)?;
-        let visible = device_buffer("visible", bytes, U::STORAGE_BUFFER | U::VERTEX_BUFFER | U::TRANSFER_SRC)?;
+        let blade_buffer = device_buffer(
+            "blades",
+            bytes,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
+        )?;
+        let visible = device_buffer(
+            "visible",
+            bytes,
+            U::STORAGE_BUFFER | U::VERTEX_BUFFER | U::TRANSFER_SRC,
+        )?;
         let counters = device_buffer(
             "counters",
             (layout::COUNTER_COUNT * 4) as u64,
@@ -125,14 +133,24 @@ impl Field {
             U::UNIFORM_BUFFER | U::TRANSFER_DST,
         )?;
 
-        let mut staging = Buffer::new(ctx, "blade upload", bytes, U::TRANSFER_SRC, MemoryLocation::CpuToGpu)?;
+        let mut staging = Buffer::new(
+            ctx,
+            "blade upload",
+            bytes,
+            U::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
         staging.write(blades)?;
         pool.one_shot(|rec| rec.copy_buffer(staging.buffer, blade_buffer.buffer, bytes))?;
 
         let descriptors = DescriptorSet::new(ctx, &BINDINGS)?;
         let bind = |binding: u32, buffer: &Buffer| {
             let ty = BINDINGS.iter().find(|b| b.binding == binding).map(|b| b.ty);
-            descriptors.write_buffer(binding, ty.unwrap_or(vk::DescriptorType::STORAGE_BUFFER), buffer.buffer);
+            descriptors.write_buffer(
+                binding,
+                ty.unwrap_or(vk::DescriptorType::STORAGE_BUFFER),
+                buffer.buffer,
+            );
         };
         bind(layout::BINDING_UNIFORMS, &uniforms);
         bind(layout::BINDING_BLADES, &blade_buffer);

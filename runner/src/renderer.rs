@@ -3,10 +3,10 @@
 //! count back without stalling (each frame slot reads its own, one frame later).
 
 use crate::field::Field;
+use crate::passes::DEPTH_FORMAT;
 use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::passes::simulate::SimulatePass;
-use crate::passes::DEPTH_FORMAT;
 use crate::shaders;
 use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use crate::vulkan::pipeline::ShaderModule;
@@ -204,7 +204,13 @@ impl Renderer {
         Ok(cmd)
     }
 
-    fn record_compute(&self, rec: &Recorder, slot: usize, uniforms: &FrameUniforms, push: SimulatePush) {
+    fn record_compute(
+        &self,
+        rec: &Recorder,
+        slot: usize,
+        uniforms: &FrameUniforms,
+        push: SimulatePush,
+    ) {
         let field = &self.field;
         // Everything the previous frame read or wrote is done before this one
         // overwrites the uniforms, the counters and the blades.
@@ -222,7 +228,11 @@ impl Renderer {
             ),
         );
         self.simulate.record(rec, field, push);
-        rec.copy_buffer(field.counters.buffer, self.slots[slot].counters.buffer, field.counters.size);
+        rec.copy_buffer(
+            field.counters.buffer,
+            self.slots[slot].counters.buffer,
+            field.counters.size,
+        );
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 
@@ -234,14 +244,20 @@ impl Renderer {
         rec.image_barrier(
             target.image,
             vk::ImageAspectFlags::COLOR,
-            (vk::ImageLayout::UNDEFINED, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ),
             (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
             color_out,
         );
         rec.image_barrier(
             depth_image,
             vk::ImageAspectFlags::DEPTH,
-            (vk::ImageLayout::UNDEFINED, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
             (depth_tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
             (depth_tests, depth_rw),
         );
@@ -257,13 +273,21 @@ impl Renderer {
         rec.image_barrier(
             target.image,
             vk::ImageAspectFlags::COLOR,
-            (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, target.final_layout),
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                target.final_layout,
+            ),
             color_out,
             (dst, dst_access),
         );
     }
 
-    fn submit(&mut self, slot: usize, wait: Option<vk::Semaphore>, signal: Option<vk::Semaphore>) -> Result<()> {
+    fn submit(
+        &mut self,
+        slot: usize,
+        wait: Option<vk::Semaphore>,
+        signal: Option<vk::Semaphore>,
+    ) -> Result<()> {
         let device = &self.ctx.device;
         let frame = &mut self.slots[slot];
         unsafe { device.end_command_buffer(frame.cmd) }.context("record frame")?;
@@ -295,7 +319,8 @@ impl Renderer {
             MemoryLocation::GpuToCpu,
         )?;
         self.ctx.wait_idle()?;
-        self.pool.one_shot(|rec| rec.copy_buffer(buffer.buffer, staging.buffer, bytes))?;
+        self.pool
+            .one_shot(|rec| rec.copy_buffer(buffer.buffer, staging.buffer, bytes))?;
         staging.read(count)
     }
 }

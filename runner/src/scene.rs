@@ -22,7 +22,10 @@ impl Scene {
     /// `count` blades on a square sized for the course density, from `seed`.
     pub fn square(count: u32, seed: u64) -> Self {
         let side = side_for(count);
-        Self { blades: square_field(count, side, seed), side }
+        Self {
+            blades: square_field(count, side, seed),
+            side,
+        }
     }
 }
 
@@ -91,7 +94,12 @@ impl Settings {
                 self.max_distance,
                 self.buckets as f32,
             ),
-            lod: Vec4::new(self.lod_near, self.lod_far, MAX_SEGMENTS as f32, self.lod_min),
+            lod: Vec4::new(
+                self.lod_near,
+                self.lod_far,
+                MAX_SEGMENTS as f32,
+                self.lod_min,
+            ),
             ground: Vec4::new(0.5 * scene.side + 1.0, self.tip_start, 0.0, 0.0),
             flags: UVec4::new(self.cull, self.shape, scene.blades.len() as u32, 0),
         }

@@ -32,9 +32,20 @@ pub fn simulate_cull(
         return;
     }
     let i = index as usize;
-    let blade = simulate(&blades[i], &frame.environment(), push.first_step, push.steps);
+    let blade = simulate(
+        &blades[i],
+        &frame.environment(),
+        push.first_step,
+        push.steps,
+    );
     blades[i] = blade;
-    if is_visible(&blade, index, frame.camera_pos(), frame.view_proj, &frame.cull_params()) {
+    if is_visible(
+        &blade,
+        index,
+        frame.camera_pos(),
+        frame.view_proj,
+        &frame.cull_params(),
+    ) {
         let slot = unsafe {
             atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
                 &mut counters[COUNTER_VISIBLE],

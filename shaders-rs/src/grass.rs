@@ -13,6 +13,7 @@ use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
 
 /// Passes the blade (four vertex attributes of the visible buffer) on.
+#[allow(clippy::too_many_arguments)]
 #[spirv(vertex)]
 pub fn grass_vs(
     v0: Vec4,
@@ -72,7 +73,12 @@ pub fn grass_tes(
     out_world: &mut Vec3,
     out_uv: &mut Vec2,
 ) {
-    let blade = Blade { v0: in_v0[0], v1: in_v1[0], v2: in_v2[0], up: in_up[0] };
+    let blade = Blade {
+        v0: in_v0[0],
+        v1: in_v1[0],
+        v2: in_v2[0],
+        up: in_up[0],
+    };
     let p = surface_point(&blade, coord.x, coord.y, frame.flags.y, frame.ground.y);
     *out_position = frame.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;

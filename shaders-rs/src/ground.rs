@@ -3,7 +3,7 @@
 
 use shared::layout::FrameUniforms;
 use shared::shade::{ground_albedo, ground_corner, lambert};
-use spirv_std::glam::{Vec3, Vec4, Vec3Swizzles};
+use spirv_std::glam::{Vec3, Vec3Swizzles, Vec4};
 use spirv_std::spirv;
 
 /// Corner `vertex_index` of the two triangles of the ground.

@@ -135,12 +135,20 @@ mod tests {
     #[test]
     fn width_dir_on_flat_ground_matches_paper() {
         let t = 0.7_f32;
-        assert!(close(width_dir(Vec3::Y, t), Vec3::new(t.cos(), 0.0, t.sin())));
+        assert!(close(
+            width_dir(Vec3::Y, t),
+            Vec3::new(t.cos(), 0.0, t.sin())
+        ));
     }
 
     #[test]
     fn frame_is_orthonormal_for_any_up() {
-        for up in [Vec3::Y, Vec3::X, -Vec3::Z, Vec3::new(1.0, 2.0, 3.0).normalize()] {
+        for up in [
+            Vec3::Y,
+            Vec3::X,
+            -Vec3::Z,
+            Vec3::new(1.0, 2.0, 3.0).normalize(),
+        ] {
             let (e1, e2) = tangent_frame(up);
             assert!(e1.dot(up).abs() < 1e-6 && e2.dot(up).abs() < 1e-6);
             assert!(e1.dot(e2).abs() < 1e-6);

@@ -77,7 +77,13 @@ pub fn distance_bucket_limit(dproj: f32, max_distance: f32, buckets: u32) -> f32
 
 /// Distance test: beyond dmax cull; nearer, blade `id` in bucket (id mod n) is culled
 /// when its bucket exceeds floor(n·(1 − dproj/dmax)), thinning the far field evenly.
-pub fn cull_distance(blade: &Blade, id: u32, camera: Vec3, max_distance: f32, buckets: u32) -> bool {
+pub fn cull_distance(
+    blade: &Blade,
+    id: u32,
+    camera: Vec3,
+    max_distance: f32,
+    buckets: u32,
+) -> bool {
     let dproj = projected_distance(blade, camera);
     dproj > max_distance
         || (id % buckets.max(1)) as f32 > distance_bucket_limit(dproj, max_distance, buckets)
@@ -156,11 +162,21 @@ mod tests {
         }
         // At 55 % of dmax: floor(10·0.45) = 4 → buckets 0..=4 kept, 5..=9 culled.
         for id in 0..10 {
-            assert_eq!(cull_distance(&b, id, cam(55.0), 100.0, 10), id % 10 > 4, "id {id}");
+            assert_eq!(
+                cull_distance(&b, id, cam(55.0), 100.0, 10),
+                id % 10 > 4,
+                "id {id}"
+            );
         }
         // Beyond dmax everything goes; the height of the camera does not count.
         assert!(cull_distance(&b, 0, cam(100.5), 100.0, 10));
-        assert!(!cull_distance(&b, 0, Vec3::new(99.5, 500.0, 0.0), 100.0, 10));
+        assert!(!cull_distance(
+            &b,
+            0,
+            Vec3::new(99.5, 500.0, 0.0),
+            100.0,
+            10
+        ));
     }
 
     #[test]

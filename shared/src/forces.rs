@@ -76,7 +76,11 @@ mod tests {
         assert!(close(recovery(&b, 0.0), Vec3::ZERO, 1e-6));
         let bent = b.with_curve(b.guide(), Vec3::new(1.0, 1.0, 0.0));
         // Iv2 − v2 = (0,2,0) − (1,1,0) = (−1, 1, 0); times s = 10.
-        assert!(close(recovery(&bent, 0.0), Vec3::new(-10.0, 10.0, 0.0), 1e-5));
+        assert!(close(
+            recovery(&bent, 0.0),
+            Vec3::new(-10.0, 10.0, 0.0),
+            1e-5
+        ));
         // A fully trampled blade still recovers at 10 % strength.
         assert!(close(recovery(&bent, 1.5), Vec3::new(-1.0, 1.0, 0.0), 1e-5));
         assert!(close(recovery(&bent, 0.5), Vec3::new(-5.0, 5.0, 0.0), 1e-5));
@@ -95,10 +99,18 @@ mod tests {
     fn wind_along_the_blade_or_on_a_flat_blade_does_nothing() {
         let b = blade();
         // Wind straight up the blade axis: alignment 0.
-        assert!(close(wind_force(&b, Vec3::new(0.0, 5.0, 0.0)), Vec3::ZERO, 1e-6));
+        assert!(close(
+            wind_force(&b, Vec3::new(0.0, 5.0, 0.0)),
+            Vec3::ZERO,
+            1e-6
+        ));
         // Blade lying flat: height ratio 0.
         let flat = b.with_curve(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0));
-        assert!(close(wind_force(&flat, Vec3::new(0.0, 0.0, 4.0)), Vec3::ZERO, 1e-6));
+        assert!(close(
+            wind_force(&flat, Vec3::new(0.0, 0.0, 4.0)),
+            Vec3::ZERO,
+            1e-6
+        ));
         // Half-bent blade at 45°, wind across the bend: fd = 1 − cos 45°, fr = 1/√2·|v2−v0|/h.
         let half = b.with_curve(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0));
         let wi = Vec3::new(2.0, 0.0, 0.0);

@@ -64,7 +64,10 @@ pub struct FrameUniforms {
 impl FrameUniforms {
     /// The forces' environment.
     pub fn environment(&self) -> Environment {
-        Environment { gravity: self.gravity, wind: self.wind }
+        Environment {
+            gravity: self.gravity,
+            wind: self.wind,
+        }
     }
     /// The cull thresholds and enabled tests.
     pub fn cull_params(&self) -> CullParams {

@@ -11,7 +11,9 @@ pub const MAX_SEGMENTS: u32 = 8;
 /// at `far` and beyond, rounded to a whole number so neighbouring blades match.
 pub fn vertical_segments(distance: f32, near: f32, far: f32, most: f32, fewest: f32) -> f32 {
     let t = ((distance - near) / (far - near).max(1e-6)).clamp(0.0, 1.0);
-    (most + (fewest - most) * t).round().clamp(1.0, MAX_SEGMENTS as f32)
+    (most + (fewest - most) * t)
+        .round()
+        .clamp(1.0, MAX_SEGMENTS as f32)
 }
 
 /// Tessellation levels of a quad patch with u across the width and v along the
@@ -42,7 +44,11 @@ pub fn blades_per_chunk() -> u32 {
 /// (first blade, number of blades); empty chunks past the end draw nothing.
 pub fn chunk_range(visible: u32, chunk: u32, chunk_size: u32) -> (u32, u32) {
     let first = chunk * chunk_size;
-    let count = if visible > first { (visible - first).min(chunk_size) } else { 0 };
+    let count = if visible > first {
+        (visible - first).min(chunk_size)
+    } else {
+        0
+    };
     (first, count)
 }
 

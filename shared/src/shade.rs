@@ -17,7 +17,11 @@ pub fn lambert(albedo: Vec3, normal: Vec3, light: Vec4) -> Vec3 {
 /// A blade fragment at height `v` (0 root, 1 tip): the base-to-tip gradient, lit with
 /// the normal flipped towards the viewer so both faces of the thin blade are lit.
 pub fn shade_blade(normal: Vec3, position: Vec3, camera: Vec3, light: Vec4, v: f32) -> Vec3 {
-    let n = if normal.dot(camera - position) < 0.0 { -normal } else { normal };
+    let n = if normal.dot(camera - position) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
     lambert(BLADE_BASE.lerp(BLADE_TIP, v), n, light)
 }
 

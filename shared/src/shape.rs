@@ -51,8 +51,15 @@ pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) 
     let position = (1.0 - tau) * (c - half) + tau * (c + half);
     // An upright blade has v1 = v2, so b − a vanishes at the tip: fall back to up.
     let along = b - a;
-    let t0 = if along.length_squared() > 1e-12 { along.normalize() } else { blade.up_dir() };
-    SurfacePoint { position, normal: t0.cross(t1).normalize_or_zero() }
+    let t0 = if along.length_squared() > 1e-12 {
+        along.normalize()
+    } else {
+        blade.up_dir()
+    };
+    SurfacePoint {
+        position,
+        normal: t0.cross(t1).normalize_or_zero(),
+    }
 }
 
 #[cfg(test)]
@@ -72,7 +79,10 @@ mod tests {
         for (shape, taus) in expect {
             for ((u, v), tau) in corners.iter().zip(taus) {
                 let got = shape_tau(shape, *u, *v, 0.5);
-                assert!((got - tau).abs() < 1e-6, "shape {shape} at ({u},{v}): {got}");
+                assert!(
+                    (got - tau).abs() < 1e-6,
+                    "shape {shape} at ({u},{v}): {got}"
+                );
             }
         }
         // Triangle-tip keeps the full width below k.

@@ -112,7 +112,10 @@ mod tests {
     fn same_motion_at_2_fps_and_500_fps() {
         let slow = run(0.5, 3.0);
         let fast = run(0.002, 3.0);
-        assert!((slow.tip() - fast.tip()).length() < 1e-5, "{slow:?} vs {fast:?}");
+        assert!(
+            (slow.tip() - fast.tip()).length() < 1e-5,
+            "{slow:?} vs {fast:?}"
+        );
     }
 
     #[test]
@@ -129,7 +132,10 @@ mod tests {
     /// arc length stays within 5 % of h (the tips never fold back onto the roots).
     #[test]
     fn long_runs_in_strong_wind_keep_length_and_ground() {
-        let windy = Environment { gravity: env().gravity, wind: Vec4::new(0.6, 0.0, 0.8, 12.0) };
+        let windy = Environment {
+            gravity: env().gravity,
+            wind: Vec4::new(0.6, 0.0, 0.8, 12.0),
+        };
         let mut worst: f32 = 0.0;
         for b in crate::generate::square_field(64, 8.0, 3) {
             let mut b = b;
@@ -146,7 +152,10 @@ mod tests {
 
     #[test]
     fn gravity_alone_bends_a_blade_but_it_stays_valid() {
-        let calm = Environment { gravity: env().gravity, wind: Vec4::ZERO };
+        let calm = Environment {
+            gravity: env().gravity,
+            wind: Vec4::ZERO,
+        };
         let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 7.0);
         let b = simulate(&b, &calm, 0, 600);
         assert!(b.tip().is_finite());

@@ -131,7 +131,13 @@ mod tests {
                 }
             }
         }
-        assert!(worst_bent < LENGTH_TOLERANCE_BENT, "bent: worst relative error {worst_bent}");
-        assert!(worst_any < LENGTH_TOLERANCE_FOLDED, "any: worst relative error {worst_any}");
+        assert!(
+            worst_bent < LENGTH_TOLERANCE_BENT,
+            "bent: worst relative error {worst_bent}"
+        );
+        assert!(
+            worst_any < LENGTH_TOLERANCE_FOLDED,
+            "any: worst relative error {worst_any}"
+        );
     }
 }

@@ -18,26 +18,26 @@ const FRAMES: u32 = 30;
 const STEPS_PER_FRAME: u32 = 10;
 
 /// Largest difference allowed between a GPU and a host control point, in world units
-/// (blades are 1.3 to 2.5 tall). The GPU's sin, cos, sqrt and division may differ from
+/// (blades are 1.3 to 2.5 tall; lavapipe stays within 1e-5 of the host). The GPU's sin, cos, sqrt and division may differ from
 /// the host's in the last bits (Vulkan allows a few ULP, sin/cos 2^-11 absolute), and
 /// fused multiply-adds round differently; recovery pulls every tip towards its rest
 /// position, so those differences do not grow over the steps.
-const POSITION_TOLERANCE: f32 = 2e-3;
+const POSITION_TOLERANCE: f32 = 5e-4;
 
 /// A blade within this of a cull threshold may fall either way on the two sides.
-const THRESHOLD_EPSILON: f32 = 1e-2;
+const THRESHOLD_EPSILON: f32 = 1e-3;
 
 /// A camera low over the field's edge, so that every test removes blades.
 fn setup() -> (Scene, FrameUniforms) {
     let scene = Scene::square(BLADES, 11);
     let mut settings = Settings::for_field(scene.side);
-    settings.max_distance = scene.side * 0.6;
+    settings.max_distance = scene.side * 0.9;
     settings.buckets = 4;
     let camera = OrbitCamera {
         target: Vec3::new(0.0, 0.5, 0.0),
         yaw: 0.3,
         pitch: 0.25,
-        distance: scene.side * 0.45,
+        distance: scene.side * 0.6,
         fov_y: 40f32.to_radians(),
     };
     let uniforms = settings.uniforms(&camera, 1.0, &scene);
@@ -55,7 +55,10 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
     let frustum = [b.root(), b.midpoint(), b.tip()].iter().any(|pt| {
         let c = u.view_proj * pt.extend(1.0);
         let limit = c.w + p.frustum_tolerance;
-        let margin = (limit - c.x.abs()).min(limit - c.y.abs()).min(c.z).min(c.w - c.z);
+        let margin = (limit - c.x.abs())
+            .min(limit - c.y.abs())
+            .min(c.z)
+            .min(c.w - c.z);
         margin.abs() < eps * c.w.abs().max(1.0)
     });
     let dproj = cull::projected_distance(b, cam);
@@ -73,27 +76,49 @@ fn compute_pass_matches_the_host() {
         let env = uniforms.environment();
         let mut host = scene.blades.clone();
         for frame in 0..FRAMES {
-            let push = SimulatePush { first_step: frame * STEPS_PER_FRAME, steps: STEPS_PER_FRAME };
-            renderer.compute_frame(&uniforms, push).expect("compute frame");
+            let push = SimulatePush {
+                first_step: frame * STEPS_PER_FRAME,
+                steps: STEPS_PER_FRAME,
+            };
+            renderer
+                .compute_frame(&uniforms, push)
+                .expect("compute frame");
             for b in &mut host {
                 *b = simulate(b, &env, push.first_step, push.steps);
             }
         }
-        let gpu: Vec<Blade> = renderer.download(&renderer.field.blades, host.len()).unwrap();
+        let gpu: Vec<Blade> = renderer
+            .download(&renderer.field.blades, host.len())
+            .unwrap();
 
         // Every blade, every control point.
         let mut worst: f32 = 0.0;
         for (i, (g, h)) in gpu.iter().zip(&host).enumerate() {
             assert_eq!(g.v0, h.v0, "blade {i}: the root must not move");
             assert_eq!(g.up, h.up, "blade {i}: up and stiffness must not change");
-            let d = (g.guide() - h.guide()).length().max((g.tip() - h.tip()).length());
-            assert!(g.v1.is_finite() && g.v2.is_finite(), "blade {i} not finite: {g:?}");
-            assert!(d < POSITION_TOLERANCE, "blade {i}: GPU {g:?} host {h:?} differ by {d}");
+            let d = (g.guide() - h.guide())
+                .length()
+                .max((g.tip() - h.tip()).length());
+            assert!(
+                g.v1.is_finite() && g.v2.is_finite(),
+                "blade {i} not finite: {g:?}"
+            );
+            assert!(
+                d < POSITION_TOLERANCE,
+                "blade {i}: GPU {g:?} host {h:?} differ by {d}"
+            );
             worst = worst.max(d);
         }
-        println!("largest GPU/host control-point difference after {} steps: {worst:e}", FRAMES * STEPS_PER_FRAME);
+        println!(
+            "largest GPU/host control-point difference after {} steps: {worst:e}",
+            FRAMES * STEPS_PER_FRAME
+        );
         // The blades really moved (the comparison is not of two rest states).
-        let moved = host.iter().zip(&scene.blades).filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05).count();
+        let moved = host
+            .iter()
+            .zip(&scene.blades)
+            .filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05)
+            .count();
         assert!(moved > host.len() / 2, "only {moved} blades moved");
 
         // The visible set: the GPU's compacted survivors, named by their roots.
@@ -117,10 +142,22 @@ fn compute_pass_matches_the_host() {
             }
             compared += 1;
             let host_visible = cull::is_visible(b, id, cam, uniforms.view_proj, &p);
-            assert_eq!(gpu_set.contains(&key(b)), host_visible, "blade {id}: visible on the host: {host_visible}");
+            assert_eq!(
+                gpu_set.contains(&key(b)),
+                host_visible,
+                "blade {id}: visible on the host: {host_visible}"
+            );
         }
-        println!("visible {count} of {BLADES}; compared {compared}, {skipped} near a threshold; removed by orientation/frustum/distance {removed:?}");
-        assert!(removed.iter().all(|&r| r > 20), "each test must remove blades here: {removed:?}");
-        assert!(skipped < BLADES as usize / 10, "too many blades near a threshold: {skipped}");
+        println!(
+            "visible {count} of {BLADES}; compared {compared}, {skipped} near a threshold; removed by orientation/frustum/distance {removed:?}"
+        );
+        assert!(
+            removed.iter().all(|&r| r > 20),
+            "each test must remove blades here: {removed:?}"
+        );
+        assert!(
+            skipped < BLADES as usize / 20,
+            "too many blades near a threshold: {skipped}"
+        );
     });
 }

@@ -11,8 +11,17 @@ const WIDTH: u32 = 256;
 const HEIGHT: u32 = 256;
 
 fn scene(validation: bool) -> (Common, RenderArgs) {
-    let common = Common { blades: Some(2048), seed: 1, validation };
-    let args = RenderArgs { frames: 30, out: PathBuf::new(), width: WIDTH, height: HEIGHT };
+    let common = Common {
+        blades: Some(2048),
+        seed: 1,
+        validation,
+    };
+    let args = RenderArgs {
+        frames: 30,
+        out: PathBuf::new(),
+        width: WIDTH,
+        height: HEIGHT,
+    };
     (common, args)
 }
 
@@ -66,10 +75,21 @@ fn headless_render_matches_the_reference_and_shows_grass_and_ground() {
         }
     }
     let total = (WIDTH * HEIGHT) as f64;
-    let shares = (grass as f64 / total, ground as f64 / total, sky as f64 / total);
-    println!("grass {:.3}, ground {:.3}, sky {:.3}; {} of {} blades visible", shares.0, shares.1, shares.2, report.visible, report.blades);
+    let shares = (
+        grass as f64 / total,
+        ground as f64 / total,
+        sky as f64 / total,
+    );
+    println!(
+        "grass {:.3}, ground {:.3}, sky {:.3}; {} of {} blades visible",
+        shares.0, shares.1, shares.2, report.visible, report.blades
+    );
     let content_ok = shares.0 > 0.10 && shares.1 > 0.005 && shares.2 > 0.05;
-    assert!(content_ok, "grass/ground/sky shares {shares:?}; {}", save_failure("field_content", &image, None));
+    assert!(
+        content_ok,
+        "grass/ground/sky shares {shares:?}; {}",
+        save_failure("field_content", &image, None)
+    );
 
     let reference_file = reference_path();
     if std::env::var_os("GRASS_UPDATE_REFERENCE").is_some() {
@@ -77,7 +97,9 @@ fn headless_render_matches_the_reference_and_shows_grass_and_ground() {
         eprintln!("reference updated: {}", reference_file.display());
         return;
     }
-    let reference = image::open(&reference_file).expect("open reference image").to_rgba8();
+    let reference = image::open(&reference_file)
+        .expect("open reference image")
+        .to_rgba8();
     assert_eq!(reference.dimensions(), image.dimensions());
     let mut diff = RgbaImage::new(WIDTH, HEIGHT);
     let (mut sum, mut outliers) = (0u64, 0u64);
@@ -86,7 +108,16 @@ fn headless_render_matches_the_reference_and_shows_grass_and_ground() {
         let d: Vec<u8> = (0..3).map(|c| p[c].abs_diff(q[c])).collect();
         sum += d.iter().map(|&v| u64::from(v)).sum::<u64>();
         outliers += u64::from(d.iter().any(|&v| v > 64));
-        diff.put_pixel(x, y, Rgba([d[0].saturating_mul(4), d[1].saturating_mul(4), d[2].saturating_mul(4), 255]));
+        diff.put_pixel(
+            x,
+            y,
+            Rgba([
+                d[0].saturating_mul(4),
+                d[1].saturating_mul(4),
+                d[2].saturating_mul(4),
+                255,
+            ]),
+        );
     }
     let mean = sum as f64 / (total * 3.0);
     let outlier_share = outliers as f64 / total;
@@ -107,5 +138,8 @@ fn render_with_validation_reports_no_error() {
     let (common, mut args) = scene(true);
     args.frames = 5;
     let report = render(&common, &args).expect("render with validation");
-    assert_eq!(report.validation_errors, 0, "validation errors (see the log)");
+    assert_eq!(
+        report.validation_errors, 0,
+        "validation errors (see the log)"
+    );
 }

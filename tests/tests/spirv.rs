@@ -82,7 +82,11 @@ fn tessellation_levels_are_patch_decorated() {
             seen.insert(format!("{b:?}"));
         }
     }
-    assert_eq!(seen.len(), 2, "both tessellation levels must be declared: {seen:?}");
+    assert_eq!(
+        seen.len(),
+        2,
+        "both tessellation levels must be declared: {seen:?}"
+    );
 }
 
 #[test]
@@ -100,7 +104,12 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
-        assert_eq!(found, Some(model), "entry point {name}; the module has {:?}", entries.keys());
+        assert_eq!(
+            found,
+            Some(model),
+            "entry point {name}; the module has {:?}",
+            entries.keys()
+        );
     }
 }
 
@@ -117,27 +126,43 @@ fn stage_of(model: ExecutionModel) -> vk::ShaderStageFlags {
 
 /// The type a pointer variable points to, and its storage class.
 fn pointee(m: &Module, var: u32) -> Option<(StorageClass, u32)> {
-    let var = m.types_global_values.iter().find(|i| i.result_id == Some(var))?;
+    let var = m
+        .types_global_values
+        .iter()
+        .find(|i| i.result_id == Some(var))?;
     if var.class.opcode != Op::Variable {
         return None;
     }
-    let ptr = m.types_global_values.iter().find(|i| i.result_id == var.result_type)?;
+    let ptr = m
+        .types_global_values
+        .iter()
+        .find(|i| i.result_id == var.result_type)?;
     match ptr.operands.as_slice() {
         [Operand::StorageClass(sc), Operand::IdRef(ty)] => Some((*sc, *ty)),
         _ => None,
     }
 }
 
-/// Size in bytes of a struct type of 32-bit scalars, vectors and matrices (what the
-/// push-constant blocks are made of), from its member offsets.
+/// Size in bytes of a struct type of 32-bit scalars, vectors, matrices and structs
+/// (what the push-constant blocks are made of), from its member offsets.
 fn struct_size(m: &Module, ty: u32) -> u32 {
-    let def = m.types_global_values.iter().find(|i| i.result_id == Some(ty)).unwrap();
+    let def = m
+        .types_global_values
+        .iter()
+        .find(|i| i.result_id == Some(ty))
+        .unwrap();
     let scalar_size = |t: u32| -> u32 {
-        let d = m.types_global_values.iter().find(|i| i.result_id == Some(t)).unwrap();
+        let d = m
+            .types_global_values
+            .iter()
+            .find(|i| i.result_id == Some(t))
+            .unwrap();
         match d.class.opcode {
             Op::TypeInt | Op::TypeFloat => 4,
             Op::TypeVector => 4 * d.operands[1].unwrap_literal_bit32(),
             Op::TypeMatrix => 16 * d.operands[1].unwrap_literal_bit32(),
+            // rust-gpu wraps a push-constant block in a one-member struct.
+            Op::TypeStruct => struct_size(m, t),
             other => panic!("push-constant member of type {other:?}"),
         }
     };
@@ -148,11 +173,12 @@ fn struct_size(m: &Module, ty: u32) -> u32 {
             .annotations
             .iter()
             .find_map(|a| match a.operands.as_slice() {
-                [Operand::IdRef(s), Operand::LiteralBit32(idx), Operand::Decoration(Decoration::Offset), Operand::LiteralBit32(off)]
-                    if *s == ty && *idx as usize == i =>
-                {
-                    Some(*off)
-                }
+                [
+                    Operand::IdRef(s),
+                    Operand::LiteralBit32(idx),
+                    Operand::Decoration(Decoration::Offset),
+                    Operand::LiteralBit32(off),
+                ] if *s == ty && *idx as usize == i => Some(*off),
                 _ => None,
             })
             .expect("member offset");
@@ -168,7 +194,9 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
         let stage = stage_of(model);
         // SPIR-V 1.4+: the interface lists every global the entry point uses.
         for &var in &interface {
-            let Some((class, ty)) = pointee(&m, var) else { continue };
+            let Some((class, ty)) = pointee(&m, var) else {
+                continue;
+            };
             match class {
                 StorageClass::Uniform | StorageClass::StorageBuffer => {
                     let set = decoration_value(&m, var, Decoration::DescriptorSet);
@@ -178,19 +206,33 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                     let spec = BINDINGS
                         .iter()
                         .find(|b| b.binding == binding)
-                        .unwrap_or_else(|| panic!("{name} uses binding {binding}, which the runner does not create"));
+                        .unwrap_or_else(|| {
+                            panic!(
+                                "{name} uses binding {binding}, which the runner does not create"
+                            )
+                        });
                     let ty_expected = if class == StorageClass::Uniform {
                         vk::DescriptorType::UNIFORM_BUFFER
                     } else {
                         vk::DescriptorType::STORAGE_BUFFER
                     };
                     assert_eq!(spec.ty, ty_expected, "{name}: type of binding {binding}");
-                    assert!(spec.stages.contains(stage), "{name}: binding {binding} not visible to {stage:?}");
+                    assert!(
+                        spec.stages.contains(stage),
+                        "{name}: binding {binding} not visible to {stage:?}"
+                    );
                 }
                 StorageClass::PushConstant => {
                     let size = struct_size(&m, ty);
-                    assert!(PUSH_CONSTANTS.0.contains(stage), "{name}: push constants not in its stage");
-                    assert!(size <= PUSH_CONSTANTS.1, "{name}: push block of {size} bytes, runner range {}", PUSH_CONSTANTS.1);
+                    assert!(
+                        PUSH_CONSTANTS.0.contains(stage),
+                        "{name}: push constants not in its stage"
+                    );
+                    assert!(
+                        size <= PUSH_CONSTANTS.1,
+                        "{name}: push block of {size} bytes, runner range {}",
+                        PUSH_CONSTANTS.1
+                    );
                     let expected = match name.as_str() {
                         n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
                         n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
@@ -217,11 +259,12 @@ fn compute_workgroup_sizes_match_the_dispatches() {
             .execution_modes
             .iter()
             .find_map(|i| match i.operands.as_slice() {
-                [Operand::IdRef(f), Operand::ExecutionMode(ExecutionMode::LocalSize), Operand::LiteralBit32(x), ..]
-                    if *f == function =>
-                {
-                    Some(*x)
-                }
+                [
+                    Operand::IdRef(f),
+                    Operand::ExecutionMode(ExecutionMode::LocalSize),
+                    Operand::LiteralBit32(x),
+                    ..,
+                ] if *f == function => Some(*x),
                 _ => None,
             })
             .expect("LocalSize");

@@ -29,8 +29,14 @@ pub struct RenderReport {
 /// Renders as `args` asks and writes the PNG.
 pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     let report = render(common, args)?;
-    image::save_buffer(&args.out, &report.pixels, args.width, args.height, image::ColorType::Rgba8)
-        .with_context(|| format!("write {}", args.out.display()))?;
+    image::save_buffer(
+        &args.out,
+        &report.pixels,
+        args.width,
+        args.height,
+        image::ColorType::Rgba8,
+    )
+    .with_context(|| format!("write {}", args.out.display()))?;
     log::info!(
         "wrote {} ({}x{}, {} frames, {} of {} blades visible)",
         args.out.display(),
@@ -41,7 +47,10 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         report.blades
     );
     if report.validation_errors > 0 {
-        bail!("{} validation errors (see the log above)", report.validation_errors);
+        bail!(
+            "{} validation errors (see the log above)",
+            report.validation_errors
+        );
     }
     Ok(report)
 }
@@ -58,7 +67,10 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     let camera = OrbitCamera::framing(scene.side);
     let mut renderer = Renderer::new(&ctx, &scene.blades, FORMAT)?;
 
-    let extent = vk::Extent2D { width: args.width, height: args.height };
+    let extent = vk::Extent2D {
+        width: args.width,
+        height: args.height,
+    };
     let color = Image::new(
         &ctx,
         "offscreen colour",
@@ -90,7 +102,15 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         let (first_step, steps) = clock.advance(1.0 / 60.0);
         let last = frame + 1 == args.frames;
         let push = SimulatePush { first_step, steps };
-        renderer.render(slot, &target, &uniforms, push, None, None, last.then_some(&capture))?;
+        renderer.render(
+            slot,
+            &target,
+            &uniforms,
+            push,
+            None,
+            None,
+            last.then_some(&capture),
+        )?;
         if args.frames >= 100 && (frame + 1) % progress_every == 0 {
             log::info!("frame {}/{}", frame + 1, args.frames);
         }

@@ -22,10 +22,14 @@ use winit::window::{Window, WindowId};
 
 /// Opens the window and runs until it is closed (or Esc).
 pub fn run(common: &Common, args: &ViewArgs) -> Result<()> {
-    let event_loop = EventLoop::new().context(
-        "cannot open a window (no display?); `grass render` works without one",
-    )?;
-    let mut app = Viewer { common: common.clone(), args: args.clone(), state: None, error: None };
+    let event_loop = EventLoop::new()
+        .context("cannot open a window (no display?); `grass render` works without one")?;
+    let mut app = Viewer {
+        common: common.clone(),
+        args: args.clone(),
+        state: None,
+        error: None,
+    };
     event_loop.run_app(&mut app).context("event loop")?;
     match app.error {
         Some(e) => Err(e),
@@ -78,7 +82,9 @@ impl Running {
         let attributes = Window::default_attributes()
             .with_title("grass")
             .with_inner_size(PhysicalSize::new(args.width, args.height));
-        let window = event_loop.create_window(attributes).context("create window")?;
+        let window = event_loop
+            .create_window(attributes)
+            .context("create window")?;
         let display = window.display_handle().context("display handle")?.as_raw();
         let extensions = ash_window::enumerate_required_extensions(display)
             .context("Vulkan surface extensions for this window system")?;
@@ -104,7 +110,10 @@ impl Running {
             scene,
             clock: SimClock::default(),
             mouse: Mouse::default(),
-            stats: Stats { since: Instant::now(), frames: 0 },
+            stats: Stats {
+                since: Instant::now(),
+                frames: 0,
+            },
             last_frame: Instant::now(),
             frames: 0,
             recreate: false,
@@ -123,12 +132,18 @@ impl Running {
             let old = self.swapchain.take();
             let new = Swapchain::new(&self.ctx, (size.width, size.height), old.as_ref())?;
             if old.as_ref().is_some_and(|o| o.format != new.format) {
-                bail!("the window's surface format changed from {:?} to {:?}", old.map(|o| o.format), new.format);
+                bail!(
+                    "the window's surface format changed from {:?} to {:?}",
+                    old.map(|o| o.format),
+                    new.format
+                );
             }
             self.swapchain = Some(new);
             self.recreate = false;
         }
-        let Some(swapchain) = self.swapchain.as_ref() else { return Ok(()) };
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            return Ok(());
+        };
         let slot = self.renderer.begin_frame()?;
         let available = self.renderer.image_available(slot);
         let Some((index, suboptimal)) = swapchain.acquire(available)? else {
@@ -179,14 +194,18 @@ impl Running {
             );
             self.window.set_title(&format!("grass: {line}"));
             log::info!("{line}");
-            self.stats = Stats { since: Instant::now(), frames: 0 };
+            self.stats = Stats {
+                since: Instant::now(),
+                frames: 0,
+            };
         }
     }
 
     fn mouse_moved(&mut self, x: f64, y: f64) {
         if let Some((lx, ly)) = self.mouse.last {
             let (dx, dy) = ((x - lx) as f32, (y - ly) as f32);
-            let pan = self.mouse.panning || (self.mouse.rotating && self.mouse.modifiers.shift_key());
+            let pan =
+                self.mouse.panning || (self.mouse.rotating && self.mouse.modifiers.shift_key());
             if pan {
                 self.camera.pan(dx, dy);
             } else if self.mouse.rotating {
@@ -211,7 +230,9 @@ impl ApplicationHandler for Viewer {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        let Some(state) = self.state.as_mut() else { return };
+        let Some(state) = self.state.as_mut() else {
+            return;
+        };
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput { event, .. }
@@ -222,7 +243,11 @@ impl ApplicationHandler for Viewer {
             }
             WindowEvent::ModifiersChanged(m) => state.mouse.modifiers = m.state(),
             WindowEvent::Resized(_) => state.recreate = true,
-            WindowEvent::MouseInput { state: pressed, button, .. } => {
+            WindowEvent::MouseInput {
+                state: pressed,
+                button,
+                ..
+            } => {
                 let down = pressed == ElementState::Pressed;
                 match button {
                     MouseButton::Left => state.mouse.rotating = down,

@@ -3,8 +3,8 @@
 
 use crate::field::Field;
 use crate::shaders;
-use crate::vulkan::{Context, Recorder};
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
+use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use shared::Blade;
@@ -63,7 +63,12 @@ impl GrassPass {
     /// Records the draw inside the frame's rendering scope.
     pub fn record(&self, rec: &Recorder, field: &Field) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
-        rec.bind_pipeline(graphics, self.pipeline.pipeline, field.layout.layout, field.descriptors.set);
+        rec.bind_pipeline(
+            graphics,
+            self.pipeline.pipeline,
+            field.layout.layout,
+            field.descriptors.set,
+        );
         rec.bind_vertex_buffer(field.visible.buffer);
         rec.draw_indirect(field.draws.buffer, field.chunk_count);
     }

@@ -2,8 +2,8 @@
 
 use crate::field::Field;
 use crate::shaders;
-use crate::vulkan::{Context, Recorder};
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
+use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use std::sync::Arc;
@@ -26,7 +26,10 @@ impl GroundPass {
             ctx,
             &GraphicsDesc {
                 module,
-                stages: &[(St::VERTEX, shaders::GROUND_VS), (St::FRAGMENT, shaders::GROUND_FS)],
+                stages: &[
+                    (St::VERTEX, shaders::GROUND_VS),
+                    (St::FRAGMENT, shaders::GROUND_FS),
+                ],
                 layout: &field.layout,
                 vertex_bindings: &[],
                 vertex_attributes: &[],
@@ -42,7 +45,12 @@ impl GroundPass {
     /// Records the draw inside the frame's rendering scope.
     pub fn record(&self, rec: &Recorder, field: &Field) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
-        rec.bind_pipeline(graphics, self.pipeline.pipeline, field.layout.layout, field.descriptors.set);
+        rec.bind_pipeline(
+            graphics,
+            self.pipeline.pipeline,
+            field.layout.layout,
+            field.descriptors.set,
+        );
         rec.draw(6);
     }
 }

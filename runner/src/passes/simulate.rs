@@ -51,7 +51,10 @@ impl SimulatePass {
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (S::COMPUTE_SHADER, A::SHADER_READ),
         );
-        let chunks = ChunkPush { chunk_size: field.chunk_size, chunk_count: field.chunk_count };
+        let chunks = ChunkPush {
+            chunk_size: field.chunk_size,
+            chunk_count: field.chunk_count,
+        };
         rec.bind_pipeline(compute, self.write_draws.pipeline, layout, set);
         rec.push_compute(layout, bytemuck::bytes_of(&chunks));
         rec.dispatch(self.workgroups(field.chunk_count, CHUNK_WORKGROUP));

@@ -35,15 +35,17 @@ impl Buffer {
         let buffer = unsafe { device.create_buffer(&info, None) }
             .with_context(|| format!("create buffer {name} ({size} bytes)"))?;
         let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
-        let allocation = ctx.allocator.lock().expect("allocator lock").allocate(
-            &AllocationCreateDesc {
-                name,
-                requirements,
-                location,
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            },
-        );
+        let allocation =
+            ctx.allocator
+                .lock()
+                .expect("allocator lock")
+                .allocate(&AllocationCreateDesc {
+                    name,
+                    requirements,
+                    location,
+                    linear: true,
+                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+                });
         let allocation = match allocation {
             Ok(a) => a,
             Err(e) => {
@@ -53,7 +55,12 @@ impl Buffer {
         };
         unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) }
             .with_context(|| format!("bind memory of buffer {name}"))?;
-        Ok(Self { ctx: ctx.clone(), buffer, size, allocation: Some(allocation) })
+        Ok(Self {
+            ctx: ctx.clone(),
+            buffer,
+            size,
+            allocation: Some(allocation),
+        })
     }
 
     fn mapped(&self) -> Result<&[u8]> {

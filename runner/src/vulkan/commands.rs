@@ -21,7 +21,10 @@ impl CommandPool {
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         let pool = unsafe { ctx.device.create_command_pool(&info, None) }
             .context("create command pool")?;
-        Ok(Self { ctx: ctx.clone(), pool })
+        Ok(Self {
+            ctx: ctx.clone(),
+            pool,
+        })
     }
 
     /// `count` primary command buffers.
@@ -76,17 +79,30 @@ const GPU_TIMEOUT_NS: u64 = 60_000_000_000;
 impl Fence {
     /// A fence, signalled already if `signaled`.
     pub fn new(ctx: &Arc<Context>, signaled: bool) -> Result<Self> {
-        let flags =
-            if signaled { vk::FenceCreateFlags::SIGNALED } else { vk::FenceCreateFlags::empty() };
-        let fence = unsafe { ctx.device.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }
-            .context("create fence")?;
-        Ok(Self { ctx: ctx.clone(), fence })
+        let flags = if signaled {
+            vk::FenceCreateFlags::SIGNALED
+        } else {
+            vk::FenceCreateFlags::empty()
+        };
+        let fence = unsafe {
+            ctx.device
+                .create_fence(&vk::FenceCreateInfo::default().flags(flags), None)
+        }
+        .context("create fence")?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            fence,
+        })
     }
 
     /// Waits for the fence (a minute at most: a longer wait is a lost device).
     pub fn wait(&self) -> Result<()> {
-        unsafe { self.ctx.device.wait_for_fences(&[self.fence], true, GPU_TIMEOUT_NS) }
-            .context("wait for the GPU")
+        unsafe {
+            self.ctx
+                .device
+                .wait_for_fences(&[self.fence], true, GPU_TIMEOUT_NS)
+        }
+        .context("wait for the GPU")
     }
 
     /// Back to unsignalled.
@@ -111,9 +127,15 @@ pub struct Semaphore {
 impl Semaphore {
     /// A new binary semaphore.
     pub fn new(ctx: &Arc<Context>) -> Result<Self> {
-        let semaphore = unsafe { ctx.device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
-            .context("create semaphore")?;
-        Ok(Self { ctx: ctx.clone(), semaphore })
+        let semaphore = unsafe {
+            ctx.device
+                .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+        }
+        .context("create semaphore")?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            semaphore,
+        })
     }
 }
 

@@ -70,8 +70,8 @@ impl Context {
     /// Loads Vulkan, creates the instance (with validation if asked) and the device
     /// that has every feature the renderer needs.
     pub fn new(options: ContextOptions) -> Result<Arc<Self>> {
-        let entry = unsafe { ash::Entry::load() }
-            .map_err(|e| DeviceError::NoVulkan(e.to_string()))?;
+        let entry =
+            unsafe { ash::Entry::load() }.map_err(|e| DeviceError::NoVulkan(e.to_string()))?;
         let validation_errors = Box::new(AtomicU32::new(0));
 
         let mut layers = Vec::new();
@@ -235,7 +235,10 @@ fn missing_features(instance: &ash::Instance, physical: vk::PhysicalDevice) -> V
         ("multiDrawIndirect", core.multi_draw_indirect),
         ("fillModeNonSolid", core.fill_mode_non_solid),
         ("vulkanMemoryModel", v12.vulkan_memory_model),
-        ("vulkanMemoryModelDeviceScope", v12.vulkan_memory_model_device_scope),
+        (
+            "vulkanMemoryModelDeviceScope",
+            v12.vulkan_memory_model_device_scope,
+        ),
         ("dynamicRendering", v13.dynamic_rendering),
         ("synchronization2", v13.synchronization2),
     ]
@@ -273,8 +276,7 @@ fn pick_device(
             reasons.push(format!("{name}: missing feature {}", missing.join(", ")));
             continue;
         }
-        let families =
-            unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
         let family = families.iter().enumerate().position(|(i, f)| {
             let flags = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
             let presents = surface.is_none_or(|s| unsafe {
@@ -323,7 +325,11 @@ fn create_device(
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true);
-    let extensions = if present { vec![khr::swapchain::NAME.as_ptr()] } else { Vec::new() };
+    let extensions = if present {
+        vec![khr::swapchain::NAME.as_ptr()]
+    } else {
+        Vec::new()
+    };
     let info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&core)

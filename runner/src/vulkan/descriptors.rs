@@ -50,11 +50,16 @@ impl DescriptorSet {
         .context("create descriptor set layout")?;
         let sizes: Vec<_> = bindings
             .iter()
-            .map(|b| vk::DescriptorPoolSize { ty: b.ty, descriptor_count: 1 })
+            .map(|b| vk::DescriptorPoolSize {
+                ty: b.ty,
+                descriptor_count: 1,
+            })
             .collect();
         let pool = unsafe {
             device.create_descriptor_pool(
-                &vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes),
+                &vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(1)
+                    .pool_sizes(&sizes),
                 None,
             )
         }
@@ -68,12 +73,21 @@ impl DescriptorSet {
             )
         }
         .context("allocate descriptor set")?[0];
-        Ok(Self { ctx: ctx.clone(), layout, pool, set })
+        Ok(Self {
+            ctx: ctx.clone(),
+            layout,
+            pool,
+            set,
+        })
     }
 
     /// Points `binding` (of type `ty`) at the whole of `buffer`.
     pub fn write_buffer(&self, binding: u32, ty: vk::DescriptorType, buffer: vk::Buffer) {
-        let info = [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }];
+        let info = [vk::DescriptorBufferInfo {
+            buffer,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)
@@ -87,7 +101,9 @@ impl Drop for DescriptorSet {
     fn drop(&mut self) {
         unsafe {
             self.ctx.device.destroy_descriptor_pool(self.pool, None);
-            self.ctx.device.destroy_descriptor_set_layout(self.layout, None);
+            self.ctx
+                .device
+                .destroy_descriptor_set_layout(self.layout, None);
         }
     }
 }

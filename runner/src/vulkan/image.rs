@@ -35,7 +35,11 @@ impl Image {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
-            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
             .mip_levels(1)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -66,7 +70,14 @@ impl Image {
             .subresource_range(subresource_range(aspect));
         let view = unsafe { device.create_image_view(&view_info, None) }
             .with_context(|| format!("create view of image {name}"))?;
-        Ok(Self { ctx: ctx.clone(), image, view, format, extent, allocation: Some(allocation) })
+        Ok(Self {
+            ctx: ctx.clone(),
+            image,
+            view,
+            format,
+            extent,
+            allocation: Some(allocation),
+        })
     }
 }
 

@@ -20,7 +20,10 @@ impl ShaderModule {
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
         let module = unsafe { ctx.device.create_shader_module(&info, None) }
             .context("create shader module")?;
-        Ok(Self { ctx: ctx.clone(), module })
+        Ok(Self {
+            ctx: ctx.clone(),
+            module,
+        })
     }
 }
 
@@ -45,14 +48,21 @@ impl PipelineLayout {
         push: (vk::ShaderStageFlags, u32),
     ) -> Result<Self> {
         let sets = [set];
-        let ranges = [vk::PushConstantRange { stage_flags: push.0, offset: 0, size: push.1 }];
+        let ranges = [vk::PushConstantRange {
+            stage_flags: push.0,
+            offset: 0,
+            size: push.1,
+        }];
         let ranges: &[_] = if push.1 == 0 { &[] } else { &ranges };
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&sets)
             .push_constant_ranges(ranges);
         let layout = unsafe { ctx.device.create_pipeline_layout(&info, None) }
             .context("create pipeline layout")?;
-        Ok(Self { ctx: ctx.clone(), layout })
+        Ok(Self {
+            ctx: ctx.clone(),
+            layout,
+        })
     }
 }
 
@@ -88,20 +98,28 @@ impl Pipeline {
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module.module)
             .name(&name);
-        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.layout);
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.layout);
         let pipeline = unsafe {
             ctx.device
                 .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
                 .map_err(|(_, e)| e)
         }
         .with_context(|| format!("create compute pipeline {entry}"))?[0];
-        Ok(Self { ctx: ctx.clone(), pipeline })
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+        })
     }
 
     /// A graphics pipeline as `desc` describes it.
     pub fn graphics(ctx: &Arc<Context>, desc: &GraphicsDesc) -> Result<Self> {
-        let names: Vec<CString> =
-            desc.stages.iter().map(|(_, e)| CString::new(*e)).collect::<Result<_, _>>()?;
+        let names: Vec<CString> = desc
+            .stages
+            .iter()
+            .map(|(_, e)| CString::new(*e))
+            .collect::<Result<_, _>>()?;
         let stages: Vec<_> = desc
             .stages
             .iter()
@@ -167,7 +185,10 @@ impl Pipeline {
                 .map_err(|(_, e)| e)
         }
         .with_context(|| format!("create graphics pipeline {}", desc.stages[0].1))?[0];
-        Ok(Self { ctx: ctx.clone(), pipeline })
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+        })
     }
 }
 

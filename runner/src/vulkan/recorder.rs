@@ -63,12 +63,19 @@ impl<'a> Recorder<'a> {
 
     /// Fills the whole of `buffer` with `value`.
     pub fn fill_buffer(&self, buffer: vk::Buffer, value: u32) {
-        unsafe { self.device.cmd_fill_buffer(self.cmd, buffer, 0, vk::WHOLE_SIZE, value) };
+        unsafe {
+            self.device
+                .cmd_fill_buffer(self.cmd, buffer, 0, vk::WHOLE_SIZE, value)
+        };
     }
 
     /// Copies `size` bytes from the start of `src` to the start of `dst`.
     pub fn copy_buffer(&self, src: vk::Buffer, dst: vk::Buffer, size: u64) {
-        let region = vk::BufferCopy { src_offset: 0, dst_offset: 0, size };
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        };
         unsafe { self.device.cmd_copy_buffer(self.cmd, src, dst, &[region]) };
     }
 
@@ -81,7 +88,11 @@ impl<'a> Recorder<'a> {
                 base_array_layer: 0,
                 layer_count: 1,
             })
-            .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+            .image_extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            });
         unsafe {
             self.device.cmd_copy_image_to_buffer(
                 self.cmd,
@@ -102,21 +113,18 @@ impl<'a> Recorder<'a> {
         set: vk::DescriptorSet,
     ) {
         unsafe {
-            self.device.cmd_bind_pipeline(self.cmd, bind_point, pipeline);
-            self.device.cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, &[set], &[]);
+            self.device
+                .cmd_bind_pipeline(self.cmd, bind_point, pipeline);
+            self.device
+                .cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, &[set], &[]);
         }
     }
 
     /// Sets the compute push constants.
     pub fn push_compute(&self, layout: vk::PipelineLayout, data: &[u8]) {
         unsafe {
-            self.device.cmd_push_constants(
-                self.cmd,
-                layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                data,
-            )
+            self.device
+                .cmd_push_constants(self.cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, data)
         };
     }
 
@@ -139,16 +147,24 @@ impl<'a> Recorder<'a> {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue { float32: clear },
+            })];
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(depth)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
             .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
             });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
         let info = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
@@ -176,7 +192,10 @@ impl<'a> Recorder<'a> {
 
     /// Binds `buffer` as vertex buffer 0.
     pub fn bind_vertex_buffer(&self, buffer: vk::Buffer) {
-        unsafe { self.device.cmd_bind_vertex_buffers(self.cmd, 0, &[buffer], &[0]) };
+        unsafe {
+            self.device
+                .cmd_bind_vertex_buffers(self.cmd, 0, &[buffer], &[0])
+        };
     }
 
     /// Draws `vertices` vertices, one instance.
@@ -187,6 +206,9 @@ impl<'a> Recorder<'a> {
     /// `count` indirect draws read from `buffer`.
     pub fn draw_indirect(&self, buffer: vk::Buffer, count: u32) {
         let stride = size_of::<vk::DrawIndirectCommand>() as u32;
-        unsafe { self.device.cmd_draw_indirect(self.cmd, buffer, 0, count, stride) };
+        unsafe {
+            self.device
+                .cmd_draw_indirect(self.cmd, buffer, 0, count, stride)
+        };
     }
 }

@@ -38,8 +38,10 @@ impl Swapchain {
         let format = formats
             .iter()
             .find(|f| {
-                matches!(f.format, vk::Format::B8G8R8A8_SRGB | vk::Format::R8G8B8A8_SRGB)
-                    && f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR
+                matches!(
+                    f.format,
+                    vk::Format::B8G8R8A8_SRGB | vk::Format::R8G8B8A8_SRGB
+                ) && f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR
             })
             .or(formats.first())
             .copied()
@@ -48,8 +50,12 @@ impl Swapchain {
             caps.current_extent
         } else {
             vk::Extent2D {
-                width: size.0.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
-                height: size.1.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+                width: size
+                    .0
+                    .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                height: size
+                    .1
+                    .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
             }
         };
         let mut count = caps.min_image_count + 1;
@@ -72,8 +78,7 @@ impl Swapchain {
             .clipped(true)
             .old_swapchain(old.map_or(vk::SwapchainKHR::null(), |o| o.swapchain));
         let fns = khr::swapchain::Device::new(&ctx.instance, &ctx.device);
-        let swapchain =
-            unsafe { fns.create_swapchain(&info, None) }.context("create swapchain")?;
+        let swapchain = unsafe { fns.create_swapchain(&info, None) }.context("create swapchain")?;
         let images = unsafe { fns.get_swapchain_images(swapchain) }.context("swapchain images")?;
         let views = images
             .iter()
@@ -89,9 +94,17 @@ impl Swapchain {
                     .context("create swapchain image view")
             })
             .collect::<Result<Vec<_>>>()?;
-        let render_finished =
-            images.iter().map(|_| Semaphore::new(ctx)).collect::<Result<Vec<_>>>()?;
-        log::info!("swapchain {}x{} {:?}, {} images", extent.width, extent.height, format.format, images.len());
+        let render_finished = images
+            .iter()
+            .map(|_| Semaphore::new(ctx))
+            .collect::<Result<Vec<_>>>()?;
+        log::info!(
+            "swapchain {}x{} {:?}, {} images",
+            extent.width,
+            extent.height,
+            format.format,
+            images.len()
+        );
         Ok(Self {
             ctx: ctx.clone(),
             fns,
@@ -108,7 +121,8 @@ impl Swapchain {
     /// the swapchain is out of date and must be recreated.
     pub fn acquire(&self, signal: vk::Semaphore) -> Result<Option<(u32, bool)>> {
         match unsafe {
-            self.fns.acquire_next_image(self.swapchain, u64::MAX, signal, vk::Fence::null())
+            self.fns
+                .acquire_next_image(self.swapchain, u64::MAX, signal, vk::Fence::null())
         } {
             Ok((index, suboptimal)) => Ok(Some((index, suboptimal))),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(None),

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 /// Real-time grass after Jahrmann & Wimmer (I3D 2017): Rust shaders, Vulkan through ash.
 #[derive(Parser, Debug)]
-#[command(name = "grass", version)]
+#[command(name = "grass", version, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     /// What to run; the interactive viewer when left out.
     #[command(subcommand)]
@@ -13,6 +13,9 @@ pub struct Cli {
     /// Options of every command.
     #[command(flatten)]
     pub common: Common,
+    /// Viewer options, when no command is named.
+    #[command(flatten)]
+    pub view: ViewArgs,
 }
 
 /// The commands.

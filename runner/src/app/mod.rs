@@ -18,7 +18,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&cli.common, &args).map(|_| ()),
         Some(Command::View(args)) => viewer::run(&cli.common, &args),
-        None => viewer::run(&cli.common, &Default::default()),
+        None => viewer::run(&cli.common, &cli.view),
     }
 }
 

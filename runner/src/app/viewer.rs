@@ -15,7 +15,7 @@ use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, ModifiersState, NamedKey};
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
@@ -276,8 +276,14 @@ impl ApplicationHandler for Viewer {
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
-        if let Some(state) = &self.state {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(state) = &self.state else { return };
+        // Minimised: sleep until an event instead of spinning on empty frames.
+        let size = state.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            event_loop.set_control_flow(ControlFlow::Wait);
+        } else {
+            event_loop.set_control_flow(ControlFlow::Poll);
             state.window.request_redraw();
         }
     }

@@ -17,6 +17,12 @@ pub enum DeviceError {
          `sudo apt-get install mesa-vulkan-drivers` for the software device lavapipe"
     )]
     NoVulkan(String),
+    /// The loader works but finds no driver (no installable client driver).
+    #[error(
+        "no Vulkan driver found; install one, e.g. `sudo apt-get install mesa-vulkan-drivers` \
+         for the software device lavapipe"
+    )]
+    NoDriver,
     /// The loader works but reports no physical device.
     #[error(
         "no Vulkan device found; install a driver, e.g. `sudo apt-get install mesa-vulkan-drivers`"
@@ -99,8 +105,11 @@ impl Context {
             .application_info(&app)
             .enabled_layer_names(&layers)
             .enabled_extension_names(&extensions);
-        let instance = unsafe { entry.create_instance(&instance_info, None) }
-            .context("create Vulkan instance")?;
+        let instance = match unsafe { entry.create_instance(&instance_info, None) } {
+            Ok(instance) => instance,
+            Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => return Err(DeviceError::NoDriver.into()),
+            Err(e) => return Err(e).context("create Vulkan instance"),
+        };
 
         let debug = if options.validation {
             let utils = ext::debug_utils::Instance::new(&entry, &instance);

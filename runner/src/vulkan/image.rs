@@ -49,18 +49,28 @@ impl Image {
         let image = unsafe { device.create_image(&info, None) }
             .with_context(|| format!("create image {name}"))?;
         let requirements = unsafe { device.get_image_memory_requirements(image) };
-        let allocation = ctx
-            .allocator
-            .lock()
-            .expect("allocator lock")
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .with_context(|| format!("allocate image {name}"))?;
+        let allocation =
+            ctx.allocator
+                .lock()
+                .expect("allocator lock")
+                .allocate(&AllocationCreateDesc {
+                    name,
+                    requirements,
+                    location: MemoryLocation::GpuOnly,
+                    linear: false,
+                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+                });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                unsafe { device.destroy_image(image, None) };
+                anyhow::bail!(
+                    "allocate image {name} ({}x{}): {e}",
+                    extent.width,
+                    extent.height
+                );
+            }
+        };
         unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
             .with_context(|| format!("bind memory of image {name}"))?;
         let view_info = vk::ImageViewCreateInfo::default()

@@ -9,6 +9,14 @@ pub fn environment_gravity(d: Vec4) -> Vec3 {
     d.truncate().normalize_or_zero() * d.w
 }
 
+/// Environment gravity blended towards a gravity centre (paper eq. 2):
+/// gE = (1 − t)·normalize(D.xyz)·D.w + t·normalize(C.xyz − v2)·C.w, with C the centre
+/// (xyz) and its acceleration (w), and t in 0..1 the blend.
+pub fn environment_gravity_with_centre(d: Vec4, centre: Vec4, t: f32, v2: Vec3) -> Vec3 {
+    let towards = (centre.truncate() - v2).normalize_or_zero() * centre.w;
+    (1.0 - t) * environment_gravity(d) + t * towards
+}
+
 /// Front gravity gF = ¼·|gE|·f: bends a blade over its front side rather than
 /// straight down its own axis (paper eq. 3).
 pub fn front_gravity(g_env: Vec3, front: Vec3) -> Vec3 {
@@ -117,6 +125,26 @@ mod tests {
         let fd = 1.0 - core::f32::consts::FRAC_1_SQRT_2;
         let fr = 0.5;
         assert!(close(wind_force(&half, wi), wi * fd * fr, 1e-5));
+    }
+
+    #[test]
+    fn gravity_centre_blends_between_direction_and_centre() {
+        let d = Vec4::new(0.0, -1.0, 0.0, 9.8);
+        let centre = Vec4::new(0.0, 0.0, -10.0, 4.0);
+        let v2 = Vec3::new(0.0, 0.0, 0.0);
+        assert_eq!(
+            environment_gravity_with_centre(d, centre, 0.0, v2),
+            Vec3::new(0.0, -9.8, 0.0)
+        );
+        assert!(
+            (environment_gravity_with_centre(d, centre, 1.0, v2) - Vec3::new(0.0, 0.0, -4.0))
+                .length()
+                < 1e-6
+        );
+        let half = environment_gravity_with_centre(d, centre, 0.5, v2);
+        assert!((half - Vec3::new(0.0, -4.9, -2.0)).length() < 1e-6);
+        // A tip at the centre gets no pull from it, not NaN.
+        assert!(environment_gravity_with_centre(d, centre, 1.0, centre.truncate()).is_finite());
     }
 
     #[test]

@@ -7,6 +7,7 @@
 #![deny(missing_docs)]
 
 pub mod blade;
+pub mod collide;
 pub mod cull;
 pub mod forces;
 #[cfg(not(target_arch = "spirv"))]

@@ -21,6 +21,55 @@ pub fn breeze(p: Vec3, time: f32, wind: Vec4) -> Vec3 {
     (dir * gust + across * ripple) * strength
 }
 
+/// No wind.
+pub const WIND_CALM: u32 = 0;
+/// [`breeze`]: steady wind with travelling waves.
+pub const WIND_BREEZE: u32 = 1;
+/// [`gusts`]: gust fronts crossing the field over a light breeze.
+pub const WIND_GUSTS: u32 = 2;
+/// [`vortex`]: a whirlwind wandering over the field.
+pub const WIND_VORTEX: u32 = 3;
+
+/// Gust fronts: Gaussian pulses 12 units apart travelling downwind at 4 units/s over a
+/// breeze of a quarter of the strength. |wi| ≤ 1.25·strength.
+pub fn gusts(p: Vec3, time: f32, wind: Vec4) -> Vec3 {
+    let dir = wind.truncate().normalize_or_zero();
+    let (spacing, speed, width) = (12.0, 4.0, 2.5);
+    let x = dir.dot(p) - speed * time;
+    // Distance to the nearest front, in −spacing/2 .. spacing/2.
+    let offset = x - spacing * (x / spacing).floor() - 0.5 * spacing;
+    let pulse = (-(offset / width) * (offset / width)).exp();
+    dir * wind.w * (0.25 + pulse)
+}
+
+/// Whirlwind: a Rankine vortex of core radius 3 whose centre circles the origin at
+/// radius 6; the speed rises linearly to the core and falls as 1/r outside it, with a
+/// slight inflow. |wi| ≤ 1.05·strength. The direction of `wind` does not matter.
+pub fn vortex(p: Vec3, time: f32, wind: Vec4) -> Vec3 {
+    let (sin, cos) = (0.2 * time).sin_cos();
+    let centre = Vec3::new(6.0 * cos, 0.0, 6.0 * sin);
+    let r = Vec3::new(p.x - centre.x, 0.0, p.z - centre.z);
+    let d = r.length();
+    if d < 1e-4 {
+        return Vec3::ZERO;
+    }
+    let core = 3.0;
+    let speed = if d < core { d / core } else { core / d };
+    let radial = r / d;
+    let tangent = Vec3::new(-radial.z, 0.0, radial.x);
+    (tangent - 0.3 * radial) * speed * wind.w
+}
+
+/// The wind field `kind` (one of the `WIND_*` constants) at `p` and `time`.
+pub fn wind_field(kind: u32, p: Vec3, time: f32, wind: Vec4) -> Vec3 {
+    match kind {
+        WIND_BREEZE => breeze(p, time, wind),
+        WIND_GUSTS => gusts(p, time, wind),
+        WIND_VORTEX => vortex(p, time, wind),
+        _ => Vec3::ZERO,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -48,5 +97,55 @@ mod tests {
     #[test]
     fn calm_is_zero() {
         assert_eq!(breeze(Vec3::ONE, 3.0, Vec4::ZERO), Vec3::ZERO);
+        let wind = Vec4::new(1.0, 0.0, 0.0, 5.0);
+        assert_eq!(wind_field(WIND_CALM, Vec3::ONE, 3.0, wind), Vec3::ZERO);
+    }
+
+    #[test]
+    fn every_field_is_bounded_and_finite_over_a_grid_of_places_and_times() {
+        let wind = Vec4::new(0.6, 0.0, 0.8, 5.0);
+        let bound = [0.0, 1.15, 1.25, 1.05];
+        for kind in [WIND_CALM, WIND_BREEZE, WIND_GUSTS, WIND_VORTEX] {
+            for x in -30..=30 {
+                for z in -30..=30 {
+                    for t in [0.0, 0.37, 5.0, 91.3, 1000.0] {
+                        let p = Vec3::new(x as f32 * 0.5, 0.0, z as f32 * 0.5);
+                        let w = wind_field(kind, p, t, wind);
+                        assert!(w.is_finite(), "kind {kind} at {p} t {t}");
+                        let max = bound[kind as usize] * wind.w + 1e-3;
+                        assert!(w.length() <= max, "kind {kind} at {p} t {t}: {w}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gust_fronts_travel_downwind() {
+        let wind = Vec4::new(1.0, 0.0, 0.0, 5.0);
+        let peak_at = |t: f32| {
+            (0..1200)
+                .map(|i| i as f32 * 0.01)
+                .max_by(|a, b| {
+                    let wa = gusts(Vec3::new(*a, 0.0, 0.0), t, wind).x;
+                    let wb = gusts(Vec3::new(*b, 0.0, 0.0), t, wind).x;
+                    wa.total_cmp(&wb)
+                })
+                .unwrap()
+        };
+        // 0.5 s later the front has moved 4 units/s · 0.5 s = 2 units downwind.
+        let moved = peak_at(0.5) - peak_at(0.0);
+        assert!((moved - 2.0).abs() < 0.05, "moved {moved}");
+    }
+
+    #[test]
+    fn vortex_turns_around_its_centre() {
+        let wind = Vec4::new(0.0, 0.0, 0.0, 5.0);
+        // At t = 0 the centre is (6, 0, 0); a point 2 units from it on +X.
+        let w = vortex(Vec3::new(8.0, 0.0, 0.0), 0.0, wind);
+        // Tangent (0, 0, 1) minus inflow 0.3·(1, 0, 0), at speed 2/3.
+        assert!((w - Vec3::new(-0.3, 0.0, 1.0) * (2.0 / 3.0) * 5.0).length() < 1e-5);
+        // At the very centre: calm, not NaN.
+        assert_eq!(vortex(Vec3::new(6.0, 0.0, 0.0), 0.0, wind), Vec3::ZERO);
     }
 }

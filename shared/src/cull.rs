@@ -69,10 +69,15 @@ pub fn projected_distance(blade: &Blade, camera: Vec3) -> f32 {
     (d - up * d.dot(up)).length()
 }
 
+/// n·(1 − dproj/dmax): where distance `dproj` falls among the n buckets.
+pub fn distance_bucket_position(dproj: f32, max_distance: f32, buckets: u32) -> f32 {
+    buckets as f32 * (1.0 - dproj / max_distance)
+}
+
 /// The highest bucket kept at distance `dproj`: floor(n·(1 − dproj/dmax)). Negative
 /// beyond dmax, where nothing is kept.
 pub fn distance_bucket_limit(dproj: f32, max_distance: f32, buckets: u32) -> f32 {
-    (buckets as f32 * (1.0 - dproj / max_distance)).floor()
+    distance_bucket_position(dproj, max_distance, buckets).floor()
 }
 
 /// Distance test: beyond dmax cull; nearer, blade `id` in bucket (id mod n) is culled

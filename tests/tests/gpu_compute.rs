@@ -62,7 +62,7 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
         margin.abs() < eps * c.w.abs().max(1.0)
     });
     let dproj = cull::projected_distance(b, cam);
-    let limit = p.buckets as f32 * (1.0 - dproj / p.max_distance);
+    let limit = cull::distance_bucket_position(dproj, p.max_distance, p.buckets);
     let distance = (dproj - p.max_distance).abs() < eps * p.max_distance
         || (limit - limit.round()).abs() < eps * p.buckets as f32;
     orientation || frustum || distance

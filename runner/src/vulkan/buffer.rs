@@ -1,10 +1,10 @@
 //! Buffers with their memory, from the allocator.
 
 use super::Context;
-use anyhow::{Context as _, Result, bail};
+use anyhow::{Context as _, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use std::sync::Arc;
 
 /// A buffer and its memory; freed on drop.
@@ -35,22 +35,11 @@ impl Buffer {
         let buffer = unsafe { device.create_buffer(&info, None) }
             .with_context(|| format!("create buffer {name} ({size} bytes)"))?;
         let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
-        let allocation =
-            ctx.allocator
-                .lock()
-                .expect("allocator lock")
-                .allocate(&AllocationCreateDesc {
-                    name,
-                    requirements,
-                    location,
-                    linear: true,
-                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-                });
-        let allocation = match allocation {
+        let allocation = match ctx.allocate(name, requirements, location, true) {
             Ok(a) => a,
             Err(e) => {
                 unsafe { device.destroy_buffer(buffer, None) };
-                bail!("allocate {size} bytes for buffer {name}: {e}");
+                return Err(e);
             }
         };
         unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) }

@@ -195,6 +195,30 @@ impl Context {
         self.validation_errors.load(Ordering::SeqCst)
     }
 
+    /// Memory for a resource with `requirements` in `location` (`linear` for buffers).
+    pub fn allocate(
+        &self,
+        name: &str,
+        requirements: vk::MemoryRequirements,
+        location: gpu_allocator::MemoryLocation,
+        linear: bool,
+    ) -> Result<gpu_allocator::vulkan::Allocation> {
+        let desc = gpu_allocator::vulkan::AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear,
+            allocation_scheme: gpu_allocator::vulkan::AllocationScheme::GpuAllocatorManaged,
+        };
+        let mut allocator = self
+            .allocator
+            .lock()
+            .map_err(|_| anyhow::anyhow!("allocator lock poisoned"))?;
+        allocator
+            .allocate(&desc)
+            .with_context(|| format!("allocate {} bytes for {name}", requirements.size))
+    }
+
     /// Waits until the device is idle (before destroying what it may still use).
     pub fn wait_idle(&self) -> Result<()> {
         unsafe { self.device.device_wait_idle() }.context("wait for device idle")

@@ -4,7 +4,7 @@ use super::Context;
 use anyhow::{Context as _, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use std::sync::Arc;
 
 /// An image, its memory and a view of the whole of it; freed on drop.
@@ -49,26 +49,11 @@ impl Image {
         let image = unsafe { device.create_image(&info, None) }
             .with_context(|| format!("create image {name}"))?;
         let requirements = unsafe { device.get_image_memory_requirements(image) };
-        let allocation =
-            ctx.allocator
-                .lock()
-                .expect("allocator lock")
-                .allocate(&AllocationCreateDesc {
-                    name,
-                    requirements,
-                    location: MemoryLocation::GpuOnly,
-                    linear: false,
-                    allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-                });
-        let allocation = match allocation {
+        let allocation = match ctx.allocate(name, requirements, MemoryLocation::GpuOnly, false) {
             Ok(a) => a,
             Err(e) => {
                 unsafe { device.destroy_image(image, None) };
-                anyhow::bail!(
-                    "allocate image {name} ({}x{}): {e}",
-                    extent.width,
-                    extent.height
-                );
+                return Err(e);
             }
         };
         unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }

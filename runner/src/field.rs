@@ -144,19 +144,11 @@ impl Field {
         pool.one_shot(|rec| rec.copy_buffer(staging.buffer, blade_buffer.buffer, bytes))?;
 
         let descriptors = DescriptorSet::new(ctx, &BINDINGS)?;
-        let bind = |binding: u32, buffer: &Buffer| {
-            let ty = BINDINGS.iter().find(|b| b.binding == binding).map(|b| b.ty);
-            descriptors.write_buffer(
-                binding,
-                ty.unwrap_or(vk::DescriptorType::STORAGE_BUFFER),
-                buffer.buffer,
-            );
-        };
-        bind(layout::BINDING_UNIFORMS, &uniforms);
-        bind(layout::BINDING_BLADES, &blade_buffer);
-        bind(layout::BINDING_VISIBLE, &visible);
-        bind(layout::BINDING_COUNTERS, &counters);
-        bind(layout::BINDING_DRAWS, &draws);
+        // In the order of BINDINGS.
+        let bound = [&uniforms, &blade_buffer, &visible, &counters, &draws];
+        for (spec, buffer) in BINDINGS.iter().zip(bound) {
+            descriptors.write_buffer(spec.binding, spec.ty, buffer.buffer);
+        }
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {

@@ -45,7 +45,7 @@ pub struct FrameSlot {
     cmd: vk::CommandBuffer,
     fence: Fence,
     /// Signalled when the swapchain image of this frame is ready.
-    pub image_available: Semaphore,
+    image_available: Semaphore,
     counters: Buffer,
     submitted: bool,
 }

@@ -44,16 +44,21 @@ pub fn cull_orientation(blade: &Blade, camera: Vec3, threshold: f32) -> bool {
     orientation_alignment(blade, camera) > threshold
 }
 
-/// A clip-space point is inside the (slackened) view volume when
-/// −(w + tol) ≤ x, y ≤ w + tol and 0 ≤ z ≤ w (Vulkan depth range).
-pub fn clip_inside(clip: Vec4, tolerance: f32) -> bool {
+/// Signed distance of a clip-space point to the nearest plane of the view volume
+/// slackened by `tolerance`: ≥ 0 inside. The planes are −(w + tol) ≤ x, y ≤ w + tol and
+/// 0 ≤ z ≤ w (Vulkan depth range).
+pub fn clip_margin(clip: Vec4, tolerance: f32) -> f32 {
     let limit = clip.w + tolerance;
-    clip.x >= -limit
-        && clip.x <= limit
-        && clip.y >= -limit
-        && clip.y <= limit
-        && clip.z >= 0.0
-        && clip.z <= clip.w
+    (limit - clip.x.abs())
+        .min(limit - clip.y.abs())
+        .min(clip.z)
+        .min(clip.w - clip.z)
+}
+
+/// A clip-space point is inside the (slackened) view volume when its
+/// [`clip_margin`] is not negative.
+pub fn clip_inside(clip: Vec4, tolerance: f32) -> bool {
+    clip_margin(clip, tolerance) >= 0.0
 }
 
 /// View-frustum test: cull only when v0, the curve midpoint m and v2 are all outside.

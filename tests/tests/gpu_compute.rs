@@ -50,16 +50,9 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
     let cam = u.camera_pos();
     let eps = THRESHOLD_EPSILON;
     let orientation = (cull::orientation_alignment(b, cam) - p.orientation_threshold).abs() < eps;
-    // Signed distance of a clip-space point to the nearest plane of the slackened
-    // volume (≥ 0 inside), relative to w.
     let frustum = [b.root(), b.midpoint(), b.tip()].iter().any(|pt| {
         let c = u.view_proj * pt.extend(1.0);
-        let limit = c.w + p.frustum_tolerance;
-        let margin = (limit - c.x.abs())
-            .min(limit - c.y.abs())
-            .min(c.z)
-            .min(c.w - c.z);
-        margin.abs() < eps * c.w.abs().max(1.0)
+        cull::clip_margin(c, p.frustum_tolerance).abs() < eps * c.w.abs().max(1.0)
     });
     let dproj = cull::projected_distance(b, cam);
     let limit = cull::distance_bucket_position(dproj, p.max_distance, p.buckets);

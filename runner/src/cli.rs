@@ -1,6 +1,9 @@
 //! Command line: the viewer by default, `render` for a headless image.
 
-use clap::{Args, Parser, Subcommand};
+use crate::collider::ColliderPath;
+use crate::scene::{BladeCount, SceneKind};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use glam::Vec3;
 use std::path::PathBuf;
 
 /// Real-time grass after Jahrmann & Wimmer (I3D 2017): Rust shaders, Vulkan through ash.
@@ -30,9 +33,50 @@ pub enum Command {
 /// Options every command takes.
 #[derive(Args, Debug, Clone)]
 pub struct Common {
-    /// Number of blades [default: 131072 on a GPU, 2048 on a software device].
+    /// Number of blades, spread over the surface by area [default: 131072 on a GPU,
+    /// 2048 on a software device].
     #[arg(long, global = true, value_parser = clap::value_parser!(u32).range(1..=(1 << 26)))]
     pub blades: Option<u32>,
+    /// Blades per square unit of surface, instead of a total count.
+    #[arg(long, global = true, conflicts_with = "blades", value_parser = parse_density)]
+    pub density: Option<f32>,
+    /// Surface: plane, hills, planet, meadow (the glTF scene in assets/), or a
+    /// .gltf, .glb or .obj file.
+    #[arg(long, global = true, default_value = "plane")]
+    pub scene: String,
+    /// Wind field.
+    #[arg(long, global = true, value_enum, default_value_t = Wind::Breeze)]
+    pub wind: Wind,
+    /// Wind strength (acceleration at full alignment).
+    #[arg(long, global = true, default_value_t = 7.0, value_parser = range(0.0, 100.0))]
+    pub wind_strength: f32,
+    /// Wind direction in degrees around the vertical (0 = +X, 90 = +Z).
+    #[arg(long, global = true, default_value_t = 19.3, allow_hyphen_values = true, value_parser = range(-360.0, 360.0))]
+    pub wind_direction: f32,
+    /// Pull gravity towards this point "x,y,z" instead of straight down (the planet
+    /// scene does this around its centre).
+    #[arg(long, global = true, allow_hyphen_values = true, value_parser = parse_point)]
+    pub gravity_centre: Option<Vec3>,
+    /// Blade shape.
+    #[arg(long, global = true, value_enum, default_value_t = Shape::Quadratic)]
+    pub shape: Shape,
+    /// Where the triangle-tip shape starts narrowing, 0 (root) to 1 (tip).
+    #[arg(long, global = true, default_value_t = 0.5, value_parser = range(0.0, 1.0))]
+    pub tip_start: f32,
+    /// A ball pressing through the grass along "x,z x,z ..." (scene units, dropped
+    /// onto the surface).
+    #[arg(long, global = true, allow_hyphen_values = true, value_parser = ColliderPath::parse)]
+    pub collider_path: Option<ColliderPath>,
+    /// Radius of the collider ball.
+    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.05, 100.0))]
+    pub collider_radius: f32,
+    /// Speed of the ball along its path, units per second.
+    #[arg(long, global = true, default_value_t = 3.0, value_parser = range(0.0, 1000.0))]
+    pub collider_speed: f32,
+    /// How fast trampled grass gets its stiffness back: collision strength lost per
+    /// second (strength 1 holds a blade down fully).
+    #[arg(long, global = true, default_value_t = 0.25, value_parser = range(0.0, 100.0))]
+    pub trample_decay: f32,
     /// Seed of the random field: the same seed gives the same blades.
     #[arg(long, global = true, default_value_t = 1)]
     pub seed: u64,
@@ -81,9 +125,132 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub height: u32,
+    /// Camera closer (above 1) or further (below 1) than the view framing the scene.
+    #[arg(long, default_value_t = 1.0, value_parser = range(0.05, 50.0))]
+    pub zoom: f32,
+    /// Camera angle around the vertical, degrees [default: the scene's framing].
+    #[arg(long, allow_hyphen_values = true, value_parser = range(-360.0, 360.0))]
+    pub yaw: Option<f32>,
+    /// Camera angle above the horizon, degrees, 1 to 85 [default: the scene's framing].
+    #[arg(long, value_parser = range(1.0, 85.0))]
+    pub pitch: Option<f32>,
+}
+
+/// The wind fields (`shared::wind`).
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Wind {
+    /// No wind.
+    Calm,
+    /// A steady breeze with travelling waves.
+    Breeze,
+    /// Gust fronts crossing the field over a light breeze.
+    Gusts,
+    /// A wandering whirlwind.
+    Vortex,
+}
+
+impl Wind {
+    /// Every field, in the order the viewer's key cycles them.
+    pub const ALL: [Wind; 4] = [Wind::Calm, Wind::Breeze, Wind::Gusts, Wind::Vortex];
+
+    /// The `shared::wind::WIND_*` constant.
+    pub fn kind(self) -> u32 {
+        use shared::wind::*;
+        match self {
+            Wind::Calm => WIND_CALM,
+            Wind::Breeze => WIND_BREEZE,
+            Wind::Gusts => WIND_GUSTS,
+            Wind::Vortex => WIND_VORTEX,
+        }
+    }
+}
+
+/// The blade shapes (`shared::shape`).
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// Full width to the tip.
+    Quad,
+    /// Narrowing linearly to the tip.
+    Triangle,
+    /// Narrowing along a parabola.
+    Quadratic,
+    /// Full width up to `--tip-start`, then a triangle.
+    TriangleTip,
+}
+
+impl Shape {
+    /// Every shape, in the order the viewer's key cycles them.
+    pub const ALL: [Shape; 4] = [
+        Shape::Quad,
+        Shape::Triangle,
+        Shape::Quadratic,
+        Shape::TriangleTip,
+    ];
+
+    /// The `shared::shape::SHAPE_*` constant.
+    pub fn id(self) -> u32 {
+        use shared::shape::*;
+        match self {
+            Shape::Quad => SHAPE_QUAD,
+            Shape::Triangle => SHAPE_TRIANGLE,
+            Shape::Quadratic => SHAPE_QUADRATIC,
+            Shape::TriangleTip => SHAPE_TRIANGLE_TIP,
+        }
+    }
+}
+
+/// Parses `N` comma-separated finite numbers.
+pub fn parse_floats<const N: usize>(s: &str) -> Result<[f32; N], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!("expected {N} comma-separated numbers, got \"{s}\""));
+    }
+    let mut out = [0.0; N];
+    for (o, p) in out.iter_mut().zip(parts) {
+        *o = p
+            .parse::<f32>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("\"{p}\" is not a finite number"))?;
+    }
+    Ok(out)
+}
+
+fn parse_point(s: &str) -> Result<Vec3, String> {
+    parse_floats::<3>(s).map(Vec3::from_array)
+}
+
+fn parse_density(s: &str) -> Result<f32, String> {
+    range(1e-3, 1e6)(s)
+}
+
+/// A parser of one finite number in `lo..=hi`.
+fn range(lo: f32, hi: f32) -> impl Fn(&str) -> Result<f32, String> + Clone {
+    move |s| {
+        let [v] = parse_floats::<1>(s)?;
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{v} is outside {lo}..={hi}"))
+        }
+    }
 }
 
 impl Common {
+    /// The scene asked for.
+    pub fn scene_kind(&self) -> SceneKind {
+        SceneKind::parse(&self.scene)
+    }
+
+    /// The blade count asked for, if any (else the device's default).
+    pub fn blade_count(&self) -> Option<BladeCount> {
+        match (self.density, self.blades) {
+            (Some(d), _) => Some(BladeCount::Density(d)),
+            (None, Some(n)) => Some(BladeCount::Total(n)),
+            (None, None) => None,
+        }
+    }
+
     /// Validation from the flag or from GRASS_VALIDATION=1.
     pub fn validation_requested(&self) -> bool {
         self.validation

@@ -1,5 +1,5 @@
-//! The field on the GPU: blade, visible, counter, draw and uniform buffers, and the one
-//! descriptor set and pipeline layout every pass uses.
+//! The field on the GPU: blade, collision strength, visible, counter, draw and uniform
+//! buffers, and the one descriptor set and pipeline layout every pass uses.
 
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
@@ -9,7 +9,7 @@ use anyhow::{Result, bail};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
-use shared::layout::{self, ChunkPush, FrameUniforms, SimulatePush};
+use shared::layout::{self, ChunkPush, FrameUniforms, SimulatePush, SurfacePush};
 use shared::lod::blades_per_chunk;
 use std::sync::Arc;
 
@@ -31,7 +31,7 @@ const fn storage(binding: u32) -> BindingSpec {
 }
 
 /// The one descriptor set layout of every pipeline.
-pub const BINDINGS: [BindingSpec; 5] = [
+pub const BINDINGS: [BindingSpec; 6] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -41,12 +41,19 @@ pub const BINDINGS: [BindingSpec; 5] = [
     storage(layout::BINDING_VISIBLE),
     storage(layout::BINDING_COUNTERS),
     storage(layout::BINDING_DRAWS),
+    storage(layout::BINDING_STRENGTH),
 ];
 
-/// Push-constant range of the pipeline layout: the larger compute push block.
+/// Push-constant range of the pipeline layout: one range covering the compute push
+/// blocks and the surface draw's model matrix, so every push names these stages.
 pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
-    vk::ShaderStageFlags::COMPUTE,
-    max(size_of::<SimulatePush>(), size_of::<ChunkPush>()) as u32,
+    vk::ShaderStageFlags::from_raw(
+        vk::ShaderStageFlags::COMPUTE.as_raw() | vk::ShaderStageFlags::VERTEX.as_raw(),
+    ),
+    max(
+        max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
+        size_of::<SurfacePush>(),
+    ) as u32,
 );
 
 const fn max(a: usize, b: usize) -> usize {
@@ -63,6 +70,8 @@ pub struct Field {
     pub chunk_count: u32,
     /// The blades, simulated in place.
     pub blades: Buffer,
+    /// Collision strength η per blade, simulated in place.
+    pub strengths: Buffer,
     /// This frame's visible blades, compacted; the grass draw's vertex buffer.
     pub visible: Buffer,
     /// The counters (`layout::COUNTER_*`).
@@ -78,10 +87,10 @@ pub struct Field {
 }
 
 impl Field {
-    /// Uploads `blades` and creates the rest, checking the device's limits first.
-    pub fn new(ctx: &Arc<Context>, pool: &CommandPool, blades: &[Blade]) -> Result<Self> {
-        let count = u32::try_from(blades.len()).unwrap_or(u32::MAX);
-        let bytes = blades.len() as u64 * size_of::<Blade>() as u64;
+    /// Fails with a message naming the limit when `count` blades cannot fit this
+    /// device's buffers; checked before any blade is generated.
+    pub fn check_limits(ctx: &Context, count: u64) -> Result<()> {
+        let bytes = count * size_of::<Blade>() as u64;
         let limits = &ctx.properties.limits;
         if count == 0 {
             bail!("the field needs at least one blade");
@@ -89,27 +98,43 @@ impl Field {
         if bytes > u64::from(limits.max_storage_buffer_range) {
             bail!(
                 "{count} blades need {bytes} bytes, more than this device's \
-                 maxStorageBufferRange ({} bytes, {} blades)",
+                 maxStorageBufferRange ({} bytes, {} blades); ask for fewer with --blades or --density",
                 limits.max_storage_buffer_range,
                 limits.max_storage_buffer_range / size_of::<Blade>() as u32
             );
         }
-        let chunk_size = blades_per_chunk();
-        let chunk_count = count.div_ceil(chunk_size);
-        if chunk_count > limits.max_draw_indirect_count {
+        let chunk_count = count.div_ceil(u64::from(blades_per_chunk()));
+        if chunk_count > u64::from(limits.max_draw_indirect_count) {
             bail!(
                 "{count} blades need {chunk_count} draws, more than this device's \
-                 maxDrawIndirectCount ({})",
+                 maxDrawIndirectCount ({}); ask for fewer with --blades or --density",
                 limits.max_draw_indirect_count
             );
         }
+        Ok(())
+    }
+
+    /// Uploads `blades` and creates the rest, checking the device's limits first.
+    pub fn new(ctx: &Arc<Context>, pool: &CommandPool, blades: &[Blade]) -> Result<Self> {
+        Self::check_limits(ctx, blades.len() as u64)?;
+        let count = blades.len() as u32;
+        let bytes = blades.len() as u64 * size_of::<Blade>() as u64;
+        let chunk_size = blades_per_chunk();
+        let chunk_count = count.div_ceil(chunk_size);
 
         use vk::BufferUsageFlags as U;
         let gpu = MemoryLocation::GpuOnly;
         let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
-        let blade_buffer = device_buffer(
+        let blade_buffer = Buffer::upload(
+            ctx,
+            pool,
             "blades",
-            bytes,
+            blades,
+            U::STORAGE_BUFFER | U::TRANSFER_SRC,
+        )?;
+        let strengths = device_buffer(
+            "collision strengths",
+            u64::from(count) * 4,
             U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
         )?;
         let visible = device_buffer(
@@ -133,19 +158,18 @@ impl Field {
             U::UNIFORM_BUFFER | U::TRANSFER_DST,
         )?;
 
-        let mut staging = Buffer::new(
-            ctx,
-            "blade upload",
-            bytes,
-            U::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
-        )?;
-        staging.write(blades)?;
-        pool.one_shot(|rec| rec.copy_buffer(staging.buffer, blade_buffer.buffer, bytes))?;
+        pool.one_shot(|rec| rec.fill_buffer(strengths.buffer, 0))?;
 
         let descriptors = DescriptorSet::new(ctx, &BINDINGS)?;
         // In the order of BINDINGS.
-        let bound = [&uniforms, &blade_buffer, &visible, &counters, &draws];
+        let bound = [
+            &uniforms,
+            &blade_buffer,
+            &visible,
+            &counters,
+            &draws,
+            &strengths,
+        ];
         for (spec, buffer) in BINDINGS.iter().zip(bound) {
             descriptors.write_buffer(spec.binding, spec.ty, buffer.buffer);
         }
@@ -156,6 +180,7 @@ impl Field {
             chunk_size,
             chunk_count,
             blades: blade_buffer,
+            strengths,
             visible,
             counters,
             draws,

@@ -8,6 +8,7 @@
 pub mod app;
 pub mod camera;
 pub mod cli;
+pub mod collider;
 pub mod field;
 pub mod passes;
 pub mod renderer;

@@ -7,15 +7,17 @@ use crate::passes::DEPTH_FORMAT;
 use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::passes::simulate::SimulatePass;
+use crate::scene::{Scene, builtin};
 use crate::shaders;
 use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use crate::vulkan::pipeline::ShaderModule;
 use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
+use glam::Vec3;
 use gpu_allocator::MemoryLocation;
-use shared::Blade;
 use shared::layout::{COUNTER_COUNT, COUNTER_VISIBLE, FrameUniforms, SimulatePush};
+use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -68,13 +70,19 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// Uploads `blades` and builds every pipeline for a colour target of `color_format`.
-    pub fn new(ctx: &Arc<Context>, blades: &[Blade], color_format: vk::Format) -> Result<Self> {
+    /// Uploads the scene's blades and surfaces and builds every pipeline for a colour
+    /// target of `color_format`.
+    pub fn new(ctx: &Arc<Context>, scene: &Scene, color_format: vk::Format) -> Result<Self> {
         let pool = CommandPool::new(ctx)?;
-        let field = Field::new(ctx, &pool, blades)?;
+        let field = Field::new(ctx, &pool, &scene.blades)?;
         let module = ShaderModule::new(ctx, shaders::SPIRV)?;
         let simulate = SimulatePass::new(ctx, &module, &field)?;
-        let ground = GroundPass::new(ctx, &module, &field, color_format)?;
+        let surfaces = [
+            (&scene.surface, MATERIAL_SOIL),
+            (&scene.bare, MATERIAL_ROCK),
+        ];
+        let ball = builtin::sphere(Vec3::ZERO, 1.0, 3);
+        let ground = GroundPass::new(ctx, &pool, &module, &field, color_format, &surfaces, &ball)?;
         let grass = GrassPass::new(ctx, &module, &field, color_format)?;
         let cmds = pool.allocate(FRAMES_IN_FLIGHT as u32)?;
         let slots = cmds
@@ -161,7 +169,7 @@ impl Renderer {
         let cmd = self.begin_commands(slot)?;
         let rec = Recorder::new(&self.ctx.device, cmd);
         self.record_compute(&rec, slot, uniforms, push);
-        self.record_draw(&rec, target, depth);
+        self.record_draw(&rec, target, depth, uniforms);
         if let Some(buffer) = capture {
             rec.copy_image_to_buffer(target.image, target.extent, buffer.buffer);
             rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
@@ -236,7 +244,13 @@ impl Renderer {
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 
-    fn record_draw(&self, rec: &Recorder, target: &Target, depth: vk::ImageView) {
+    fn record_draw(
+        &self,
+        rec: &Recorder,
+        target: &Target,
+        depth: vk::ImageView,
+        uniforms: &FrameUniforms,
+    ) {
         let depth_image = self.depth.as_ref().map(|d| d.image).unwrap_or_default();
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
@@ -262,7 +276,9 @@ impl Renderer {
             (depth_tests, depth_rw),
         );
         rec.begin_rendering(target.view, depth, target.extent, SKY);
-        self.ground.record(rec, &self.field);
+        let used = (uniforms.flags.w as usize).min(uniforms.colliders.len());
+        let balls = &uniforms.colliders[..used];
+        self.ground.record(rec, &self.field, balls);
         self.grass.record(rec, &self.field);
         rec.end_rendering();
         let (dst, dst_access) = if target.final_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {

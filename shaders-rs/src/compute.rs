@@ -15,8 +15,10 @@ use spirv_std::indirect_command::DrawIndirectCommand;
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
-/// One thread per blade: this frame's fixed steps of forces and validation, then the
+/// One thread per blade: this frame's fixed steps of forces, collisions and validation
+/// (the blade and its collision strength η are read and written back), then the
 /// cull tests; a visible blade is appended to `visible` through the atomic counter.
+#[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn simulate_cull(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -26,19 +28,22 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Blade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     if index >= frame.blade_count() {
         return;
     }
     let i = index as usize;
-    let blade = simulate(
-        &blades[i],
+    let (blade, strength) = simulate(
+        (blades[i], strengths[i]),
         &frame.environment(),
+        &frame.colliders,
         push.first_step,
         push.steps,
     );
     blades[i] = blade;
+    strengths[i] = strength;
     if is_visible(
         &blade,
         index,

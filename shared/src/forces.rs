@@ -25,7 +25,12 @@ pub fn front_gravity(g_env: Vec3, front: Vec3) -> Vec3 {
 
 /// Total gravity g = gE + gF (paper eq. 4).
 pub fn gravity(blade: &Blade, d: Vec4) -> Vec3 {
-    let g_env = environment_gravity(d);
+    gravity_from(blade, environment_gravity(d))
+}
+
+/// Total gravity g = gE + gF (paper eq. 4) for a given environment gravity `g_env`
+/// (from [`environment_gravity`] or [`environment_gravity_with_centre`]).
+pub fn gravity_from(blade: &Blade, g_env: Vec3) -> Vec3 {
     g_env + front_gravity(g_env, blade.front_dir())
 }
 

@@ -31,6 +31,12 @@ pub const BINDING_VISIBLE: u32 = 2;
 pub const BINDING_COUNTERS: u32 = 3;
 /// Binding of the indirect draw commands, one per chunk (storage).
 pub const BINDING_DRAWS: u32 = 4;
+/// Binding of the per-blade collision strength η (storage, `f32` per blade): the
+/// paper's "force map", kept per blade.
+pub const BINDING_STRENGTH: u32 = 5;
+
+/// Most sphere colliders per frame.
+pub const MAX_COLLIDERS: usize = 16;
 
 /// Index in the counter buffer of the number of visible blades.
 pub const COUNTER_VISIBLE: usize = 0;
@@ -57,8 +63,18 @@ pub struct FrameUniforms {
     pub lod: Vec4,
     /// Ground: half size of the square (x), tip start of the triangle-tip shape (y).
     pub ground: Vec4,
-    /// Enabled cull tests (x, mask of `cull::*`), blade shape (y), blade count (z).
+    /// Gravity centre C (xyz) and its acceleration (w).
+    pub gravity_centre: Vec4,
+    /// Blend t towards the gravity centre (x, 0..1), collision strength decay per
+    /// second (y).
+    pub sim: Vec4,
+    /// Enabled cull tests (x, mask of `cull::*`), blade shape (y), blade count (z),
+    /// collider count (w).
     pub flags: UVec4,
+    /// Wind field (x, one of `wind::WIND_*`).
+    pub modes: UVec4,
+    /// Sphere colliders: centre (xyz) and radius (w); the first `flags.w` are used.
+    pub colliders: [Vec4; MAX_COLLIDERS],
 }
 
 impl FrameUniforms {
@@ -66,7 +82,12 @@ impl FrameUniforms {
     pub fn environment(&self) -> Environment {
         Environment {
             gravity: self.gravity,
+            gravity_centre: self.gravity_centre,
+            centre_blend: self.sim.x,
             wind: self.wind,
+            wind_kind: self.modes.x,
+            strength_decay: self.sim.y,
+            colliders: self.flags.w,
         }
     }
     /// The cull thresholds and enabled tests.
@@ -97,6 +118,25 @@ pub struct SimulatePush {
     pub first_step: u32,
     /// Number of fixed steps this frame.
     pub steps: u32,
+}
+
+/// One vertex of a drawn surface (ground meshes and the collider ball).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SurfaceVertex {
+    /// Position (xyz) and material (w, one of `shade::MATERIAL_*`).
+    pub position: Vec4,
+    /// Unit normal (xyz).
+    pub normal: Vec4,
+}
+
+/// Push constants of the surface draws: the model matrix (identity for the ground,
+/// placement and size for the collider ball).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SurfacePush {
+    /// Model to world.
+    pub model: Mat4,
 }
 
 /// Push constants of the chunk pass: how the visible blades split into draws.

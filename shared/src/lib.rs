@@ -14,6 +14,8 @@ pub mod forces;
 pub mod generate;
 pub mod layout;
 pub mod lod;
+#[cfg(not(target_arch = "spirv"))]
+pub mod mesh;
 pub mod shade;
 pub mod shape;
 pub mod simulate;

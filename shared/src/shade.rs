@@ -56,19 +56,36 @@ pub fn ground_albedo(xz: Vec2) -> Vec3 {
     soil.lerp(moss, n) * (0.7 + 0.6 * value_noise(xz * 23.0))
 }
 
-/// Corner `index` (0..6, two triangles) of the square ground of half size `half`,
-/// in the XZ plane at y = 0.
-pub fn ground_corner(index: u32, half: f32) -> Vec3 {
-    // Triangles (0, 1, 2) and (2, 1, 3) of the corners (−,−), (+,−), (−,+), (+,+).
-    let corner = match index {
-        3 => 2,
-        4 => 1,
-        5 => 3,
-        i => i,
-    };
-    let x = if corner & 1 == 0 { -half } else { half };
-    let z = if corner & 2 == 0 { -half } else { half };
-    Vec3::new(x, 0.0, z)
+/// Material of a surface vertex: soil that grass grows on.
+pub const MATERIAL_SOIL: u32 = 0;
+/// Material of a surface vertex: bare rock.
+pub const MATERIAL_ROCK: u32 = 1;
+/// Material of a surface vertex: the collider ball.
+pub const MATERIAL_BALL: u32 = 2;
+
+/// Soil on a surface of any orientation: [`ground_albedo`] projected along the three
+/// axes and blended by the normal (triplanar), so slopes and a planet's sides are
+/// textured without stretching.
+pub fn soil_albedo(p: Vec3, n: Vec3) -> Vec3 {
+    let w = n.abs() * n.abs();
+    let w = w * w;
+    let w = w / (w.x + w.y + w.z).max(1e-6);
+    ground_albedo(Vec2::new(p.z, p.y)) * w.x
+        + ground_albedo(Vec2::new(p.x, p.z)) * w.y
+        + ground_albedo(Vec2::new(p.x, p.y)) * w.z
+}
+
+/// Albedo of `material` at `p` with normal `n`.
+pub fn surface_albedo(material: u32, p: Vec3, n: Vec3) -> Vec3 {
+    match material {
+        MATERIAL_ROCK => {
+            let grain = 0.5 * value_noise(Vec2::new(p.x + p.y, p.z) * 3.1)
+                + 0.5 * value_noise(Vec2::new(p.x, p.z - p.y) * 11.0);
+            Vec3::new(0.22, 0.21, 0.2) * (0.7 + 0.6 * grain)
+        }
+        MATERIAL_BALL => Vec3::new(0.65, 0.12, 0.04),
+        _ => soil_albedo(p, n),
+    }
 }
 
 #[cfg(test)]
@@ -93,15 +110,17 @@ mod tests {
     }
 
     #[test]
-    fn ground_is_two_triangles_covering_the_square() {
-        let c: Vec<Vec3> = (0..6).map(|i| ground_corner(i, 2.0)).collect();
-        assert_eq!(c[0], Vec3::new(-2.0, 0.0, -2.0));
-        assert_eq!(c[5], Vec3::new(2.0, 0.0, 2.0));
-        // Shared edge between the triangles, and both wound the same way.
-        assert_eq!((c[2], c[1]), (c[3], c[4]));
-        let n0 = (c[1] - c[0]).cross(c[2] - c[0]);
-        let n1 = (c[4] - c[3]).cross(c[5] - c[3]);
-        assert!(n0.y * n1.y > 0.0);
+    fn soil_on_flat_ground_is_the_ground_texture_and_rock_differs() {
+        let p = Vec3::new(1.3, 0.0, -2.7);
+        let flat = soil_albedo(p, Vec3::Y);
+        assert!((flat - ground_albedo(Vec2::new(p.x, p.z))).length() < 1e-6);
+        // A slope blends finite, in-range colours; a zero normal does not give NaN.
+        let slope = soil_albedo(p, Vec3::new(0.6, 0.8, 0.0));
+        assert!(slope.is_finite() && slope.max_element() < 1.0 && slope.min_element() >= 0.0);
+        assert!(soil_albedo(p, Vec3::ZERO).is_finite());
+        let rock = surface_albedo(MATERIAL_ROCK, p, Vec3::Y);
+        assert!((rock - flat).length() > 0.05);
+        assert_eq!(surface_albedo(MATERIAL_SOIL, p, Vec3::Y), flat);
     }
 
     #[test]

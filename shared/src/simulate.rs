@@ -1,6 +1,7 @@
 //! One simulation step: forces on `v2`, an explicit Euler step, then validation.
 
-use crate::{Blade, forces, validate, wind};
+use crate::layout::MAX_COLLIDERS;
+use crate::{Blade, collide, forces, validate, wind};
 use spirv_std::glam::Vec4;
 
 /// Fixed simulation step in seconds. Recovery with stiffness s relaxes `v2` at rate
@@ -15,25 +16,52 @@ pub const STEPS_PER_SECOND: u32 = 120;
 /// that loses the excess time instead of stalling the GPU for ever longer.
 pub const MAX_STEPS_PER_FRAME: u32 = 240;
 
-/// The forces' environment: gravity D (direction xyz, acceleration w) and the wind
-/// (direction xyz, strength w), as the uniform buffer carries them.
-#[derive(Copy, Clone, Debug)]
+/// The forces' environment, as the uniform buffer carries it.
+#[derive(Copy, Clone, Debug, Default)]
 pub struct Environment {
-    /// Gravity direction (xyz) and acceleration (w).
+    /// Gravity direction D (xyz) and acceleration (w).
     pub gravity: Vec4,
+    /// Gravity centre C (xyz) and its acceleration (w).
+    pub gravity_centre: Vec4,
+    /// Blend t between D (0) and C (1).
+    pub centre_blend: f32,
     /// Wind direction (xyz) and strength (w).
     pub wind: Vec4,
+    /// Wind field, one of `wind::WIND_*`.
+    pub wind_kind: u32,
+    /// Linear decay of the collision strength, per second.
+    pub strength_decay: f32,
+    /// Sphere colliders in use (the first of the collider array).
+    pub colliders: u32,
 }
 
-/// One explicit step of length `dt` at time `time`: v2 ← v2 + (g + r + w)·Δt, then the
-/// three validation steps (paper sections 5.1 and 5.2).
-pub fn step(blade: &Blade, env: &Environment, time: f32, dt: f32) -> Blade {
-    let wi = wind::breeze(blade.root(), time, env.wind);
-    let force = forces::gravity(blade, env.gravity)
-        + forces::recovery(blade, 0.0)
-        + forces::wind_force(blade, wi);
+/// A blade and its collision strength η.
+pub type BladeState = (Blade, f32);
+
+/// One explicit step of length `dt` at time `time` (paper section 5):
+/// v2 ← v2 + (g + r + w)·Δt with the recovery weakened by η, then the sphere
+/// collisions (which grow η; η decays linearly), then the three validation steps.
+pub fn step(
+    (blade, strength): BladeState,
+    env: &Environment,
+    spheres: &[Vec4; MAX_COLLIDERS],
+    time: f32,
+    dt: f32,
+) -> BladeState {
+    let g_env = forces::environment_gravity_with_centre(
+        env.gravity,
+        env.gravity_centre,
+        env.centre_blend,
+        blade.tip(),
+    );
+    let wi = wind::wind_field(env.wind_kind, blade.root(), time, env.wind);
+    let force = forces::gravity_from(&blade, g_env)
+        + forces::recovery(&blade, strength)
+        + forces::wind_force(&blade, wi);
     let moved = blade.with_curve(blade.guide(), blade.tip() + force * dt);
-    validate::validate(&moved)
+    let (pushed, displacement) = collide::collide(&moved, spheres, env.colliders);
+    let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
+    (validate::validate(&pushed), strength)
 }
 
 /// Simulated time at the start of step number `index`.
@@ -43,14 +71,20 @@ pub fn step_time(index: u32) -> f32 {
 
 /// Steps `first_step .. first_step + steps`: what the compute pass runs per frame.
 /// Times come from the step index, so every split into frames computes the same.
-pub fn simulate(blade: &Blade, env: &Environment, first_step: u32, steps: u32) -> Blade {
-    let mut b = *blade;
+pub fn simulate(
+    state: BladeState,
+    env: &Environment,
+    spheres: &[Vec4; MAX_COLLIDERS],
+    first_step: u32,
+    steps: u32,
+) -> BladeState {
+    let mut s = state;
     let mut i = 0;
     while i < steps {
-        b = step(&b, env, step_time(first_step + i), STEP_SECONDS);
+        s = step(s, env, spheres, step_time(first_step + i), STEP_SECONDS);
         i += 1;
     }
-    b
+    s
 }
 
 /// The host side of fixed steps: turns frame times into a whole number of steps and
@@ -90,11 +124,21 @@ mod tests {
     use super::*;
     use crate::glam::Vec3;
 
+    const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
+
     fn env() -> Environment {
         Environment {
             gravity: Vec4::new(0.0, -1.0, 0.0, 9.8),
             wind: Vec4::new(1.0, 0.0, 0.3, 6.0),
+            wind_kind: wind::WIND_BREEZE,
+            strength_decay: 0.5,
+            ..Default::default()
         }
+    }
+
+    /// Runs `steps` steps from rest without colliders.
+    fn settle(b: Blade, env: &Environment, steps: u32) -> Blade {
+        simulate((b, 0.0), env, &NO_SPHERES, 0, steps).0
     }
 
     fn run(frame_seconds: f64, total: f64) -> Blade {
@@ -103,7 +147,7 @@ mod tests {
         let frames = (total / frame_seconds).round() as u32;
         for _ in 0..frames {
             let (t, n) = clock.advance(frame_seconds);
-            b = simulate(&b, &env(), t, n);
+            b = simulate((b, 0.0), &env(), &NO_SPHERES, t, n).0;
         }
         b
     }
@@ -132,19 +176,22 @@ mod tests {
     /// arc length stays within 5 % of h (the tips never fold back onto the roots).
     #[test]
     fn long_runs_in_strong_wind_keep_length_and_ground() {
-        let windy = Environment {
-            gravity: env().gravity,
-            wind: Vec4::new(0.6, 0.0, 0.8, 12.0),
-        };
         let mut worst: f32 = 0.0;
-        for b in crate::generate::square_field(64, 8.0, 3) {
-            let mut b = b;
-            for frame in 0..120 {
-                b = simulate(&b, &windy, frame * 5, 5);
-                let (v0, up) = (b.root(), b.up_dir());
-                assert!(up.dot(b.tip() - v0) >= -1e-5);
-                let len = crate::validate::bezier_length(v0, b.guide(), b.tip(), 64);
-                worst = worst.max((len - b.height()).abs() / b.height());
+        for kind in [wind::WIND_BREEZE, wind::WIND_GUSTS, wind::WIND_VORTEX] {
+            let windy = Environment {
+                wind: Vec4::new(0.6, 0.0, 0.8, 12.0),
+                wind_kind: kind,
+                ..env()
+            };
+            for b in crate::generate::square_field(64, 8.0, 3) {
+                let mut b = b;
+                for frame in 0..120 {
+                    b = simulate((b, 0.0), &windy, &NO_SPHERES, frame * 5, 5).0;
+                    let (v0, up) = (b.root(), b.up_dir());
+                    assert!(up.dot(b.tip() - v0) >= -1e-5);
+                    let len = crate::validate::bezier_length(v0, b.guide(), b.tip(), 64);
+                    worst = worst.max((len - b.height()).abs() / b.height());
+                }
             }
         }
         assert!(worst < 0.05, "worst relative length error {worst}");
@@ -153,13 +200,72 @@ mod tests {
     #[test]
     fn gravity_alone_bends_a_blade_but_it_stays_valid() {
         let calm = Environment {
-            gravity: env().gravity,
-            wind: Vec4::ZERO,
+            wind_kind: wind::WIND_CALM,
+            ..env()
         };
         let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 7.0);
-        let b = simulate(&b, &calm, 0, 600);
+        let b = settle(b, &calm, 600);
         assert!(b.tip().is_finite());
         // It bends towards its front (−Z for θ = 0) and settles below its rest height.
         assert!(b.tip().z < -0.1 && b.tip().y < 2.0 && b.tip().y > 0.0);
+    }
+
+    /// A ball resting on a blade holds it down; once it leaves, η decays linearly and
+    /// the blade stands back up to where the calm field alone puts it.
+    #[test]
+    fn a_ball_tramples_a_blade_which_recovers_after_it_leaves() {
+        let calm = Environment {
+            wind_kind: wind::WIND_CALM,
+            strength_decay: 0.5,
+            colliders: 1,
+            ..env()
+        };
+        let rest = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.3, 2.0, 0.1, 10.0);
+        let upright = settle(
+            rest,
+            &Environment {
+                colliders: 0,
+                ..calm
+            },
+            600,
+        );
+        let mut spheres = NO_SPHERES;
+        spheres[0] = Vec4::new(0.6, 1.2, 0.2, 1.0);
+        // One second under the ball.
+        let (held, strength) = simulate((rest, 0.0), &calm, &spheres, 0, 120);
+        let height = |b: &Blade| (b.tip() - b.root()).dot(b.up_dir());
+        assert!(held.tip().distance(spheres[0].truncate()) >= 1.0 - 1e-3);
+        assert!(height(&held) < 0.7 * height(&upright), "{held:?}");
+        assert!(strength > 0.5, "η {strength}");
+        // The ball leaves: η falls at 0.5/s, so it is gone after 2 s.
+        let gone = Environment {
+            colliders: 0,
+            ..calm
+        };
+        let (after, s1) = simulate((held, strength), &gone, &spheres, 120, 60);
+        assert!(
+            (s1 - (strength - 0.25)).abs() < 1e-4,
+            "linear decay: {strength} → {s1}"
+        );
+        let (stood, s2) = simulate((after, s1), &gone, &spheres, 180, 600);
+        assert_eq!(s2, 0.0);
+        assert!((height(&stood) - height(&upright)).abs() < 1e-3);
+        assert!(stood.tip().is_finite());
+    }
+
+    #[test]
+    fn a_gravity_centre_pulls_blades_towards_it() {
+        let planet = Environment {
+            gravity: Vec4::ZERO,
+            gravity_centre: Vec4::new(0.0, 0.0, 0.0, 9.8),
+            centre_blend: 1.0,
+            wind_kind: wind::WIND_CALM,
+            ..env()
+        };
+        // A blade on the "south pole" of a planet of radius 5: up is −Y.
+        let b = Blade::at_rest(Vec3::new(0.0, -5.0, 0.0), -Vec3::Y, 0.0, 2.0, 0.1, 7.0);
+        let b = settle(b, &planet, 600);
+        // Pulled back towards the centre (+Y), never through its own ground.
+        assert!(b.tip().y > -7.0 + 0.05 && b.tip().y < -5.0, "{b:?}");
     }
 }

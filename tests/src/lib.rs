@@ -41,3 +41,125 @@ pub fn artifact_dir() -> PathBuf {
     std::fs::create_dir_all(&dir).expect("create test artifact folder");
     dir
 }
+
+/// The options of `grass render <args>`, parsed as the command line would: tests
+/// describe their scenes in the user's words.
+pub fn render_options(args: &[&str]) -> (runner::cli::Common, runner::cli::RenderArgs) {
+    use clap::Parser;
+    let argv = ["grass", "render"].iter().chain(args);
+    let cli = runner::cli::Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{args:?}: {e}"));
+    match cli.command {
+        Some(runner::cli::Command::Render(render)) => (cli.common, render),
+        _ => unreachable!("parsed as render"),
+    }
+}
+
+/// Mean absolute difference per channel (0..255) allowed against a reference image.
+/// References are rendered by lavapipe; rasterisation rules leave edge pixels of thin
+/// blades free to differ between drivers and versions, hence a tolerance.
+pub const MEAN_TOLERANCE: f64 = 4.0;
+/// Share of pixels allowed to differ by more than [`OUTLIER_LEVEL`] in some channel.
+pub const OUTLIER_SHARE: f64 = 0.04;
+/// A channel difference above this makes a pixel an outlier.
+pub const OUTLIER_LEVEL: u8 = 64;
+
+/// How two images differ.
+#[derive(Copy, Clone, Debug)]
+pub struct Difference {
+    /// Mean absolute difference per channel, 0..255.
+    pub mean: f64,
+    /// Share of pixels off by more than [`OUTLIER_LEVEL`] in some channel.
+    pub outliers: f64,
+}
+
+impl Difference {
+    /// Within [`MEAN_TOLERANCE`] and [`OUTLIER_SHARE`].
+    pub fn within_tolerance(&self) -> bool {
+        self.mean < MEAN_TOLERANCE && self.outliers < OUTLIER_SHARE
+    }
+}
+
+/// The difference of two images of the same size, and a picture of it (×4).
+pub fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> (Difference, image::RgbaImage) {
+    assert_eq!(a.dimensions(), b.dimensions(), "image sizes differ");
+    let mut picture = image::RgbaImage::new(a.width(), a.height());
+    let (mut sum, mut outliers) = (0u64, 0u64);
+    for (x, y, p) in a.enumerate_pixels() {
+        let q = b.get_pixel(x, y);
+        let d: [u8; 3] = std::array::from_fn(|c| p[c].abs_diff(q[c]));
+        sum += d.iter().map(|&v| u64::from(v)).sum::<u64>();
+        outliers += u64::from(d.iter().any(|&v| v > OUTLIER_LEVEL));
+        let [r, g, b] = d.map(|v| v.saturating_mul(4));
+        picture.put_pixel(x, y, image::Rgba([r, g, b, 255]));
+    }
+    let pixels = f64::from(a.width() * a.height());
+    let diff = Difference {
+        mean: sum as f64 / (pixels * 3.0),
+        outliers: outliers as f64 / pixels,
+    };
+    (diff, picture)
+}
+
+/// Saves `image` (and `diff`) under [`artifact_dir`]; returns a message saying where.
+pub fn save_failure(
+    name: &str,
+    image: &image::RgbaImage,
+    diff: Option<&image::RgbaImage>,
+) -> String {
+    let dir = artifact_dir();
+    let out = dir.join(format!("{name}.png"));
+    image.save(&out).expect("save test image");
+    let mut msg = format!("image written to {}", out.display());
+    if let Some(diff) = diff {
+        let d = dir.join(format!("{name}_diff.png"));
+        diff.save(&d).expect("save diff image");
+        msg += &format!(", difference to {}", d.display());
+    }
+    msg
+}
+
+/// The committed reference image `tests/reference/<name>.png`.
+pub fn reference_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("reference/{name}.png"))
+}
+
+/// Compares `image` with its reference within the stated tolerance, or rewrites the
+/// reference when GRASS_UPDATE_REFERENCE is set. Returns the difference.
+pub fn check_reference(name: &str, image: &image::RgbaImage) -> Difference {
+    let path = reference_path(name);
+    if std::env::var_os("GRASS_UPDATE_REFERENCE").is_some() {
+        image.save(&path).expect("write reference");
+        eprintln!("reference updated: {}", path.display());
+        return Difference {
+            mean: 0.0,
+            outliers: 0.0,
+        };
+    }
+    let reference = image::open(&path)
+        .unwrap_or_else(|e| panic!("open reference {}: {e}", path.display()))
+        .to_rgba8();
+    let (diff, picture) = difference(image, &reference);
+    println!(
+        "{name}: mean difference {:.3}, outlier share {:.4}",
+        diff.mean, diff.outliers
+    );
+    assert!(
+        diff.within_tolerance(),
+        "{name} differs from {}: mean {:.3} (max {MEAN_TOLERANCE}), outliers {:.4} (max {OUTLIER_SHARE}); {}",
+        path.display(),
+        diff.mean,
+        diff.outliers,
+        save_failure(name, image, Some(&picture))
+    );
+    diff
+}
+
+/// Renders with `grass render <args>` options and returns the report and the image.
+pub fn render_image(args: &[&str]) -> (runner::app::render::RenderReport, image::RgbaImage) {
+    let (common, render) = render_options(args);
+    let report = runner::app::render::render(&common, &render)
+        .unwrap_or_else(|e| panic!("render {args:?}: {e:#}"));
+    let image = image::RgbaImage::from_raw(render.width, render.height, report.pixels.clone())
+        .expect("image size");
+    (report, image)
+}

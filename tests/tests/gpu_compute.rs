@@ -1,7 +1,8 @@
 //! The compute pass on a Vulkan device against the host running the same shared
-//! functions: every blade after a few hundred steps, and the visible set.
+//! functions: every blade and its collision strength after a few hundred steps, with
+//! colliders and each wind field on, and the visible set.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use runner::app::render::FORMAT;
 use runner::camera::OrbitCamera;
 use runner::renderer::Renderer;
@@ -10,6 +11,7 @@ use shared::Blade;
 use shared::cull;
 use shared::layout::{FrameUniforms, SimulatePush};
 use shared::simulate::simulate;
+use shared::wind::{WIND_BREEZE, WIND_GUSTS, WIND_VORTEX};
 use std::collections::HashSet;
 use tests::with_device;
 
@@ -27,20 +29,37 @@ const POSITION_TOLERANCE: f32 = 5e-4;
 /// A blade within this of a cull threshold may fall either way on the two sides.
 const THRESHOLD_EPSILON: f32 = 1e-3;
 
-/// A camera low over the field's edge, so that every test removes blades.
-fn setup() -> (Scene, FrameUniforms) {
-    let scene = Scene::square(BLADES, 11);
-    let mut settings = Settings::for_field(scene.side);
-    settings.max_distance = scene.side * 0.9;
+/// Largest difference allowed between a GPU and a host collision strength (0..1).
+/// η adds up the displacement of every step a blade spends against a ball, and
+/// whether a tip touches the ball in a step turns on differences of 1e-5 in its
+/// position; lavapipe stays within 0.01.
+const STRENGTH_TOLERANCE: f32 = 0.02;
+
+/// Two balls pressing into the field (centre xyz, radius w).
+const BALLS: [Vec4; 2] = [
+    Vec4::new(0.5, 0.9, -0.8, 1.0),
+    Vec4::new(-1.5, 1.2, 1.0, 1.4),
+];
+
+/// A camera low over the field's edge, so that every test removes blades; the wind
+/// field `wind_kind`, two balls, and gravity blended towards a centre by `blend`.
+fn setup(wind_kind: u32, blend: f32) -> (Scene, FrameUniforms) {
+    let scene = Scene::plane(BLADES, 11);
+    let side = 2.0 * scene.bounds.1 / std::f32::consts::SQRT_2;
+    let mut settings = Settings::for_scene(&scene);
+    settings.max_distance = side * 0.9;
     settings.buckets = 4;
+    settings.wind_kind = wind_kind;
+    settings.gravity_centre = Vec4::new(0.0, -30.0, 0.0, 9.8);
+    settings.centre_blend = blend;
     let camera = OrbitCamera {
         target: Vec3::new(0.0, 0.5, 0.0),
         yaw: 0.3,
         pitch: 0.25,
-        distance: scene.side * 0.6,
+        distance: side * 0.6,
         fov_y: 40f32.to_radians(),
     };
-    let uniforms = settings.uniforms(&camera, 1.0, &scene);
+    let uniforms = settings.uniforms(&camera, 1.0, &scene, &BALLS);
     (scene, uniforms)
 }
 
@@ -61,96 +80,142 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
     orientation || frustum || distance
 }
 
+/// Runs the compute pass on the device and the same steps on the host; checks every
+/// blade and strength, and returns the renderer and the host's blades.
+fn run_both(
+    ctx: &std::sync::Arc<runner::vulkan::Context>,
+    scene: &Scene,
+    uniforms: &FrameUniforms,
+) -> (Renderer, Vec<Blade>) {
+    let mut renderer = Renderer::new(ctx, scene, FORMAT).expect("renderer");
+    let env = uniforms.environment();
+    let mut host: Vec<(Blade, f32)> = scene.blades.iter().map(|b| (*b, 0.0)).collect();
+    for frame in 0..FRAMES {
+        let push = SimulatePush {
+            first_step: frame * STEPS_PER_FRAME,
+            steps: STEPS_PER_FRAME,
+        };
+        renderer
+            .compute_frame(uniforms, push)
+            .expect("compute frame");
+        for state in &mut host {
+            *state = simulate(
+                *state,
+                &env,
+                &uniforms.colliders,
+                push.first_step,
+                push.steps,
+            );
+        }
+    }
+    let strengths: Vec<f32> = renderer
+        .download(&renderer.field.strengths, host.len())
+        .unwrap();
+    let mut trampled = 0;
+    for (i, (g, (_, h))) in strengths.iter().zip(&host).enumerate() {
+        assert!(
+            (g - h).abs() < STRENGTH_TOLERANCE,
+            "blade {i}: collision strength GPU {g} host {h}"
+        );
+        trampled += usize::from(*h > 0.1);
+    }
+    assert!(trampled > 20, "the balls must trample blades: {trampled}");
+    let host: Vec<Blade> = host.into_iter().map(|(b, _)| b).collect();
+    let gpu: Vec<Blade> = renderer
+        .download(&renderer.field.blades, host.len())
+        .unwrap();
+
+    // Every blade, every control point.
+    let mut worst: f32 = 0.0;
+    for (i, (g, h)) in gpu.iter().zip(&host).enumerate() {
+        assert_eq!(g.v0, h.v0, "blade {i}: the root must not move");
+        assert_eq!(g.up, h.up, "blade {i}: up and stiffness must not change");
+        let d = (g.guide() - h.guide())
+            .length()
+            .max((g.tip() - h.tip()).length());
+        assert!(
+            g.v1.is_finite() && g.v2.is_finite(),
+            "blade {i} not finite: {g:?}"
+        );
+        assert!(
+            d < POSITION_TOLERANCE,
+            "blade {i}: GPU {g:?} host {h:?} differ by {d}"
+        );
+        worst = worst.max(d);
+    }
+    println!(
+        "largest GPU/host control-point difference after {} steps: {worst:e}",
+        FRAMES * STEPS_PER_FRAME
+    );
+    // The blades really moved (the comparison is not of two rest states).
+    let moved = host
+        .iter()
+        .zip(&scene.blades)
+        .filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05)
+        .count();
+    assert!(moved > host.len() / 2, "only {moved} blades moved");
+    (renderer, host)
+}
+
 #[test]
-fn compute_pass_matches_the_host() {
-    with_device("compute_pass_matches_the_host", |ctx| {
-        let (scene, uniforms) = setup();
-        let mut renderer = Renderer::new(&ctx, &scene.blades, FORMAT).expect("renderer");
-        let env = uniforms.environment();
-        let mut host = scene.blades.clone();
-        for frame in 0..FRAMES {
-            let push = SimulatePush {
-                first_step: frame * STEPS_PER_FRAME,
-                steps: STEPS_PER_FRAME,
-            };
-            renderer
-                .compute_frame(&uniforms, push)
-                .expect("compute frame");
-            for b in &mut host {
-                *b = simulate(b, &env, push.first_step, push.steps);
+fn compute_pass_matches_the_host_in_gusts_and_a_vortex() {
+    with_device(
+        "compute_pass_matches_the_host_in_gusts_and_a_vortex",
+        |ctx| {
+            for (wind, blend) in [(WIND_GUSTS, 0.0), (WIND_VORTEX, 0.5)] {
+                let (scene, uniforms) = setup(wind, blend);
+                run_both(&ctx, &scene, &uniforms);
             }
-        }
-        let gpu: Vec<Blade> = renderer
-            .download(&renderer.field.blades, host.len())
-            .unwrap();
+        },
+    );
+}
 
-        // Every blade, every control point.
-        let mut worst: f32 = 0.0;
-        for (i, (g, h)) in gpu.iter().zip(&host).enumerate() {
-            assert_eq!(g.v0, h.v0, "blade {i}: the root must not move");
-            assert_eq!(g.up, h.up, "blade {i}: up and stiffness must not change");
-            let d = (g.guide() - h.guide())
-                .length()
-                .max((g.tip() - h.tip()).length());
-            assert!(
-                g.v1.is_finite() && g.v2.is_finite(),
-                "blade {i} not finite: {g:?}"
-            );
-            assert!(
-                d < POSITION_TOLERANCE,
-                "blade {i}: GPU {g:?} host {h:?} differ by {d}"
-            );
-            worst = worst.max(d);
-        }
-        println!(
-            "largest GPU/host control-point difference after {} steps: {worst:e}",
-            FRAMES * STEPS_PER_FRAME
-        );
-        // The blades really moved (the comparison is not of two rest states).
-        let moved = host
-            .iter()
-            .zip(&scene.blades)
-            .filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05)
-            .count();
-        assert!(moved > host.len() / 2, "only {moved} blades moved");
+#[test]
+fn compute_pass_matches_the_host_and_culls_the_same_blades() {
+    with_device(
+        "compute_pass_matches_the_host_and_culls_the_same_blades",
+        |ctx| {
+            let (scene, uniforms) = setup(WIND_BREEZE, 0.0);
+            let (renderer, host) = run_both(&ctx, &scene, &uniforms);
 
-        // The visible set: the GPU's compacted survivors, named by their roots.
-        let count = renderer.visible.expect("visible count") as usize;
-        let visible: Vec<Blade> = renderer.download(&renderer.field.visible, count).unwrap();
-        let key = |b: &Blade| b.v0.to_array().map(f32::to_bits);
-        let gpu_set: HashSet<_> = visible.iter().map(key).collect();
-        assert_eq!(gpu_set.len(), count, "a blade was appended twice");
-        let p = uniforms.cull_params();
-        let cam = uniforms.camera_pos();
-        let (mut compared, mut skipped) = (0, 0);
-        let mut removed = [0u32; 3];
-        for (id, b) in host.iter().enumerate() {
-            let id = id as u32;
-            removed[0] += cull::cull_orientation(b, cam, p.orientation_threshold) as u32;
-            removed[1] += cull::cull_frustum(b, uniforms.view_proj, p.frustum_tolerance) as u32;
-            removed[2] += cull::cull_distance(b, id, cam, p.max_distance, p.buckets) as u32;
-            if near_threshold(b, &uniforms) {
-                skipped += 1;
-                continue;
+            // The visible set: the GPU's compacted survivors, named by their roots.
+            let count = renderer.visible.expect("visible count") as usize;
+            let visible: Vec<Blade> = renderer.download(&renderer.field.visible, count).unwrap();
+            let key = |b: &Blade| b.v0.to_array().map(f32::to_bits);
+            let gpu_set: HashSet<_> = visible.iter().map(key).collect();
+            assert_eq!(gpu_set.len(), count, "a blade was appended twice");
+            let p = uniforms.cull_params();
+            let cam = uniforms.camera_pos();
+            let (mut compared, mut skipped) = (0, 0);
+            let mut removed = [0u32; 3];
+            for (id, b) in host.iter().enumerate() {
+                let id = id as u32;
+                removed[0] += cull::cull_orientation(b, cam, p.orientation_threshold) as u32;
+                removed[1] += cull::cull_frustum(b, uniforms.view_proj, p.frustum_tolerance) as u32;
+                removed[2] += cull::cull_distance(b, id, cam, p.max_distance, p.buckets) as u32;
+                if near_threshold(b, &uniforms) {
+                    skipped += 1;
+                    continue;
+                }
+                compared += 1;
+                let host_visible = cull::is_visible(b, id, cam, uniforms.view_proj, &p);
+                assert_eq!(
+                    gpu_set.contains(&key(b)),
+                    host_visible,
+                    "blade {id}: visible on the host: {host_visible}"
+                );
             }
-            compared += 1;
-            let host_visible = cull::is_visible(b, id, cam, uniforms.view_proj, &p);
-            assert_eq!(
-                gpu_set.contains(&key(b)),
-                host_visible,
-                "blade {id}: visible on the host: {host_visible}"
+            println!(
+                "visible {count} of {BLADES}; compared {compared}, {skipped} near a threshold; removed by orientation/frustum/distance {removed:?}"
             );
-        }
-        println!(
-            "visible {count} of {BLADES}; compared {compared}, {skipped} near a threshold; removed by orientation/frustum/distance {removed:?}"
-        );
-        assert!(
-            removed.iter().all(|&r| r > 20),
-            "each test must remove blades here: {removed:?}"
-        );
-        assert!(
-            skipped < BLADES as usize / 20,
-            "too many blades near a threshold: {skipped}"
-        );
-    });
+            assert!(
+                removed.iter().all(|&r| r > 20),
+                "each test must remove blades here: {removed:?}"
+            );
+            assert!(
+                skipped < BLADES as usize / 20,
+                "too many blades near a threshold: {skipped}"
+            );
+        },
+    );
 }

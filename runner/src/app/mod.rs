@@ -4,8 +4,11 @@ pub mod render;
 pub mod viewer;
 
 use crate::cli::{Cli, Command, Common};
+use crate::field::Field;
+use crate::scene::{BladeCount, Scene, SceneFile, Settings};
 use crate::vulkan::Context;
 use anyhow::Result;
+use glam::Vec3;
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -23,8 +26,8 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 /// The blade count asked for, or the default for this device.
-pub fn blade_count(common: &Common, ctx: &Context) -> u32 {
-    match common.blades {
+pub fn blade_count(common: &Common, ctx: &Context) -> BladeCount {
+    match common.blade_count() {
         Some(n) => n,
         None if ctx.is_software() => {
             log::info!(
@@ -32,8 +35,46 @@ pub fn blade_count(common: &Common, ctx: &Context) -> u32 {
                  (--blades to change)",
                 ctx.device_name()
             );
-            DEFAULT_BLADES_SOFTWARE
+            BladeCount::Total(DEFAULT_BLADES_SOFTWARE)
         }
-        None => DEFAULT_BLADES_GPU,
+        None => BladeCount::Total(DEFAULT_BLADES_GPU),
     }
+}
+
+/// The scene and settings the command line asks for, within `ctx`'s limits; `file`
+/// is the scene's file, read before the device was opened.
+pub fn prepare(
+    common: &Common,
+    ctx: &Context,
+    file: Option<SceneFile>,
+) -> Result<(Scene, Settings)> {
+    let count = blade_count(common, ctx);
+    let scene = Scene::build(&common.scene_kind(), file, count, common.seed, |n| {
+        Field::check_limits(ctx, n)
+    })?;
+    if scene.degenerate > 0 {
+        log::warn!(
+            "scene {}: skipped {} degenerate (zero-area) triangles",
+            scene.name,
+            scene.degenerate
+        );
+    }
+    log::info!("scene {}: {} blades", scene.name, scene.blade_count());
+    let mut settings = Settings::for_scene(&scene);
+    settings.wind_kind = common.wind.kind();
+    settings.wind = wind_vector(common.wind_direction, common.wind_strength);
+    settings.shape = common.shape.id();
+    settings.tip_start = common.tip_start;
+    settings.strength_decay = common.trample_decay;
+    if let Some(c) = common.gravity_centre {
+        settings.gravity_centre = c.extend(settings.gravity.w);
+        settings.centre_blend = 1.0;
+    }
+    Ok((scene, settings))
+}
+
+/// Wind (direction xyz, strength w) blowing towards `degrees` around the vertical.
+pub fn wind_vector(degrees: f32, strength: f32) -> glam::Vec4 {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    Vec3::new(cos, 0.0, sin).extend(strength)
 }

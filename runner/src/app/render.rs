@@ -1,9 +1,8 @@
 //! Headless rendering: an offscreen colour image, N frames at 1/60 s, a PNG of the last.
 
-use crate::camera::OrbitCamera;
 use crate::cli::{Common, RenderArgs};
+use crate::collider::{Ball, drop_onto};
 use crate::renderer::{Renderer, Target};
-use crate::scene::{Scene, Settings};
 use crate::vulkan::{Buffer, Context, ContextOptions, Image};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
@@ -24,6 +23,8 @@ pub struct RenderReport {
     pub blades: u32,
     /// Validation errors reported (0 without validation).
     pub validation_errors: u32,
+    /// World to clip of the camera, for tests that locate things in the image.
+    pub view_proj: glam::Mat4,
 }
 
 /// Renders as `args` asks and writes the PNG.
@@ -57,15 +58,18 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
 
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
+    let file = common.scene_kind().read()?;
     let ctx = Context::new(ContextOptions {
         validation: common.validation_requested(),
         ..Default::default()
     })?;
-    let count = super::blade_count(common, &ctx);
-    let scene = Scene::square(count, common.seed);
-    let settings = Settings::for_field(scene.side);
-    let camera = OrbitCamera::framing(scene.side);
-    let mut renderer = Renderer::new(&ctx, &scene.blades, FORMAT)?;
+    let (scene, settings) = super::prepare(common, &ctx, file)?;
+    let count = scene.blade_count();
+    let mut camera = scene.camera();
+    camera.distance /= args.zoom;
+    camera.yaw = args.yaw.map_or(camera.yaw, f32::to_radians);
+    camera.pitch = args.pitch.map_or(camera.pitch, f32::to_radians);
+    let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
 
     let extent = vk::Extent2D {
         width: args.width,
@@ -94,7 +98,6 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
     };
     let aspect = args.width as f32 / args.height as f32;
-    let uniforms = settings.uniforms(&camera, aspect, &scene);
     let mut clock = SimClock::default();
     let progress_every = (args.frames / 10).max(1);
     for frame in 0..args.frames {
@@ -102,6 +105,17 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         let (first_step, steps) = clock.advance(1.0 / 60.0);
         let last = frame + 1 == args.frames;
         let push = SimulatePush { first_step, steps };
+        // The ball's place at this frame's time along its path.
+        let ball = common.collider_path.as_ref().and_then(|path| {
+            let travelled = common.collider_speed * clock.time();
+            let contact = drop_onto(&scene.solid, path.at(travelled))?;
+            Some(Ball {
+                contact,
+                radius: common.collider_radius,
+            })
+        });
+        let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
+        let uniforms = settings.uniforms(&camera, aspect, &scene, &balls);
         renderer.render(
             slot,
             &target,
@@ -121,5 +135,6 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         visible: renderer.visible.unwrap_or(0),
         blades: count,
         validation_errors: ctx.validation_errors(),
+        view_proj: camera.view_proj(aspect),
     })
 }

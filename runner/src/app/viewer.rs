@@ -1,14 +1,17 @@
-//! The window viewer: winit event loop, orbit camera, swapchain recreated on resize,
-//! frame rate and visible blades in the title once a second.
+//! The window viewer: winit event loop, orbit camera, the collider ball and the live
+//! switches (wind, blade shape), swapchain recreated on resize, frame rate and visible
+//! blades in the title once a second.
 
 use crate::camera::OrbitCamera;
-use crate::cli::{Common, ViewArgs};
+use crate::cli::{Common, Shape, ViewArgs, Wind};
+use crate::collider::{Ball, drop_onto};
 use crate::renderer::{Renderer, Target};
-use crate::scene::{Scene, Settings};
+use crate::scene::{Scene, SceneFile, Settings};
 use crate::vulkan::swapchain::Swapchain;
 use crate::vulkan::{Context, ContextOptions};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
+use glam::{Vec2, Vec3, Vec3Swizzles};
 use shared::layout::SimulatePush;
 use shared::simulate::SimClock;
 use std::time::Instant;
@@ -22,11 +25,13 @@ use winit::window::{Window, WindowId};
 
 /// Opens the window and runs until it is closed (or Esc).
 pub fn run(common: &Common, args: &ViewArgs) -> Result<()> {
+    let file = common.scene_kind().read()?;
     let event_loop = EventLoop::new()
         .context("cannot open a window (no display?); `grass render` works without one")?;
     let mut app = Viewer {
         common: common.clone(),
         args: args.clone(),
+        file,
         state: None,
         error: None,
     };
@@ -40,6 +45,7 @@ pub fn run(common: &Common, args: &ViewArgs) -> Result<()> {
 struct Viewer {
     common: Common,
     args: ViewArgs,
+    file: Option<SceneFile>,
     state: Option<Running>,
     error: Option<anyhow::Error>,
 }
@@ -51,6 +57,28 @@ struct Mouse {
     panning: bool,
     last: Option<(f64, f64)>,
     modifiers: ModifiersState,
+}
+
+/// The controls, printed at start.
+pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: zoom, \
+arrows: roll the ball, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
+, .: turn the wind, S: next blade shape, Esc: quit";
+
+/// Arrow keys held down.
+#[derive(Default)]
+struct Arrows {
+    left: bool,
+    right: bool,
+    up: bool,
+    down: bool,
+}
+
+impl Arrows {
+    /// (right, forward) in −1..1.
+    fn axis(&self) -> Vec2 {
+        let f = |a: bool, b: bool| f32::from(u8::from(a)) - f32::from(u8::from(b));
+        Vec2::new(f(self.right, self.left), f(self.up, self.down))
+    }
 }
 
 /// FPS over the last second.
@@ -67,7 +95,11 @@ struct Running {
     ctx: std::sync::Arc<Context>,
     scene: Scene,
     settings: Settings,
+    common: Common,
     camera: OrbitCamera,
+    ball: Option<Ball>,
+    ball_on: bool,
+    arrows: Arrows,
     clock: SimClock,
     mouse: Mouse,
     stats: Stats,
@@ -78,7 +110,12 @@ struct Running {
 }
 
 impl Running {
-    fn new(event_loop: &ActiveEventLoop, common: &Common, args: &ViewArgs) -> Result<Self> {
+    fn new(
+        event_loop: &ActiveEventLoop,
+        common: &Common,
+        args: &ViewArgs,
+        file: Option<SceneFile>,
+    ) -> Result<Self> {
         let attributes = Window::default_attributes()
             .with_title("grass")
             .with_inner_size(PhysicalSize::new(args.width, args.height));
@@ -93,20 +130,30 @@ impl Running {
             surface_extensions: extensions,
             window: Some(&window),
         })?;
-        let count = super::blade_count(common, &ctx);
-        let scene = Scene::square(count, common.seed);
+        let (scene, settings) = super::prepare(common, &ctx, file)?;
         let size = window.inner_size();
         let swapchain = Swapchain::new(&ctx, (size.width, size.height), None)?;
-        let renderer = Renderer::new(&ctx, &scene.blades, swapchain.format)?;
-        log::info!(
-            "{count} blades; drag to rotate, right-drag or shift-drag to pan, wheel to zoom, Esc quits"
-        );
+        let renderer = Renderer::new(&ctx, &scene, swapchain.format)?;
+        log::info!("{CONTROLS}");
+        // The ball starts at the path's start, else in front of the camera's target.
+        let start = common
+            .collider_path
+            .as_ref()
+            .map_or(scene.camera().target.xz(), |p| p.at(0.0));
+        let ball = drop_onto(&scene.solid, start).map(|contact| Ball {
+            contact,
+            radius: common.collider_radius,
+        });
         Ok(Self {
             renderer,
             swapchain: Some(swapchain),
             ctx,
-            settings: Settings::for_field(scene.side),
-            camera: OrbitCamera::framing(scene.side),
+            settings,
+            common: common.clone(),
+            camera: scene.camera(),
+            ball,
+            ball_on: true,
+            arrows: Arrows::default(),
             scene,
             clock: SimClock::default(),
             mouse: Mouse::default(),
@@ -141,6 +188,12 @@ impl Running {
             self.swapchain = Some(new);
             self.recreate = false;
         }
+        // Simulated time and the ball follow the wall clock.
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f64();
+        self.last_frame = now;
+        let (first_step, steps) = self.clock.advance(dt);
+        self.move_ball(dt as f32);
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(());
         };
@@ -150,13 +203,17 @@ impl Running {
             self.recreate = true;
             return Ok(());
         };
-        let now = Instant::now();
-        let dt = now.duration_since(self.last_frame).as_secs_f64();
-        self.last_frame = now;
-        let (first_step, steps) = self.clock.advance(dt);
         let extent = swapchain.extent;
         let aspect = extent.width as f32 / extent.height as f32;
-        let uniforms = self.settings.uniforms(&self.camera, aspect, &self.scene);
+        let balls: Vec<_> = self
+            .ball
+            .iter()
+            .filter(|_| self.ball_on)
+            .map(Ball::sphere)
+            .collect();
+        let uniforms = self
+            .settings
+            .uniforms(&self.camera, aspect, &self.scene, &balls);
         let target = Target {
             image: swapchain.images[index as usize],
             view: swapchain.views[index as usize],
@@ -188,9 +245,16 @@ impl Running {
         if elapsed >= 1.0 {
             let fps = f64::from(self.stats.frames) / elapsed;
             let visible = self.renderer.visible.unwrap_or(0);
+            let wind = Wind::ALL
+                .iter()
+                .find(|w| w.kind() == self.settings.wind_kind);
+            let shape = Shape::ALL.iter().find(|w| w.id() == self.settings.shape);
             let line = format!(
-                "{fps:.1} fps, {visible} of {} blades visible",
-                self.renderer.field.blade_count
+                "{fps:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
+                self.renderer.field.blade_count,
+                self.scene.name,
+                wind.copied().unwrap_or(Wind::Calm),
+                shape.copied().unwrap_or(Shape::Quadratic),
             );
             self.window.set_title(&format!("grass: {line}"));
             log::info!("{line}");
@@ -198,6 +262,84 @@ impl Running {
                 since: Instant::now(),
                 frames: 0,
             };
+        }
+    }
+
+    /// Moves the ball along its path, or by the arrow keys (relative to the camera).
+    fn move_ball(&mut self, dt: f32) {
+        let Some(ball) = self.ball.as_mut() else {
+            return;
+        };
+        let axis = self.arrows.axis();
+        if axis != Vec2::ZERO {
+            // A key takes over from the path.
+            self.common.collider_path = None;
+            let (sin, cos) = self.camera.yaw.sin_cos();
+            let right = Vec3::new(cos, 0.0, -sin);
+            let forward = Vec3::new(-sin, 0.0, -cos);
+            let speed = self.common.collider_speed.max(0.5) * dt.min(0.1);
+            ball.slide(
+                &self.scene.solid,
+                (right * axis.x + forward * axis.y) * speed,
+            );
+        } else if let Some(path) = &self.common.collider_path {
+            let travelled = self.common.collider_speed * self.clock.time();
+            if let Some(contact) = drop_onto(&self.scene.solid, path.at(travelled)) {
+                ball.contact = contact;
+            }
+        }
+    }
+
+    /// A key press: the live switches.
+    fn key(&mut self, key: &Key) {
+        let s = &mut self.settings;
+        let wind_index = Wind::ALL.iter().position(|w| w.kind() == s.wind_kind);
+        let shape_index = Shape::ALL.iter().position(|w| w.id() == s.shape);
+        let (mut direction, mut strength) = (s.wind.z.atan2(s.wind.x).to_degrees(), s.wind.w);
+        match key {
+            Key::Named(NamedKey::ArrowLeft) => self.arrows.left = true,
+            Key::Named(NamedKey::ArrowRight) => self.arrows.right = true,
+            Key::Named(NamedKey::ArrowUp) => self.arrows.up = true,
+            Key::Named(NamedKey::ArrowDown) => self.arrows.down = true,
+            Key::Character(c) => match c.as_str() {
+                "b" | "B" => {
+                    self.ball_on = !self.ball_on;
+                    log::info!("ball {}", if self.ball_on { "on" } else { "off" });
+                }
+                "w" | "W" => {
+                    let next = Wind::ALL[wind_index.map_or(0, |i| (i + 1) % Wind::ALL.len())];
+                    s.wind_kind = next.kind();
+                    log::info!("wind: {next:?}");
+                }
+                "s" | "S" => {
+                    let next = Shape::ALL[shape_index.map_or(0, |i| (i + 1) % Shape::ALL.len())];
+                    s.shape = next.id();
+                    log::info!("blade shape: {next:?}");
+                }
+                "[" | "]" | "," | "." => {
+                    match c.as_str() {
+                        "[" => strength = (strength - 1.0).max(0.0),
+                        "]" => strength = (strength + 1.0).min(100.0),
+                        "," => direction -= 15.0,
+                        _ => direction += 15.0,
+                    }
+                    s.wind = super::wind_vector(direction, strength);
+                    log::info!("wind strength {strength:.0}, direction {direction:.0}°");
+                }
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+
+    /// A key release: stop rolling the ball.
+    fn key_up(&mut self, key: &Key) {
+        match key {
+            Key::Named(NamedKey::ArrowLeft) => self.arrows.left = false,
+            Key::Named(NamedKey::ArrowRight) => self.arrows.right = false,
+            Key::Named(NamedKey::ArrowUp) => self.arrows.up = false,
+            Key::Named(NamedKey::ArrowDown) => self.arrows.down = false,
+            _ => {}
         }
     }
 
@@ -219,7 +361,7 @@ impl Running {
 impl ApplicationHandler for Viewer {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.state.is_none() {
-            match Running::new(event_loop, &self.common, &self.args) {
+            match Running::new(event_loop, &self.common, &self.args, self.file.take()) {
                 Ok(state) => self.state = Some(state),
                 Err(e) => {
                     self.error = Some(e);
@@ -241,6 +383,12 @@ impl ApplicationHandler for Viewer {
             {
                 event_loop.exit()
             }
+            WindowEvent::KeyboardInput { event, .. } => match event.state {
+                ElementState::Pressed if !event.repeat => state.key(&event.logical_key),
+                ElementState::Pressed => {}
+                ElementState::Released => state.key_up(&event.logical_key),
+            },
+            WindowEvent::Focused(false) => state.arrows = Arrows::default(),
             WindowEvent::ModifiersChanged(m) => state.mouse.modifiers = m.state(),
             WindowEvent::Resized(_) => state.recreate = true,
             WindowEvent::MouseInput {

@@ -1,27 +1,109 @@
-//! The ground: two triangles from the vertex index, textured in the fragment stage.
+//! The surfaces: the scene's ground mesh and the collider balls, from one vertex and
+//! one index buffer, textured and lit in the fragment stage.
 
-use crate::field::Field;
+use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
+use crate::vulkan::commands::CommandPool;
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
-use crate::vulkan::{Context, Recorder};
+use crate::vulkan::{Buffer, Context, Recorder};
 use anyhow::Result;
 use ash::vk;
+use glam::{Mat4, Vec4};
+use shared::layout::{SurfacePush, SurfaceVertex};
+use shared::mesh::SurfaceMesh;
 use std::sync::Arc;
 
-/// The ground pipeline.
+/// A range of the index buffer drawn with one call.
+#[derive(Copy, Clone, Debug, Default)]
+struct Range {
+    first_index: u32,
+    index_count: u32,
+    vertex_offset: i32,
+}
+
+/// Meshes gathered into one vertex and one index array, one range each.
+#[derive(Default)]
+struct MeshSet {
+    vertices: Vec<SurfaceVertex>,
+    indices: Vec<u32>,
+}
+
+impl MeshSet {
+    fn add(&mut self, mesh: &SurfaceMesh, material: u32) -> Range {
+        let range = Range {
+            first_index: self.indices.len() as u32,
+            index_count: 3 * mesh.triangles.len() as u32,
+            vertex_offset: self.vertices.len() as i32,
+        };
+        self.vertices
+            .extend(
+                mesh.positions
+                    .iter()
+                    .zip(&mesh.normals)
+                    .map(|(p, n)| SurfaceVertex {
+                        position: p.extend(material as f32),
+                        normal: n.extend(0.0),
+                    }),
+            );
+        self.indices.extend(mesh.triangles.iter().flatten());
+        range
+    }
+}
+
+/// The surface pipeline and its meshes.
 pub struct GroundPass {
     pipeline: Pipeline,
+    vertices: Buffer,
+    indices: Buffer,
+    ground: Vec<Range>,
+    ball: Range,
 }
 
 impl GroundPass {
-    /// The pipeline for a colour target of `color_format`.
+    /// Uploads `ground` (each mesh with its `shade::MATERIAL_*`) and the unit `ball`,
+    /// and builds the pipeline for a colour target of `color_format`.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &Arc<Context>,
+        pool: &CommandPool,
         module: &ShaderModule,
         field: &Field,
         color_format: vk::Format,
+        ground: &[(&SurfaceMesh, u32)],
+        ball: &SurfaceMesh,
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
+        let mut set = MeshSet::default();
+        let ground = ground
+            .iter()
+            .filter(|(mesh, _)| !mesh.is_empty())
+            .map(|(mesh, material)| set.add(mesh, *material))
+            .collect();
+        let ball = set.add(ball, shared::shade::MATERIAL_BALL);
+        use vk::BufferUsageFlags as U;
+        let vertices = Buffer::upload(
+            ctx,
+            pool,
+            "surface vertices",
+            &set.vertices,
+            U::VERTEX_BUFFER,
+        )?;
+        let indices = Buffer::upload(ctx, pool, "surface indices", &set.indices, U::INDEX_BUFFER)?;
+
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: size_of::<SurfaceVertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        // Position and material, normal: two vec4 at locations 0 and 1.
+        let attributes: Vec<_> = (0..2)
+            .map(|i| vk::VertexInputAttributeDescription {
+                location: i,
+                binding: 0,
+                format: vk::Format::R32G32B32A32_SFLOAT,
+                offset: i * 16,
+            })
+            .collect();
         let pipeline = Pipeline::graphics(
             ctx,
             &GraphicsDesc {
@@ -31,26 +113,48 @@ impl GroundPass {
                     (St::FRAGMENT, shaders::GROUND_FS),
                 ],
                 layout: &field.layout,
-                vertex_bindings: &[],
-                vertex_attributes: &[],
+                vertex_bindings: &bindings,
+                vertex_attributes: &attributes,
                 patch_control_points: 0,
                 polygon_mode: vk::PolygonMode::FILL,
                 color_format,
                 depth_format: super::DEPTH_FORMAT,
             },
         )?;
-        Ok(Self { pipeline })
+        Ok(Self {
+            pipeline,
+            vertices,
+            indices,
+            ground,
+            ball,
+        })
     }
 
-    /// Records the draw inside the frame's rendering scope.
-    pub fn record(&self, rec: &Recorder, field: &Field) {
+    /// Records the ground and one ball per collider (centre xyz, radius w) inside the
+    /// frame's rendering scope.
+    pub fn record(&self, rec: &Recorder, field: &Field, balls: &[Vec4]) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
+        let layout = field.layout.layout;
         rec.bind_pipeline(
             graphics,
             self.pipeline.pipeline,
-            field.layout.layout,
+            layout,
             field.descriptors.set,
         );
-        rec.draw(6);
+        rec.bind_vertex_buffer(self.vertices.buffer);
+        rec.bind_index_buffer(self.indices.buffer);
+        let draw = |range: &Range, model: Mat4| {
+            let push = SurfacePush { model };
+            rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+            rec.draw_indexed(range.first_index, range.index_count, range.vertex_offset);
+        };
+        for range in &self.ground {
+            draw(range, Mat4::IDENTITY);
+        }
+        for ball in balls {
+            let model = Mat4::from_translation(ball.truncate())
+                * Mat4::from_scale(glam::Vec3::splat(ball.w));
+            draw(&self.ball, model);
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The compute pass: simulate and cull every blade (appending survivors through the
 //! visible counter), then write one indirect draw command per chunk.
 
-use crate::field::Field;
+use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::pipeline::{Pipeline, ShaderModule};
 use crate::vulkan::{Context, Recorder};
@@ -44,7 +44,7 @@ impl SimulatePass {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
         rec.bind_pipeline(compute, self.simulate.pipeline, layout, set);
-        rec.push_compute(layout, bytemuck::bytes_of(&push));
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
         // The visible count is complete before the chunk pass reads it.
         rec.memory_barrier(
@@ -56,7 +56,7 @@ impl SimulatePass {
             chunk_count: field.chunk_count,
         };
         rec.bind_pipeline(compute, self.write_draws.pipeline, layout, set);
-        rec.push_compute(layout, bytemuck::bytes_of(&chunks));
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&chunks));
         rec.dispatch(self.workgroups(field.chunk_count, CHUNK_WORKGROUP));
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),

@@ -1,6 +1,7 @@
 //! Buffers with their memory, from the allocator.
 
 use super::Context;
+use super::commands::CommandPool;
 use anyhow::{Context as _, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -50,6 +51,31 @@ impl Buffer {
             size,
             allocation: Some(allocation),
         })
+    }
+
+    /// A device-local buffer holding `data`, uploaded through a staging buffer;
+    /// `usage` gets TRANSFER_DST added.
+    pub fn upload<T: bytemuck::Pod>(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        name: &str,
+        data: &[T],
+        usage: vk::BufferUsageFlags,
+    ) -> Result<Self> {
+        let bytes = std::mem::size_of_val(data) as u64;
+        let usage = usage | vk::BufferUsageFlags::TRANSFER_DST;
+        let buffer = Self::new(ctx, name, bytes, usage, MemoryLocation::GpuOnly)?;
+        let mut staging = Self::new(
+            ctx,
+            &format!("{name} upload"),
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging.write(data)?;
+        pool.one_shot(|rec| rec.copy_buffer(staging.buffer, buffer.buffer, bytes))
+            .with_context(|| format!("upload {name}"))?;
+        Ok(buffer)
     }
 
     fn mapped(&self) -> Result<&[u8]> {

@@ -120,11 +120,17 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// Sets the compute push constants.
-    pub fn push_compute(&self, layout: vk::PipelineLayout, data: &[u8]) {
+    /// Sets push constants from offset 0; `stages` must be every stage of the
+    /// layout's range.
+    pub fn push_constants(
+        &self,
+        layout: vk::PipelineLayout,
+        stages: vk::ShaderStageFlags,
+        data: &[u8],
+    ) {
         unsafe {
             self.device
-                .cmd_push_constants(self.cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, data)
+                .cmd_push_constants(self.cmd, layout, stages, 0, data)
         };
     }
 
@@ -198,9 +204,20 @@ impl<'a> Recorder<'a> {
         };
     }
 
-    /// Draws `vertices` vertices, one instance.
-    pub fn draw(&self, vertices: u32) {
-        unsafe { self.device.cmd_draw(self.cmd, vertices, 1, 0, 0) };
+    /// Binds `buffer` as the 32-bit index buffer.
+    pub fn bind_index_buffer(&self, buffer: vk::Buffer) {
+        unsafe {
+            self.device
+                .cmd_bind_index_buffer(self.cmd, buffer, 0, vk::IndexType::UINT32)
+        };
+    }
+
+    /// Draws `count` indices from `first`, offset by `vertex_offset`, one instance.
+    pub fn draw_indexed(&self, first: u32, count: u32, vertex_offset: i32) {
+        unsafe {
+            self.device
+                .cmd_draw_indexed(self.cmd, count, 1, first, vertex_offset, 0)
+        };
     }
 
     /// `count` indirect draws read from `buffer`.

@@ -1,0 +1,146 @@
+//! Bad input through the real command line: each case runs the `grass` binary and
+//! must exit non-zero (never a panic) with a message naming the file and the problem.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// A scratch folder for this test's files.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("grass-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("create scratch folder");
+    dir
+}
+
+/// CI sets GRASS_REQUIRE_GPU=1: the cases that reach the device must then get there.
+fn gpu_required() -> bool {
+    std::env::var("GRASS_REQUIRE_GPU").is_ok_and(|v| v.trim() == "1")
+}
+
+fn grass(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_grass"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("run grass")
+}
+
+/// Renders `scene` (one tiny frame) and returns (exit success, stderr).
+fn render_scene(scene: &str, extra: &[&str]) -> (bool, String) {
+    let out = std::env::temp_dir().join(format!("grass-cli-{}.png", std::process::id()));
+    let out = out.to_str().expect("utf-8 temp path");
+    let mut args = vec![
+        "render", "--scene", scene, "--frames", "1", "--width", "16", "--height", "16", "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    let o = grass(&args);
+    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(
+        !stderr.contains("panicked"),
+        "grass panicked on {scene}: {stderr}"
+    );
+    (o.status.success(), stderr)
+}
+
+fn fails_with(scene: &str, expected: &[&str]) {
+    let (ok, stderr) = render_scene(scene, &[]);
+    assert!(!ok, "{scene}: should fail, stderr: {stderr}");
+    for e in expected {
+        assert!(stderr.contains(e), "{scene}: expected \"{e}\" in: {stderr}");
+    }
+}
+
+fn write(dir: &std::path::Path, name: &str, contents: &[u8]) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, contents).expect("write test file");
+    path.to_str().expect("utf-8 path").to_string()
+}
+
+#[test]
+fn a_missing_file_is_named() {
+    let path = scratch("missing").join("nowhere.obj");
+    let path = path.to_str().unwrap();
+    fails_with(path, &[path, "not found"]);
+}
+
+#[test]
+fn a_file_that_is_not_a_mesh_is_refused() {
+    let dir = scratch("notmesh");
+    let glb = write(
+        &dir,
+        "notes.glb",
+        b"these are not the triangles you are looking for",
+    );
+    fails_with(&glb, &[&glb, "not a glTF file"]);
+    let ply = write(&dir, "cloud.ply", b"ply\nformat ascii 1.0\nend_header\n");
+    fails_with(&ply, &[&ply, "unsupported file type"]);
+}
+
+#[test]
+fn a_mesh_without_triangles_is_refused() {
+    let dir = scratch("notriangles");
+    let obj = write(&dir, "points.obj", b"v 0 0 0\nv 1 0 0\nv 0 0 1\n");
+    fails_with(&obj, &[&obj, "no triangles"]);
+}
+
+#[test]
+fn non_finite_coordinates_are_refused() {
+    let dir = scratch("nan");
+    let obj = write(&dir, "nan.obj", b"v 0 0 0\nv nan 0 0\nv 0 0 1\nf 1 2 3\n");
+    fails_with(&obj, &[&obj, "non-finite"]);
+    let obj = write(&dir, "inf.obj", b"v 0 0 0\nv 1 0 0\nv 0 inf 1\nf 1 2 3\n");
+    fails_with(&obj, &[&obj, "non-finite"]);
+}
+
+#[test]
+fn degenerate_triangles_are_skipped_counted_and_reported() {
+    let dir = scratch("degenerate");
+    // Only a line's worth of triangles: nothing to grow on.
+    let obj = write(&dir, "flat.obj", b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    fails_with(&obj, &[&obj, "degenerate"]);
+    // One good triangle and one degenerate: rendered, with the skip reported.
+    let obj = write(
+        &dir,
+        "mixed.obj",
+        b"v 0 0 0\nv 4 0 0\nv 0 0 4\nv 8 0 0\nf 1 3 2\nf 1 2 4\n",
+    );
+    let (ok, stderr) = render_scene(&obj, &["--blades", "64"]);
+    if ok || gpu_required() {
+        assert!(ok && stderr.contains("skipped 1 degenerate"), "{stderr}");
+    } else {
+        // Without a Vulkan device the file is still read first; the device error follows.
+        assert!(
+            stderr.contains("Vulkan") || stderr.contains("device"),
+            "{stderr}"
+        );
+    }
+}
+
+#[test]
+fn a_blade_count_beyond_the_device_limits_is_refused() {
+    let (ok, stderr) = render_scene("plane", &["--blades", "67108864"]);
+    assert!(!ok, "{stderr}");
+    let limit = stderr.contains("maxStorageBufferRange") && stderr.contains("--blades");
+    assert!(
+        limit || (!gpu_required() && stderr.contains("device")),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn out_of_range_options_are_refused_by_the_parser() {
+    for args in [
+        &["render", "--wind-strength", "nan"][..],
+        &["render", "--tip-start", "2"],
+        &["render", "--collider-path", "1,2"],
+        &["render", "--gravity-centre", "1,2"],
+        &["render", "--wind", "hurricane"],
+        &["render", "--shape", "star"],
+        &["render", "--blades", "0"],
+    ] {
+        let o = grass(args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains("error"), "{args:?}: {stderr}");
+    }
+}

@@ -1,0 +1,162 @@
+//! Headless images of the issue-3 features against references: each built-in scene,
+//! each blade shape, and the trail a collider ball leaves.
+
+use glam::{Vec3, Vec4Swizzles};
+use image::RgbaImage;
+use tests::{check_reference, device_available, difference, render_image, save_failure};
+
+/// Small images: lavapipe draws about half a million triangles a second.
+const SIZE: &str = "160";
+
+/// Every built-in scene, rendered small, matches its reference and shows grass.
+#[test]
+fn each_built_in_scene_matches_its_reference() {
+    if !device_available("each_built_in_scene_matches_its_reference") {
+        return;
+    }
+    for scene in ["plane", "hills", "planet", "meadow"] {
+        let (report, image) = render_image(&[
+            "--scene", scene, "--blades", "2048", "--frames", "20", "--width", SIZE, "--height",
+            SIZE, "--wind", "calm",
+        ]);
+        let grass = share(&image, |[r, g, b]| g > r + 10 && g > b + 10);
+        println!(
+            "{scene}: {} of {} blades visible, grass share {grass:.3}",
+            report.visible, report.blades
+        );
+        assert!(
+            grass > 0.05 && report.visible > 200,
+            "{scene}: too little grass ({grass:.3}, {} visible); {}",
+            report.visible,
+            save_failure(&format!("scene_{scene}"), &image, None)
+        );
+        check_reference(&format!("scene_{scene}"), &image);
+    }
+}
+
+/// Each blade shape matches its reference, and every shape looks different from
+/// every other one by more than the reference tolerance (so the switch is seen).
+#[test]
+fn each_blade_shape_matches_its_reference_and_differs_from_the_others() {
+    if !device_available("each_blade_shape_matches_its_reference") {
+        return;
+    }
+    let shapes = ["quad", "triangle", "quadratic", "triangle-tip"];
+    let images: Vec<RgbaImage> = shapes
+        .iter()
+        .map(|shape| {
+            let (_, image) = render_image(&[
+                "--shape",
+                shape,
+                "--blades",
+                "256",
+                "--frames",
+                "5",
+                "--width",
+                SIZE,
+                "--height",
+                SIZE,
+                "--wind",
+                "calm",
+                "--zoom",
+                "2.5",
+                "--tip-start",
+                "0.3",
+            ]);
+            check_reference(&format!("shape_{shape}"), &image);
+            image
+        })
+        .collect();
+    for i in 0..shapes.len() {
+        for j in i + 1..shapes.len() {
+            let (d, _) = difference(&images[i], &images[j]);
+            println!(
+                "{} vs {}: mean {:.3}, outliers {:.4}",
+                shapes[i], shapes[j], d.mean, d.outliers
+            );
+            assert!(
+                !d.within_tolerance() || d.outliers > 0.004,
+                "{} and {} look alike: {d:?}",
+                shapes[i],
+                shapes[j]
+            );
+        }
+    }
+}
+
+/// A ball rolled along a path leaves a trail: with the wind calm, the image with the
+/// ball differs from the one without it, and only where the ball went (the screen
+/// rectangle around the path, widened by the ball and the tallest blade).
+#[test]
+fn a_collider_leaves_a_visible_trail_under_its_path() {
+    if !device_available("a_collider_leaves_a_visible_trail_under_its_path") {
+        return;
+    }
+    let base = [
+        "--blades",
+        "2048",
+        "--frames",
+        "150",
+        "--width",
+        "192",
+        "--height",
+        "192",
+        "--wind",
+        "calm",
+        "--collider-speed",
+        "3",
+        "--collider-radius",
+        "0.8",
+    ];
+    let (_, still) = render_image(&base);
+    let path = ["--collider-path", "-3,1 3,1"];
+    let (report, trail) = render_image(&[&base[..], &path[..]].concat());
+    check_reference("trail", &trail);
+
+    // Screen rectangle around the path: project a box around each point of it.
+    let reach = 0.8 * 1.6 + 2.5;
+    let (w, h) = (trail.width() as f32, trail.height() as f32);
+    let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
+    for i in 0..=60 {
+        let centre = Vec3::new(-3.0 + 0.1 * i as f32, 0.0, 1.0);
+        for corner in 0..8 {
+            let sign = |bit: u32| if corner & bit == 0 { -1.0 } else { 1.0 };
+            let p = centre + reach * Vec3::new(sign(1), 0.5 + 0.5 * sign(2), sign(4));
+            let clip = report.view_proj * p.extend(1.0);
+            let ndc = clip.xy() / clip.w;
+            let px = glam::Vec2::new((ndc.x + 1.0) * 0.5 * w, (ndc.y + 1.0) * 0.5 * h);
+            lo = lo.min(px);
+            hi = hi.max(px);
+        }
+    }
+    let (mut inside, mut outside) = (0u32, 0u32);
+    for (x, y, p) in trail.enumerate_pixels() {
+        let q = still.get_pixel(x, y);
+        if (0..3).any(|c| p[c].abs_diff(q[c]) > 40) {
+            let px = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            if px.cmpge(lo).all() && px.cmple(hi).all() {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+    }
+    let band = ((hi - lo).min(glam::Vec2::new(w, h))).element_product();
+    println!(
+        "pixels changed by the ball: {inside} inside its screen band ({band:.0} px), {outside} outside"
+    );
+    assert!(
+        inside as f32 > 0.05 * band && outside <= inside / 20,
+        "trail: {inside} changed inside the band, {outside} outside; {} / {}",
+        save_failure("trail", &trail, None),
+        save_failure("trail_without_ball", &still, None)
+    );
+}
+
+fn share(image: &RgbaImage, pred: impl Fn([i32; 3]) -> bool) -> f64 {
+    let n = image
+        .pixels()
+        .filter(|p| pred([p[0] as i32, p[1] as i32, p[2] as i32]))
+        .count();
+    n as f64 / f64::from(image.width() * image.height())
+}

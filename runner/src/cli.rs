@@ -68,7 +68,7 @@ pub struct Common {
     #[arg(long, global = true, allow_hyphen_values = true, value_parser = ColliderPath::parse)]
     pub collider_path: Option<ColliderPath>,
     /// Radius of the collider ball.
-    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.05, 100.0))]
+    #[arg(long, global = true, default_value_t = 1.5, value_parser = range(0.05, 100.0))]
     pub collider_radius: f32,
     /// Speed of the ball along its path, units per second.
     #[arg(long, global = true, default_value_t = 3.0, value_parser = range(0.0, 1000.0))]

@@ -172,21 +172,28 @@ mod tests {
         assert!(c.advance(0.0).1 <= 1);
     }
 
-    /// Under gravity and a strong gusty wind, every blade keeps a valid shape: its
-    /// arc length stays within 5 % of h (the tips never fold back onto the roots).
+    /// Under gravity, a strong wind of each field and a ball rolling through the
+    /// field, every blade keeps a valid shape: finite, v2 above its ground, arc length
+    /// within 5 % of h (the tips never fold back onto the roots).
     #[test]
-    fn long_runs_in_strong_wind_keep_length_and_ground() {
+    fn long_runs_in_strong_wind_and_collisions_keep_length_and_ground() {
         let mut worst: f32 = 0.0;
         for kind in [wind::WIND_BREEZE, wind::WIND_GUSTS, wind::WIND_VORTEX] {
             let windy = Environment {
                 wind: Vec4::new(0.6, 0.0, 0.8, 12.0),
                 wind_kind: kind,
+                colliders: 1,
                 ..env()
             };
             for b in crate::generate::square_field(64, 8.0, 3) {
-                let mut b = b;
+                let mut state = (b, 0.0);
                 for frame in 0..120 {
-                    b = simulate((b, 0.0), &windy, &NO_SPHERES, frame * 5, 5).0;
+                    // A ball crossing the field at 8 units/s.
+                    let mut spheres = NO_SPHERES;
+                    spheres[0] = Vec4::new(-4.0 + frame as f32 * 0.07, 0.8, 0.5, 1.5);
+                    state = simulate(state, &windy, &spheres, frame * 5, 5);
+                    let b = state.0;
+                    assert!(b.v1.is_finite() && b.v2.is_finite() && state.1.is_finite());
                     let (v0, up) = (b.root(), b.up_dir());
                     assert!(up.dot(b.tip() - v0) >= -1e-5);
                     let len = crate::validate::bezier_length(v0, b.guide(), b.tip(), 64);

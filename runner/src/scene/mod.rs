@@ -154,7 +154,12 @@ impl Scene {
         solid.append(&bare);
         let (min, max) = solid.bounds().context("scene has no triangles")?;
         let centre = 0.5 * (min + max);
-        let radius = 0.5 * (max - min).length() + shared::generate::HEIGHT.1;
+        let reach = solid
+            .positions
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0, f32::max);
+        let radius = reach + shared::generate::HEIGHT.1;
         Ok(Self {
             name,
             blades: scatter(&surface, blades, seed),

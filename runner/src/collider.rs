@@ -104,6 +104,35 @@ mod tests {
     }
 
     #[test]
+    fn the_ball_slides_along_a_plane_and_stays_on_a_planet() {
+        let plane = crate::scene::builtin::plane(10.0, 4);
+        let mut ball = Ball {
+            contact: drop_onto(&plane, Vec2::new(1.0, 2.0)).unwrap(),
+            radius: 1.5,
+        };
+        assert!((ball.contact.position - Vec3::new(1.0, 0.0, 2.0)).length() < 1e-5);
+        // The vertical part of a move is dropped: it slides on the ground.
+        ball.slide(&plane, Vec3::new(0.5, 3.0, 0.0));
+        assert!((ball.contact.position - Vec3::new(1.5, 0.0, 2.0)).length() < 1e-5);
+        assert!((ball.sphere() - Vec4::new(1.5, 0.9, 2.0, 1.5)).length() < 1e-5);
+
+        let planet = crate::scene::builtin::sphere(Vec3::ZERO, 5.0, 4);
+        let mut ball = Ball {
+            contact: drop_onto(&planet, Vec2::ZERO).unwrap(),
+            radius: 1.0,
+        };
+        assert!(ball.contact.position.y > 4.9);
+        for _ in 0..100 {
+            ball.slide(&planet, Vec3::new(0.2, 0.0, 0.0));
+            let r = ball.contact.position.length();
+            assert!((4.9..=5.0 + 1e-4).contains(&r), "off the surface: {r}");
+            assert!(ball.contact.normal.dot(ball.contact.position.normalize()) > 0.99);
+        }
+        // It went round the planet's side, not off into space.
+        assert!(ball.contact.position.y < 4.0);
+    }
+
+    #[test]
     fn bad_paths_are_refused_with_a_reason() {
         assert!(
             ColliderPath::parse("1,2")

@@ -79,7 +79,7 @@ pub fn grass_tes(
         v2: in_v2[0],
         up: in_up[0],
     };
-    let p = surface_point(&blade, coord.x, coord.y, frame.flags.y, frame.ground.y);
+    let p = surface_point(&blade, coord.x, coord.y, frame.flags.y, frame.blade_shape.x);
     *out_position = frame.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;

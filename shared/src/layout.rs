@@ -61,8 +61,8 @@ pub struct FrameUniforms {
     pub cull: Vec4,
     /// LOD: near distance, far distance, most and fewest vertical segments.
     pub lod: Vec4,
-    /// Ground: half size of the square (x), tip start of the triangle-tip shape (y).
-    pub ground: Vec4,
+    /// Tip start k of the triangle-tip shape (x).
+    pub blade_shape: Vec4,
     /// Gravity centre C (xyz) and its acceleration (w).
     pub gravity_centre: Vec4,
     /// Blend t towards the gravity centre (x, 0..1), collision strength decay per

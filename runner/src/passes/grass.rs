@@ -3,7 +3,7 @@
 
 use crate::field::Field;
 use crate::shaders;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule, vec4_vertex_input};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -24,20 +24,8 @@ impl GrassPass {
         color_format: vk::Format,
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
-        let bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: size_of::<Blade>() as u32,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
         // v0, v1, v2, up: four vec4 at locations 0..4.
-        let attributes: Vec<_> = (0..4)
-            .map(|i| vk::VertexInputAttributeDescription {
-                location: i,
-                binding: 0,
-                format: vk::Format::R32G32B32A32_SFLOAT,
-                offset: i * 16,
-            })
-            .collect();
+        let (bindings, attributes) = vec4_vertex_input::<Blade>();
         let pipeline = Pipeline::graphics(
             ctx,
             &GraphicsDesc {

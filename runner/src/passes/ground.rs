@@ -4,7 +4,7 @@
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule, vec4_vertex_input};
 use crate::vulkan::{Buffer, Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -90,20 +90,8 @@ impl GroundPass {
         )?;
         let indices = Buffer::upload(ctx, pool, "surface indices", &set.indices, U::INDEX_BUFFER)?;
 
-        let bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: size_of::<SurfaceVertex>() as u32,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
         // Position and material, normal: two vec4 at locations 0 and 1.
-        let attributes: Vec<_> = (0..2)
-            .map(|i| vk::VertexInputAttributeDescription {
-                location: i,
-                binding: 0,
-                format: vk::Format::R32G32B32A32_SFLOAT,
-                offset: i * 16,
-            })
-            .collect();
+        let (bindings, attributes) = vec4_vertex_input::<SurfaceVertex>();
         let pipeline = Pipeline::graphics(
             ctx,
             &GraphicsDesc {

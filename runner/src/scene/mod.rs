@@ -303,7 +303,7 @@ impl Settings {
                 MAX_SEGMENTS as f32,
                 self.lod_min,
             ),
-            ground: Vec4::new(0.0, self.tip_start, 0.0, 0.0),
+            blade_shape: Vec4::new(self.tip_start, 0.0, 0.0, 0.0),
             gravity_centre: self.gravity_centre,
             sim: Vec4::new(self.centre_blend, self.strength_decay, 0.0, 0.0),
             flags: UVec4::new(self.cull, self.shape, scene.blade_count(), used as u32),

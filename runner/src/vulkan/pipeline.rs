@@ -213,3 +213,26 @@ pub struct GraphicsDesc<'a> {
     /// Depth attachment format.
     pub depth_format: vk::Format,
 }
+
+/// Vertex input of one buffer of `T`, read per vertex as consecutive `vec4`
+/// attributes at locations 0, 1, … (`T` is a whole number of `vec4`).
+pub fn vec4_vertex_input<T>() -> (
+    [vk::VertexInputBindingDescription; 1],
+    Vec<vk::VertexInputAttributeDescription>,
+) {
+    let stride = size_of::<T>() as u32;
+    let binding = vk::VertexInputBindingDescription {
+        binding: 0,
+        stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    };
+    let attributes = (0..stride / 16)
+        .map(|i| vk::VertexInputAttributeDescription {
+            location: i,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: i * 16,
+        })
+        .collect();
+    ([binding], attributes)
+}

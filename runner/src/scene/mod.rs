@@ -35,9 +35,6 @@ pub enum SceneKind {
 }
 
 impl SceneKind {
-    /// The built-in names, for help and errors.
-    pub const BUILT_IN: [&str; 4] = ["plane", "hills", "planet", "meadow"];
-
     /// A built-in name, or else a file path.
     pub fn parse(s: &str) -> Self {
         match s {

@@ -56,9 +56,9 @@ fn setup(wind_kind: u32, blend: f32) -> (Scene, FrameUniforms) {
     let mut settings = Settings::for_scene(&scene);
     settings.max_distance = side * 0.9;
     settings.buckets = 4;
-    settings.wind_kind = wind_kind;
-    settings.gravity_centre = Vec4::new(0.0, -30.0, 0.0, 9.8);
-    settings.centre_blend = blend;
+    settings.env.wind_kind = wind_kind;
+    settings.env.gravity_centre = Vec4::new(0.0, -30.0, 0.0, 9.8);
+    settings.env.centre_blend = blend;
     let camera = OrbitCamera {
         target: Vec3::new(0.0, 0.5, 0.0),
         yaw: 0.3,

@@ -61,14 +61,14 @@ pub fn prepare(
     }
     log::info!("scene {}: {} blades", scene.name, scene.blade_count());
     let mut settings = Settings::for_scene(&scene);
-    settings.wind_kind = common.wind.kind();
-    settings.wind = wind_vector(common.wind_direction, common.wind_strength);
+    settings.env.wind_kind = common.wind.kind();
+    settings.env.wind = wind_vector(common.wind_direction, common.wind_strength);
     settings.shape = common.shape.id();
     settings.tip_start = common.tip_start;
-    settings.strength_decay = common.trample_decay;
+    settings.env.strength_decay = common.trample_decay;
     if let Some(c) = common.gravity_centre {
-        settings.gravity_centre = c.extend(settings.gravity.w);
-        settings.centre_blend = 1.0;
+        settings.env.gravity_centre = c.extend(settings.env.gravity.w);
+        settings.env.centre_blend = 1.0;
     }
     Ok((scene, settings))
 }

@@ -247,7 +247,7 @@ impl Running {
             let visible = self.renderer.visible.unwrap_or(0);
             let wind = Wind::ALL
                 .iter()
-                .find(|w| w.kind() == self.settings.wind_kind);
+                .find(|w| w.kind() == self.settings.env.wind_kind);
             let shape = Shape::ALL.iter().find(|w| w.id() == self.settings.shape);
             let line = format!(
                 "{fps:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
@@ -293,9 +293,10 @@ impl Running {
     /// A key press: the live switches.
     fn key(&mut self, key: &Key) {
         let s = &mut self.settings;
-        let wind_index = Wind::ALL.iter().position(|w| w.kind() == s.wind_kind);
+        let wind_index = Wind::ALL.iter().position(|w| w.kind() == s.env.wind_kind);
         let shape_index = Shape::ALL.iter().position(|w| w.id() == s.shape);
-        let (mut direction, mut strength) = (s.wind.z.atan2(s.wind.x).to_degrees(), s.wind.w);
+        let wind = s.env.wind;
+        let (mut direction, mut strength) = (wind.z.atan2(wind.x).to_degrees(), wind.w);
         match key {
             Key::Named(NamedKey::ArrowLeft) => self.arrows.left = true,
             Key::Named(NamedKey::ArrowRight) => self.arrows.right = true,
@@ -308,7 +309,7 @@ impl Running {
                 }
                 "w" | "W" => {
                     let next = Wind::ALL[wind_index.map_or(0, |i| (i + 1) % Wind::ALL.len())];
-                    s.wind_kind = next.kind();
+                    s.env.wind_kind = next.kind();
                     log::info!("wind: {next:?}");
                 }
                 "s" | "S" => {
@@ -323,7 +324,7 @@ impl Running {
                         "," => direction -= 15.0,
                         _ => direction += 15.0,
                     }
-                    s.wind = super::wind_vector(direction, strength);
+                    s.env.wind = super::wind_vector(direction, strength);
                     log::info!("wind strength {strength:.0}, direction {direction:.0}°");
                 }
                 _ => {}

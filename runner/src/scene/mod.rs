@@ -13,6 +13,7 @@ use shared::generate::{DENSITY, side_for};
 use shared::layout::{FrameUniforms, MAX_COLLIDERS};
 use shared::lod::MAX_SEGMENTS;
 use shared::mesh::{SurfaceMesh, scatter};
+use shared::simulate::Environment;
 use std::path::PathBuf;
 
 /// The project's own glTF scene, built into the binary (regenerate with
@@ -204,18 +205,8 @@ impl Scene {
 /// The settings of the simulation, culling, LOD and shading.
 #[derive(Copy, Clone, Debug)]
 pub struct Settings {
-    /// Gravity direction (xyz) and acceleration (w).
-    pub gravity: Vec4,
-    /// Gravity centre (xyz) and acceleration (w), used with `centre_blend`.
-    pub gravity_centre: Vec4,
-    /// Blend between the gravity direction (0) and the centre (1).
-    pub centre_blend: f32,
-    /// Wind direction (xyz) and strength (w).
-    pub wind: Vec4,
-    /// Wind field (`shared::wind::WIND_*`).
-    pub wind_kind: u32,
-    /// Linear decay of the collision strength, per second.
-    pub strength_decay: f32,
+    /// Gravity, wind and collision decay (the collider count is set per frame).
+    pub env: Environment,
     /// Direction towards the light (xyz, unit) and ambient (w).
     pub light: Vec4,
     /// Orientation threshold.
@@ -250,12 +241,15 @@ impl Settings {
             None => (Vec4::ZERO, 0.0),
         };
         Self {
-            gravity: Vec4::new(0.0, -1.0, 0.0, 9.8),
-            gravity_centre: centre,
-            centre_blend: blend,
-            wind: Vec4::new(1.0, 0.0, 0.35, 7.0),
-            wind_kind: shared::wind::WIND_BREEZE,
-            strength_decay: 0.25,
+            env: Environment {
+                gravity: Vec4::new(0.0, -1.0, 0.0, 9.8),
+                gravity_centre: centre,
+                centre_blend: blend,
+                wind: Vec4::new(1.0, 0.0, 0.35, 7.0),
+                wind_kind: shared::wind::WIND_BREEZE,
+                strength_decay: 0.25,
+                colliders: 0,
+            },
             light: Vec3::new(0.4, 0.8, 0.3).normalize().extend(0.35),
             orientation_threshold: 0.9,
             frustum_tolerance: 0.5,
@@ -286,8 +280,8 @@ impl Settings {
             view_proj: camera.view_proj(aspect),
             camera: camera.eye().extend(1.0),
             light: self.light,
-            gravity: self.gravity,
-            wind: self.wind,
+            gravity: self.env.gravity,
+            wind: self.env.wind,
             cull: Vec4::new(
                 self.orientation_threshold,
                 self.frustum_tolerance,
@@ -301,10 +295,10 @@ impl Settings {
                 self.lod_min,
             ),
             blade_shape: Vec4::new(self.tip_start, 0.0, 0.0, 0.0),
-            gravity_centre: self.gravity_centre,
-            sim: Vec4::new(self.centre_blend, self.strength_decay, 0.0, 0.0),
+            gravity_centre: self.env.gravity_centre,
+            sim: Vec4::new(self.env.centre_blend, self.env.strength_decay, 0.0, 0.0),
             flags: UVec4::new(self.cull, self.shape, scene.blade_count(), used as u32),
-            modes: UVec4::new(self.wind_kind, 0, 0, 0),
+            modes: UVec4::new(self.env.wind_kind, 0, 0, 0),
             colliders,
         }
     }

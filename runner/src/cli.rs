@@ -40,8 +40,8 @@ pub struct Common {
     /// Blades per square unit of surface, instead of a total count.
     #[arg(long, global = true, conflicts_with = "blades", value_parser = parse_density)]
     pub density: Option<f32>,
-    /// Surface: plane, hills, planet, meadow (the glTF scene in assets/), or a
-    /// .gltf, .glb or .obj file.
+    /// Surface: plane, hills, planet, meadow (the glTF scene in assets/), walls (stone
+    /// walls hiding grass: occlusion culling), or a .gltf, .glb or .obj file.
     #[arg(long, global = true, default_value = "plane")]
     pub scene: String,
     /// Wind field.
@@ -80,10 +80,108 @@ pub struct Common {
     /// Seed of the random field: the same seed gives the same blades.
     #[arg(long, global = true, default_value_t = 1)]
     pub seed: u64,
+    /// Factor on every blade's stiffness (how fast it stands back up).
+    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.0, 4.0))]
+    pub stiffness: f32,
+    /// Gravity's acceleration.
+    #[arg(long, global = true, default_value_t = 9.8, value_parser = range(0.0, 100.0))]
+    pub gravity: f32,
+    /// Culling, level of detail and the grass view.
+    #[command(flatten)]
+    pub cull: CullArgs,
     /// Enable VK_LAYER_KHRONOS_validation (also GRASS_VALIDATION=1); `render` then
     /// fails on any validation error.
     #[arg(long, global = true)]
     pub validation: bool,
+}
+
+/// The culling tests, their thresholds, the level of detail and the grass view.
+#[derive(Args, Debug, Clone)]
+pub struct CullArgs {
+    /// Do not remove blades seen edge-on.
+    #[arg(long, global = true)]
+    pub no_cull_orientation: bool,
+    /// Do not remove blades outside the view frustum.
+    #[arg(long, global = true)]
+    pub no_cull_frustum: bool,
+    /// Do not thin the field with distance.
+    #[arg(long, global = true)]
+    pub no_cull_distance: bool,
+    /// Do not remove blades hidden behind the scene's surfaces (Hi-Z test).
+    #[arg(long, global = true)]
+    pub no_cull_occlusion: bool,
+    /// Full detail at every distance.
+    #[arg(long, global = true)]
+    pub no_lod: bool,
+    /// Orientation test: remove a blade when |view · width direction| exceeds this.
+    #[arg(long, global = true, default_value_t = 0.9, value_parser = range(0.0, 1.0))]
+    pub orientation_threshold: f32,
+    /// Frustum test: slack around the view volume, in clip-space units.
+    #[arg(long, global = true, default_value_t = 0.5, value_parser = range(0.0, 10.0))]
+    pub frustum_tolerance: f32,
+    /// Distance test: nothing drawn beyond this [default: from the scene's size].
+    #[arg(long, global = true, value_parser = range(0.1, 1e6))]
+    pub max_distance: Option<f32>,
+    /// Distance test: buckets thinning the field between the camera and the maximum.
+    #[arg(long, global = true, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub buckets: u32,
+    /// LOD: tessellation level along the blade near the camera (1 to 9).
+    #[arg(long, global = true, default_value_t = 7.0, value_parser = range(1.0, shared::lod::MAX_LEVEL))]
+    pub lod_most: f32,
+    /// LOD: tessellation level far away (1 to 9).
+    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(1.0, shared::lod::MAX_LEVEL))]
+    pub lod_fewest: f32,
+    /// LOD: full detail up to this distance.
+    #[arg(long, global = true, default_value_t = 6.0, value_parser = range(0.0, 1e6))]
+    pub lod_near: f32,
+    /// LOD: fewest segments from this distance on [default: from the scene's size].
+    #[arg(long, global = true, value_parser = range(0.1, 1e6))]
+    pub lod_far: Option<f32>,
+    /// How the grass is drawn.
+    #[arg(long, global = true, value_enum, default_value_t = View::Shaded)]
+    pub view: View,
+}
+
+impl CullArgs {
+    /// The enabled tests, a mask of `shared::cull::*`.
+    pub fn mask(&self) -> u32 {
+        use shared::cull::*;
+        let off = [
+            (self.no_cull_orientation, ORIENTATION),
+            (self.no_cull_frustum, FRUSTUM),
+            (self.no_cull_distance, DISTANCE),
+            (self.no_cull_occlusion, OCCLUSION),
+        ];
+        off.iter()
+            .filter(|(no, _)| *no)
+            .fold(ALL, |mask, (_, bit)| mask & !bit)
+    }
+}
+
+/// How the grass is drawn (`shared::layout::VIEW_*`).
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum View {
+    /// Lit blades.
+    Shaded,
+    /// Blades coloured by tessellation level: blue (1) through green to red (9).
+    Lod,
+    /// The tessellated triangles' edges.
+    Wireframe,
+}
+
+impl View {
+    /// Every view, in the order the viewer's key cycles them.
+    pub const ALL: [View; 3] = [View::Shaded, View::Lod, View::Wireframe];
+
+    /// The `shared::layout::VIEW_*` constant.
+    pub fn id(self) -> u32 {
+        use shared::layout::*;
+        match self {
+            View::Shaded => VIEW_SHADED,
+            View::Lod => VIEW_LOD,
+            View::Wireframe => VIEW_WIREFRAME,
+        }
+    }
 }
 
 /// Options of the viewer.

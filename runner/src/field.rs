@@ -9,7 +9,7 @@ use anyhow::{Result, bail};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
-use shared::layout::{self, ChunkPush, FrameUniforms, SimulatePush, SurfacePush};
+use shared::layout::{self, ChunkPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush};
 use shared::lod::blades_per_chunk;
 use std::sync::Arc;
 
@@ -30,8 +30,8 @@ const fn storage(binding: u32) -> BindingSpec {
     }
 }
 
-/// The one descriptor set layout of every pipeline.
-pub const BINDINGS: [BindingSpec; 6] = [
+/// The one descriptor set layout of every pipeline (but the overlay's).
+pub const BINDINGS: [BindingSpec; 7] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -42,6 +42,7 @@ pub const BINDINGS: [BindingSpec; 6] = [
     storage(layout::BINDING_COUNTERS),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
+    storage(layout::BINDING_PYRAMID),
 ];
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
@@ -51,7 +52,10 @@ pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
         vk::ShaderStageFlags::COMPUTE.as_raw() | vk::ShaderStageFlags::VERTEX.as_raw(),
     ),
     max(
-        max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
+        max(
+            max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
+            size_of::<HiZPush>(),
+        ),
         size_of::<SurfacePush>(),
     ) as u32,
 );
@@ -80,6 +84,8 @@ pub struct Field {
     pub draws: Buffer,
     /// The frame's uniform block, updated by a transfer at the start of each frame.
     pub uniforms: Buffer,
+    /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
+    pub pyramid: Buffer,
     /// Descriptor set over the buffers above.
     pub descriptors: DescriptorSet,
     /// Pipeline layout shared by every pipeline.
@@ -158,6 +164,9 @@ impl Field {
             U::UNIFORM_BUFFER | U::TRANSFER_DST,
         )?;
 
+        // A placeholder until a frame sizes it: no occlusion test without a target.
+        let pyramid = Self::pyramid_buffer(ctx, 1)?;
+
         pool.one_shot(|rec| rec.fill_buffer(strengths.buffer, 0))?;
 
         let descriptors = DescriptorSet::new(ctx, &BINDINGS)?;
@@ -169,6 +178,7 @@ impl Field {
             &counters,
             &draws,
             &strengths,
+            &pyramid,
         ];
         for (spec, buffer) in BINDINGS.iter().zip(bound) {
             descriptors.write_buffer(spec.binding, spec.ty, buffer.buffer);
@@ -185,8 +195,32 @@ impl Field {
             counters,
             draws,
             uniforms,
+            pyramid,
             descriptors,
             layout,
         })
+    }
+
+    fn pyramid_buffer(ctx: &Arc<Context>, floats: u32) -> Result<Buffer> {
+        use vk::BufferUsageFlags as U;
+        Buffer::new(
+            ctx,
+            "depth pyramid",
+            u64::from(floats.max(1)) * 4,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )
+    }
+
+    /// Replaces the depth pyramid with one of `floats` values. No frame may be in
+    /// flight.
+    pub fn resize_pyramid(&mut self, ctx: &Arc<Context>, floats: u32) -> Result<()> {
+        self.pyramid = Self::pyramid_buffer(ctx, floats)?;
+        self.descriptors.write_buffer(
+            layout::BINDING_PYRAMID,
+            vk::DescriptorType::STORAGE_BUFFER,
+            self.pyramid.buffer,
+        );
+        Ok(())
     }
 }

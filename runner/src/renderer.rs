@@ -1,22 +1,28 @@
-//! One frame, start to end: update the uniforms and reset the counter (transfer),
-//! simulate and cull (compute), draw ground and grass (graphics), and read the visible
-//! count back without stalling (each frame slot reads its own, one frame later).
+//! One frame, start to end: update the uniforms and reset the counters (transfer);
+//! draw the occluders' depth and reduce it to a pyramid (graphics, compute); simulate,
+//! cull and count (compute); draw ground and grass, then the overlay (graphics). The
+//! counters and timestamps are read back without stalling: each frame slot reads its
+//! own when it comes round again, one frame later.
 
 use crate::field::Field;
 use crate::passes::DEPTH_FORMAT;
 use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
+use crate::passes::occlusion::OcclusionPass;
+use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::simulate::SimulatePass;
 use crate::scene::{Scene, builtin};
 use crate::shaders;
 use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use crate::vulkan::pipeline::ShaderModule;
+use crate::vulkan::query::TimestampPool;
 use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
-use shared::layout::{COUNTER_COUNT, COUNTER_VISIBLE, FrameUniforms, SimulatePush};
+use shared::cull::OCCLUSION;
+use shared::layout::{self, COUNTER_COUNT, FrameUniforms, SimulatePush};
 use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use std::sync::Arc;
 
@@ -42,6 +48,102 @@ pub struct Target {
     pub final_layout: vk::ImageLayout,
 }
 
+/// What one frame asks of the renderer.
+pub struct FrameInput<'a> {
+    /// Where it renders.
+    pub target: Target,
+    /// The frame's uniform block (the renderer fills in the depth pyramid's layout).
+    pub uniforms: FrameUniforms,
+    /// The simulation steps to run.
+    pub push: SimulatePush,
+    /// With a swapchain: the slot's image-available semaphore.
+    pub wait: Option<vk::Semaphore>,
+    /// With a swapchain: the image's render-finished semaphore.
+    pub signal: Option<vk::Semaphore>,
+    /// Receives the rendered pixels (target left in TRANSFER_SRC_OPTIMAL).
+    pub capture: Option<&'a Buffer>,
+    /// The overlay to draw over the frame, if any.
+    pub overlay: Option<OverlayFrame<'a>>,
+}
+
+/// How the compute pass sorted the blades of one frame: drawn, or removed by the
+/// first test that failed. Every blade lands in exactly one count.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct CullCounts {
+    /// Drawn.
+    pub drawn: u32,
+    /// Removed by the orientation test.
+    pub orientation: u32,
+    /// Removed by the frustum test.
+    pub frustum: u32,
+    /// Removed by the distance test.
+    pub distance: u32,
+    /// Removed by the occlusion test.
+    pub occlusion: u32,
+    /// Blades the pass looked at, counted on the GPU (the field's size).
+    pub examined: u32,
+}
+
+impl CullCounts {
+    fn from_counters(c: &[u32]) -> Self {
+        Self {
+            drawn: c[layout::COUNTER_VISIBLE],
+            orientation: c[layout::COUNTER_ORIENTATION],
+            frustum: c[layout::COUNTER_FRUSTUM],
+            distance: c[layout::COUNTER_DISTANCE],
+            occlusion: c[layout::COUNTER_OCCLUSION],
+            examined: c[layout::COUNTER_EXAMINED],
+        }
+    }
+    /// Blades removed by any test.
+    pub fn removed(&self) -> u32 {
+        self.orientation + self.frustum + self.distance + self.occlusion
+    }
+    /// (test name, blades it removed), in the order the tests run.
+    pub fn by_test(&self) -> [(&'static str, u32); 4] {
+        [
+            ("orientation", self.orientation),
+            ("frustum", self.frustum),
+            ("distance", self.distance),
+            ("occlusion", self.occlusion),
+        ]
+    }
+}
+
+/// GPU time of each pass of one frame, in milliseconds, from timestamp queries.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    /// Occluder depth pre-pass and pyramid reduction.
+    pub depth_pyramid: f64,
+    /// Simulate, cull, compact and write the draws.
+    pub simulate_cull: f64,
+    /// Ground and ball.
+    pub ground: f64,
+    /// Grass.
+    pub grass: f64,
+    /// Overlay.
+    pub overlay: f64,
+    /// The whole frame on the GPU.
+    pub total: f64,
+}
+
+/// Timestamps per frame: start, then after each pass of [`PassTimes`].
+const TIMESTAMPS: u32 = 6;
+
+impl PassTimes {
+    /// From the milliseconds since the first timestamp at the end of each pass.
+    fn from_marks(m: &[f64]) -> Self {
+        Self {
+            depth_pyramid: m[0],
+            simulate_cull: m[1] - m[0],
+            ground: m[2] - m[1],
+            grass: m[3] - m[2],
+            overlay: m[4] - m[3],
+            total: m[4],
+        }
+    }
+}
+
 /// Per-slot objects of a frame in flight.
 pub struct FrameSlot {
     cmd: vk::CommandBuffer,
@@ -49,6 +151,7 @@ pub struct FrameSlot {
     /// Signalled when the swapchain image of this frame is ready.
     image_available: Semaphore,
     counters: Buffer,
+    timestamps: Option<TimestampPool>,
     submitted: bool,
 }
 
@@ -60,13 +163,20 @@ pub struct Renderer {
     simulate: SimulatePass,
     ground: GroundPass,
     grass: GrassPass,
+    occlusion: OcclusionPass,
+    /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
+    pub has_occluders: bool,
+    overlay: Option<OverlayPass>,
+    color_format: vk::Format,
     slots: Vec<FrameSlot>,
     next: usize,
     depth: Option<Image>,
-    /// Visible blades in the newest frame whose counters were read back.
-    pub visible: Option<u32>,
+    /// The counts of the newest frame whose counters were read back.
+    pub counts: Option<CullCounts>,
+    /// The pass times of the newest frame whose timestamps were read back.
+    pub times: Option<PassTimes>,
     pool: CommandPool,
-    _module: ShaderModule,
+    module: ShaderModule,
 }
 
 impl Renderer {
@@ -84,6 +194,7 @@ impl Renderer {
         let ball = builtin::sphere(Vec3::ZERO, 1.0, 3);
         let ground = GroundPass::new(ctx, &pool, &module, &field, color_format, &surfaces, &ball)?;
         let grass = GrassPass::new(ctx, &module, &field, color_format)?;
+        let occlusion = OcclusionPass::new(ctx, &module, &field)?;
         let cmds = pool.allocate(FRAMES_IN_FLIGHT as u32)?;
         let slots = cmds
             .into_iter()
@@ -99,6 +210,7 @@ impl Renderer {
                         vk::BufferUsageFlags::TRANSFER_DST,
                         MemoryLocation::GpuToCpu,
                     )?,
+                    timestamps: TimestampPool::new(ctx, TIMESTAMPS)?,
                     submitted: false,
                 })
             })
@@ -109,25 +221,54 @@ impl Renderer {
             simulate,
             ground,
             grass,
+            occlusion,
+            has_occluders: scene.has_occluders(),
+            overlay: None,
+            color_format,
             slots,
             next: 0,
             depth: None,
-            visible: None,
+            counts: None,
+            times: None,
             pool,
-            _module: module,
+            module,
         })
     }
 
-    /// Waits until the next frame slot is free, reads the counters its last frame left,
-    /// and returns it.
+    /// Builds the overlay pipeline: frames may then carry an [`OverlayFrame`].
+    pub fn enable_overlay(&mut self) -> Result<()> {
+        if self.overlay.is_none() {
+            let pass =
+                OverlayPass::new(&self.ctx, &self.module, self.color_format, FRAMES_IN_FLIGHT)?;
+            self.overlay = Some(pass);
+        }
+        Ok(())
+    }
+
+    /// Visible blades in the newest frame read back.
+    pub fn visible(&self) -> Option<u32> {
+        self.counts.map(|c| c.drawn)
+    }
+
+    /// Waits until the next frame slot is free, reads the counters and timestamps its
+    /// last frame left, and returns it.
     pub fn begin_frame(&mut self) -> Result<usize> {
         let index = self.next;
-        let slot = &mut self.slots[index];
-        slot.fence.wait()?;
-        if slot.submitted {
-            self.visible = Some(slot.counters.read::<u32>(COUNTER_COUNT)?[COUNTER_VISIBLE]);
-        }
+        self.slots[index].fence.wait()?;
+        self.read_back(index)?;
         Ok(index)
+    }
+
+    fn read_back(&mut self, index: usize) -> Result<()> {
+        let slot = &self.slots[index];
+        if slot.submitted {
+            let counters = slot.counters.read::<u32>(COUNTER_COUNT)?;
+            self.counts = Some(CullCounts::from_counters(&counters));
+            if let Some(marks) = slot.timestamps.as_ref().and_then(TimestampPool::read_ms) {
+                self.times = Some(PassTimes::from_marks(&marks));
+            }
+        }
+        Ok(())
     }
 
     /// The slot's semaphore to signal when acquiring a swapchain image.
@@ -135,7 +276,8 @@ impl Renderer {
         self.slots[slot].image_available.semaphore
     }
 
-    fn ensure_depth(&mut self, extent: vk::Extent2D) -> Result<vk::ImageView> {
+    /// The depth image and the depth pyramid sized for `extent`.
+    fn ensure_depth(&mut self, extent: vk::Extent2D) -> Result<()> {
         if self.depth.as_ref().is_none_or(|d| d.extent != extent) {
             // The old depth image may still be in use by a frame in flight.
             self.ctx.wait_idle()?;
@@ -144,37 +286,75 @@ impl Renderer {
                 "depth",
                 extent,
                 DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
                 vk::ImageAspectFlags::DEPTH,
             )?);
+            self.occlusion.resize(&self.ctx, &mut self.field, extent)?;
         }
-        Ok(self.depth.as_ref().map(|d| d.view).unwrap_or_default())
+        Ok(())
     }
 
-    /// Records and submits the frame of `slot`. With a swapchain, `wait` is the
-    /// slot's image-available semaphore and `signal` the image's render-finished one;
-    /// `capture` receives the rendered pixels (target left in TRANSFER_SRC_OPTIMAL).
-    #[allow(clippy::too_many_arguments)]
-    pub fn render(
-        &mut self,
-        slot: usize,
-        target: &Target,
-        uniforms: &FrameUniforms,
-        push: SimulatePush,
-        wait: Option<vk::Semaphore>,
-        signal: Option<vk::Semaphore>,
-        capture: Option<&Buffer>,
-    ) -> Result<()> {
-        let depth = self.ensure_depth(target.extent)?;
+    /// Records and submits the frame of `slot`.
+    pub fn render(&mut self, slot: usize, input: FrameInput) -> Result<()> {
+        let target = input.target;
+        self.ensure_depth(target.extent)?;
+        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+            pass.update_textures(&self.pool, frame.textures)?;
+        }
+        let mut uniforms = input.uniforms;
+        // Without the occlusion test, or anything to hide grass, the pyramid is
+        // neither built nor read.
+        let occlusion = uniforms.flags.x & OCCLUSION != 0 && self.has_occluders;
+        uniforms.hiz = if occlusion {
+            self.occlusion.hiz
+        } else {
+            Default::default()
+        };
         let cmd = self.begin_commands(slot)?;
         let rec = Recorder::new(&self.ctx.device, cmd);
-        self.record_compute(&rec, slot, uniforms, push);
-        self.record_draw(&rec, target, depth, uniforms);
-        if let Some(buffer) = capture {
-            rec.copy_image_to_buffer(target.image, target.extent, buffer.buffer);
+        let stamps = self.slots[slot].timestamps.as_ref().map(|t| t.pool);
+        let stamp = |query: u32| {
+            if let Some(pool) = stamps {
+                rec.write_timestamp(pool, query, S::ALL_COMMANDS);
+            }
+        };
+        if let Some(pool) = stamps {
+            rec.reset_queries(pool, 0, TIMESTAMPS);
+        }
+        stamp(0);
+        self.begin_compute(&rec, &uniforms);
+        if occlusion {
+            let depth = self.depth.as_ref().context("depth image")?;
+            self.occlusion
+                .record(&rec, &self.field, &self.ground, depth);
+        }
+        stamp(1);
+        self.record_compute(&rec, slot, input.push);
+        stamp(2);
+        self.record_draw(&rec, &target, &uniforms, &stamp);
+        stamp(4);
+        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+            rec.memory_barrier(
+                (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+                (
+                    S::COLOR_ATTACHMENT_OUTPUT,
+                    A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
+                ),
+            );
+            pass.record(&rec, slot, target.view, target.extent, frame)?;
+        }
+        stamp(5);
+        self.finish_target(&rec, &target);
+        if let Some(buffer) = input.capture {
+            let color = vk::ImageAspectFlags::COLOR;
+            rec.copy_image_to_buffer(target.image, color, target.extent, buffer.buffer);
             rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
         }
-        self.submit(slot, wait, signal)
+        self.submit(slot, input.wait, input.signal)?;
+        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+            pass.free_textures(frame.textures)?;
+        }
+        Ok(())
     }
 
     /// Records and submits only the compute part of a frame (simulate, cull, chunk
@@ -182,7 +362,14 @@ impl Renderer {
     pub fn compute_frame(&mut self, uniforms: &FrameUniforms, push: SimulatePush) -> Result<()> {
         let slot = self.begin_frame()?;
         let cmd = self.begin_commands(slot)?;
-        self.record_compute(&Recorder::new(&self.ctx.device, cmd), slot, uniforms, push);
+        let rec = Recorder::new(&self.ctx.device, cmd);
+        // No target, so no pyramid: the occlusion test keeps every blade.
+        let uniforms = FrameUniforms {
+            hiz: Default::default(),
+            ..*uniforms
+        };
+        self.begin_compute(&rec, &uniforms);
+        self.record_compute(&rec, slot, push);
         self.submit(slot, None, None)?;
         self.finish()
     }
@@ -191,11 +378,7 @@ impl Renderer {
     pub fn finish(&mut self) -> Result<()> {
         self.ctx.wait_idle()?;
         let newest = (self.next + self.slots.len() - 1) % self.slots.len();
-        if self.slots[newest].submitted {
-            let counters = self.slots[newest].counters.read::<u32>(COUNTER_COUNT)?;
-            self.visible = Some(counters[COUNTER_VISIBLE]);
-        }
-        Ok(())
+        self.read_back(newest)
     }
 
     fn begin_commands(&self, slot: usize) -> Result<vk::CommandBuffer> {
@@ -212,16 +395,12 @@ impl Renderer {
         Ok(cmd)
     }
 
-    fn record_compute(
-        &self,
-        rec: &Recorder,
-        slot: usize,
-        uniforms: &FrameUniforms,
-        push: SimulatePush,
-    ) {
+    /// Orders the frame after the previous one, then updates the uniforms and clears
+    /// the counters.
+    fn begin_compute(&self, rec: &Recorder, uniforms: &FrameUniforms) {
         let field = &self.field;
         // Everything the previous frame read or wrote is done before this one
-        // overwrites the uniforms, the counters and the blades.
+        // overwrites the uniforms, the counters, the pyramid and the blades.
         rec.memory_barrier(
             (S::ALL_COMMANDS, A::MEMORY_WRITE),
             (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
@@ -235,6 +414,11 @@ impl Renderer {
                 A::SHADER_READ | A::SHADER_WRITE | A::UNIFORM_READ,
             ),
         );
+    }
+
+    /// Simulate, cull and compact, then copy the counters for the read-back.
+    fn record_compute(&self, rec: &Recorder, slot: usize, push: SimulatePush) {
+        let field = &self.field;
         self.simulate.record(rec, field, push);
         rec.copy_buffer(
             field.counters.buffer,
@@ -244,14 +428,19 @@ impl Renderer {
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 
+    /// Ground, then grass, into the target; `stamp(3)` between them.
     fn record_draw(
         &self,
         rec: &Recorder,
         target: &Target,
-        depth: vk::ImageView,
         uniforms: &FrameUniforms,
+        stamp: &dyn Fn(u32),
     ) {
-        let depth_image = self.depth.as_ref().map(|d| d.image).unwrap_or_default();
+        let depth = self
+            .depth
+            .as_ref()
+            .map(|d| (d.image, d.view))
+            .unwrap_or_default();
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
@@ -265,22 +454,29 @@ impl Renderer {
             (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
             color_out,
         );
+        // After the pre-pass's copy (or the last frame's tests) is done with it.
         rec.image_barrier(
-            depth_image,
+            depth.0,
             vk::ImageAspectFlags::DEPTH,
             (
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
             ),
-            (depth_tests, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+            (depth_tests | S::COPY, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
             (depth_tests, depth_rw),
         );
-        rec.begin_rendering(target.view, depth, target.extent, SKY);
+        rec.begin_rendering(Some((target.view, Some(SKY))), Some(depth.1), target.extent);
         let used = (uniforms.flags.w as usize).min(uniforms.colliders.len());
         let balls = &uniforms.colliders[..used];
         self.ground.record(rec, &self.field, balls);
-        self.grass.record(rec, &self.field);
+        stamp(3);
+        self.grass.record(rec, &self.field, uniforms.modes.y);
         rec.end_rendering();
+    }
+
+    /// Leaves the target in its final layout.
+    fn finish_target(&self, rec: &Recorder, target: &Target) {
+        let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let (dst, dst_access) = if target.final_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
             (S::COPY, A::TRANSFER_READ)
         } else {

@@ -5,6 +5,8 @@ pub const SPIRV: &[u8] = include_bytes!(env!("GRASS_SPIRV"));
 
 /// Compute: simulate, cull and compact.
 pub const SIMULATE_CULL: &str = "compute::simulate_cull";
+/// Compute: one level of the occluders' depth pyramid.
+pub const BUILD_HIZ: &str = "compute::build_hiz";
 /// Compute: one indirect draw command per chunk of visible blades.
 pub const WRITE_DRAWS: &str = "compute::write_draws";
 /// Grass vertex stage.
@@ -19,3 +21,7 @@ pub const GRASS_FS: &str = "grass::grass_fs";
 pub const GROUND_VS: &str = "ground::ground_vs";
 /// Ground fragment stage.
 pub const GROUND_FS: &str = "ground::ground_fs";
+/// Overlay vertex stage.
+pub const OVERLAY_VS: &str = "overlay::overlay_vs";
+/// Overlay fragment stage.
+pub const OVERLAY_FS: &str = "overlay::overlay_fs";

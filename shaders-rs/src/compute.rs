@@ -1,27 +1,32 @@
-//! The compute pass: simulate every blade, cull it, compact the survivors, then write
+//! The compute passes: reduce the occluders' depth into a pyramid, then simulate every
+//! blade, cull it, count each test's removals and compact the survivors, then write
 //! the indirect draw commands.
 
 use shared::Blade;
-use shared::cull::is_visible;
+use shared::cull::{KEPT, cull_outcome};
+use shared::hiz::{level_size, reduce};
 use shared::layout::{
-    CHUNK_WORKGROUP, COUNTER_VISIBLE, ChunkPush, FrameUniforms, SIMULATE_WORKGROUP, SimulatePush,
-    flat_index,
+    CHUNK_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_VISIBLE, ChunkPush, FrameUniforms,
+    HiZPush, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
 use shared::lod::chunk_range;
 use shared::simulate::simulate;
-use spirv_std::arch::atomic_i_increment;
+use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::UVec3;
 use spirv_std::indirect_command::DrawIndirectCommand;
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
-/// (the blade and its collision strength η are read and written back), then the
-/// cull tests; a visible blade is appended to `visible` through the atomic counter.
+/// (the blade and its collision strength η are read and written back), then the cull
+/// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
+/// device counter once; a visible blade lands at the workgroup's base (one device
+/// atomic) plus its place within the workgroup.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn simulate_cull(
     #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(push_constant)] push: &SimulatePush,
@@ -29,35 +34,93 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Blade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
+    #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
-    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
-    if index >= frame.blade_count() {
-        return;
+    if local < COUNTER_COUNT as u32 {
+        tally[local as usize] = 0;
     }
-    let i = index as usize;
-    let (blade, strength) = simulate(
-        (blades[i], strengths[i]),
-        &frame.environment(),
-        &frame.colliders,
-        push.first_step,
-        push.steps,
-    );
-    blades[i] = blade;
-    strengths[i] = strength;
-    if is_visible(
-        &blade,
-        index,
-        frame.camera_pos(),
-        frame.view_proj,
-        &frame.cull_params(),
-    ) {
-        let slot = unsafe {
-            atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                &mut counters[COUNTER_VISIBLE],
+    workgroup_memory_barrier_with_group_sync();
+
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    let in_field = index < frame.blade_count();
+    let mut blade = Blade::default();
+    let mut outcome = KEPT;
+    let mut place = 0;
+    if in_field {
+        let i = index as usize;
+        let (simulated, strength) = simulate(
+            (blades[i], strengths[i]),
+            &frame.environment(),
+            &frame.colliders,
+            push.first_step,
+            push.steps,
+        );
+        blade = simulated;
+        blades[i] = blade;
+        strengths[i] = strength;
+        outcome = cull_outcome(
+            &blade,
+            index,
+            frame.camera_pos(),
+            frame.view_proj,
+            &frame.cull_params(),
+            pyramid,
+            &frame.hiz,
+        );
+        place = unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[outcome as usize],
             )
         };
-        visible[slot as usize] = blade;
+        unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[COUNTER_EXAMINED],
+            );
+        }
     }
+    workgroup_memory_barrier_with_group_sync();
+
+    // Thread k adds tally k to the device counter k; the visible one keeps the base
+    // of the workgroup's slots in the tally for the others.
+    if local < COUNTER_COUNT as u32 {
+        let k = local as usize;
+        let count = tally[k];
+        if count > 0 {
+            let base = unsafe {
+                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut counters[k],
+                    count,
+                )
+            };
+            if k == COUNTER_VISIBLE {
+                tally[k] = base;
+            }
+        }
+    }
+    workgroup_memory_barrier_with_group_sync();
+
+    if in_field && outcome == KEPT {
+        visible[(tally[COUNTER_VISIBLE] + place) as usize] = blade;
+    }
+}
+
+/// One thread per texel of pyramid level `push.level`: the farthest depth of the 2×2
+/// texels below it.
+#[spirv(compute(threads(8, 8)))]
+pub fn build_hiz(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &HiZPush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &mut [f32],
+) {
+    let hiz = &frame.hiz;
+    let (w, h) = level_size(hiz.width(), hiz.height(), push.level);
+    if id.x >= w || id.y >= h {
+        return;
+    }
+    let value = reduce(pyramid, hiz, push.level, id.x, id.y);
+    pyramid[(hiz.offset(push.level) + id.y * w + id.x) as usize] = value;
 }
 
 /// One thread per chunk: the draw command of its slice of the visible blades.

@@ -6,8 +6,8 @@
 
 use shared::Blade;
 use shared::layout::FrameUniforms;
-use shared::lod::{tess_levels, vertical_segments};
-use shared::shade::shade_blade;
+use shared::lod::{tess_levels, vertical_level};
+use shared::shade::blade_colour;
 use shared::shape::surface_point;
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
@@ -31,7 +31,9 @@ pub fn grass_vs(
     *out_up = up;
 }
 
-/// Level of detail: vertical segments from the blade's distance to the camera.
+/// Level of detail: a continuous tessellation level along the blade from its distance
+/// to the camera (fractional-odd spacing in the evaluation stage), passed on for the
+/// LOD view.
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn grass_tcs(
@@ -44,6 +46,7 @@ pub fn grass_tcs(
     out_v1: &mut [Vec4; 1],
     out_v2: &mut [Vec4; 1],
     out_up: &mut [Vec4; 1],
+    out_level: &mut [f32; 1],
     #[spirv(tess_level_outer)] outer: &mut [f32; 4],
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
@@ -53,14 +56,16 @@ pub fn grass_tcs(
     out_up[0] = in_up[0];
     let distance = (in_v0[0].xyz() - frame.camera_pos()).length();
     let lod = frame.lod;
-    let (o, i) = tess_levels(vertical_segments(distance, lod.x, lod.y, lod.z, lod.w));
+    let level = vertical_level(distance, lod.x, lod.y, lod.z, lod.w);
+    out_level[0] = level;
+    let (o, i) = tess_levels(level);
     *outer = o;
     *inner = i;
 }
 
 /// Blade shape: the surface point at (u, v) of the tessellated quad, in clip space.
 #[allow(clippy::too_many_arguments)]
-#[spirv(tessellation_evaluation(quads, spacing_equal, vertex_order_ccw))]
+#[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn grass_tes(
     #[spirv(tess_coord)] coord: Vec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
@@ -68,10 +73,12 @@ pub fn grass_tes(
     in_v1: [Vec4; 1],
     in_v2: [Vec4; 1],
     in_up: [Vec4; 1],
+    in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
     out_normal: &mut Vec3,
     out_world: &mut Vec3,
     out_uv: &mut Vec2,
+    out_level: &mut f32,
 ) {
     let blade = Blade {
         v0: in_v0[0],
@@ -84,17 +91,21 @@ pub fn grass_tes(
     *out_normal = p.normal;
     *out_world = p.position;
     *out_uv = coord.truncate();
+    *out_level = in_level[0];
 }
 
-/// Lambert plus ambient with the base-to-tip gradient, both faces lit.
+/// Lambert plus ambient with the base-to-tip gradient, both faces lit; or the
+/// tessellation level's colour in the LOD view.
 #[spirv(fragment)]
 pub fn grass_fs(
     normal: Vec3,
     world: Vec3,
     uv: Vec2,
+    level: f32,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     out_color: &mut Vec4,
 ) {
     let n = normal.normalize_or_zero();
-    *out_color = shade_blade(n, world, frame.camera_pos(), frame.light, uv.y).extend(1.0);
+    let (camera, light) = (frame.camera_pos(), frame.light);
+    *out_color = blade_colour(frame.modes.y, n, world, camera, light, uv.y, level).extend(1.0);
 }

@@ -9,3 +9,4 @@
 pub mod compute;
 pub mod grass;
 pub mod ground;
+pub mod overlay;

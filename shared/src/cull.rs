@@ -2,6 +2,7 @@
 //! enabled test is not drawn this frame.
 
 use crate::Blade;
+use crate::hiz::{HiZLayout, occluded};
 use spirv_std::glam::{Mat4, Vec3, Vec4};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -17,7 +18,8 @@ pub struct CullParams {
     pub max_distance: f32,
     /// Distance: number of buckets n thinning the field with distance.
     pub buckets: u32,
-    /// Which tests run: a mask of [`ORIENTATION`], [`FRUSTUM`], [`DISTANCE`].
+    /// Which tests run: a mask of [`ORIENTATION`], [`FRUSTUM`], [`DISTANCE`],
+    /// [`OCCLUSION`].
     pub enabled: u32,
 }
 
@@ -27,8 +29,23 @@ pub const ORIENTATION: u32 = 1;
 pub const FRUSTUM: u32 = 2;
 /// Bit of [`CullParams::enabled`] for the distance test.
 pub const DISTANCE: u32 = 4;
+/// Bit of [`CullParams::enabled`] for the occlusion test (see [`crate::hiz`]).
+pub const OCCLUSION: u32 = 8;
 /// Every test.
-pub const ALL: u32 = ORIENTATION | FRUSTUM | DISTANCE;
+pub const ALL: u32 = ORIENTATION | FRUSTUM | DISTANCE | OCCLUSION;
+/// The tests in the order they run, which is the order of their counters.
+pub const TESTS: [u32; 4] = [ORIENTATION, FRUSTUM, DISTANCE, OCCLUSION];
+
+/// Outcome of [`cull_outcome`]: the blade is drawn.
+pub const KEPT: u32 = 0;
+/// Outcome: removed by the orientation test.
+pub const BY_ORIENTATION: u32 = 1;
+/// Outcome: removed by the frustum test (it passed the orientation test).
+pub const BY_FRUSTUM: u32 = 2;
+/// Outcome: removed by the distance test (it passed the tests before).
+pub const BY_DISTANCE: u32 = 3;
+/// Outcome: removed by the occlusion test (it passed every other test).
+pub const BY_OCCLUSION: u32 = 4;
 
 /// |dir_view · t1| with dir_view the camera-to-root direction projected onto the
 /// blade's ground plane: 1 when the blade is seen exactly edge-on.
@@ -99,14 +116,37 @@ pub fn cull_distance(
         || (id % buckets.max(1)) as f32 > distance_bucket_limit(dproj, max_distance, buckets)
 }
 
-/// All enabled tests: true when blade `id` is to be drawn.
+/// The enabled tests in order, cheapest first: [`KEPT`], or the `BY_*` outcome of the
+/// first test that removes blade `id`. Every blade gets exactly one outcome, so the
+/// per-outcome counts add up to the blade count. `pyramid` and `hiz` are this
+/// frame's occluder depth pyramid; an empty layout keeps every blade.
+pub fn cull_outcome(
+    blade: &Blade,
+    id: u32,
+    camera: Vec3,
+    view_proj: Mat4,
+    p: &CullParams,
+    pyramid: &[f32],
+    hiz: &HiZLayout,
+) -> u32 {
+    if p.enabled & ORIENTATION != 0 && cull_orientation(blade, camera, p.orientation_threshold) {
+        BY_ORIENTATION
+    } else if p.enabled & FRUSTUM != 0 && cull_frustum(blade, view_proj, p.frustum_tolerance) {
+        BY_FRUSTUM
+    } else if p.enabled & DISTANCE != 0
+        && cull_distance(blade, id, camera, p.max_distance, p.buckets)
+    {
+        BY_DISTANCE
+    } else if p.enabled & OCCLUSION != 0 && occluded(blade, view_proj, pyramid, hiz) {
+        BY_OCCLUSION
+    } else {
+        KEPT
+    }
+}
+
+/// The enabled tests without occluders: true when blade `id` is to be drawn.
 pub fn is_visible(blade: &Blade, id: u32, camera: Vec3, view_proj: Mat4, p: &CullParams) -> bool {
-    let culled = (p.enabled & ORIENTATION != 0
-        && cull_orientation(blade, camera, p.orientation_threshold))
-        || (p.enabled & FRUSTUM != 0 && cull_frustum(blade, view_proj, p.frustum_tolerance))
-        || (p.enabled & DISTANCE != 0
-            && cull_distance(blade, id, camera, p.max_distance, p.buckets));
-    !culled
+    cull_outcome(blade, id, camera, view_proj, p, &[], &HiZLayout::default()) == KEPT
 }
 
 #[cfg(test)]
@@ -203,5 +243,31 @@ mod tests {
         assert!(!is_visible(&b, 0, far, Mat4::IDENTITY, &p));
         p.enabled = 0;
         assert!(is_visible(&b, 0, far, Mat4::IDENTITY, &p));
+    }
+
+    #[test]
+    fn outcome_names_the_first_test_that_removes() {
+        let b = blade();
+        // Far along the width axis: edge-on, outside the identity "frustum" and
+        // beyond dmax, so every test would remove it.
+        let camera = Vec3::new(-1000.0, 0.0, 0.0);
+        let view_proj = Mat4::from_translation(Vec3::new(50.0, 0.0, 0.5));
+        let mut p = CullParams {
+            orientation_threshold: 0.9,
+            frustum_tolerance: 0.5,
+            max_distance: 100.0,
+            buckets: 10,
+            enabled: ALL,
+        };
+        let outcome =
+            |p: &CullParams| cull_outcome(&b, 0, camera, view_proj, p, &[], &HiZLayout::default());
+        assert_eq!(outcome(&p), BY_ORIENTATION);
+        p.enabled &= !ORIENTATION;
+        assert_eq!(outcome(&p), BY_FRUSTUM);
+        p.enabled &= !FRUSTUM;
+        assert_eq!(outcome(&p), BY_DISTANCE);
+        p.enabled &= !DISTANCE;
+        // No pyramid: occlusion keeps it.
+        assert_eq!(outcome(&p), KEPT);
     }
 }

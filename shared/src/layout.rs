@@ -2,7 +2,8 @@
 //! the uniform block and the push constants. Both sides use these definitions, and a
 //! test compares them with what the compiled SPIR-V declares.
 
-use crate::cull::CullParams;
+use crate::cull::{self, CullParams};
+use crate::hiz::HiZLayout;
 use crate::simulate::Environment;
 use spirv_std::glam::{Mat4, UVec3, UVec4, Vec3, Vec4};
 
@@ -10,6 +11,8 @@ use spirv_std::glam::{Mat4, UVec3, UVec4, Vec3, Vec4};
 pub const SIMULATE_WORKGROUP: u32 = 64;
 /// Threads per workgroup of the pass writing one draw command per chunk.
 pub const CHUNK_WORKGROUP: u32 = 64;
+/// Threads per workgroup (8 × 8) of the depth-pyramid reduction.
+pub const HIZ_WORKGROUP: u32 = 8;
 
 /// The flat thread index of a dispatch of (x, y, 1) workgroups of `workgroup_size`
 /// threads: x alone cannot hold 2^22 blades (65,535 workgroups at most on many
@@ -34,14 +37,34 @@ pub const BINDING_DRAWS: u32 = 4;
 /// Binding of the per-blade collision strength η (storage, `f32` per blade): the
 /// paper's "force map", kept per blade.
 pub const BINDING_STRENGTH: u32 = 5;
+/// Binding of the occluders' depth pyramid (storage, `f32`, laid out by
+/// [`HiZLayout`]), built and read by the compute pipelines.
+pub const BINDING_PYRAMID: u32 = 6;
 
 /// Most sphere colliders per frame.
 pub const MAX_COLLIDERS: usize = 16;
 
-/// Index in the counter buffer of the number of visible blades.
-pub const COUNTER_VISIBLE: usize = 0;
+/// Index in the counter buffer of the number of visible (drawn) blades.
+pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
+/// Index of the blades removed by the orientation test.
+pub const COUNTER_ORIENTATION: usize = cull::BY_ORIENTATION as usize;
+/// Index of the blades removed by the frustum test.
+pub const COUNTER_FRUSTUM: usize = cull::BY_FRUSTUM as usize;
+/// Index of the blades removed by the distance test.
+pub const COUNTER_DISTANCE: usize = cull::BY_DISTANCE as usize;
+/// Index of the blades removed by the occlusion test.
+pub const COUNTER_OCCLUSION: usize = cull::BY_OCCLUSION as usize;
+/// Index of the blades the pass looked at (every blade, counted on the GPU).
+pub const COUNTER_EXAMINED: usize = 5;
 /// Number of `u32` counters.
-pub const COUNTER_COUNT: usize = 4;
+pub const COUNTER_COUNT: usize = 8;
+
+/// Grass view: shaded blades.
+pub const VIEW_SHADED: u32 = 0;
+/// Grass view: blades coloured by tessellation level.
+pub const VIEW_LOD: u32 = 1;
+/// Grass view: shaded wireframe of the tessellated blades.
+pub const VIEW_WIREFRAME: u32 = 2;
 
 /// Per-frame values, one uniform block shared by every stage.
 #[repr(C)]
@@ -66,13 +89,15 @@ pub struct FrameUniforms {
     /// Gravity centre C (xyz) and its acceleration (w).
     pub gravity_centre: Vec4,
     /// Blend t towards the gravity centre (x, 0..1), collision strength decay per
-    /// second (y).
+    /// second (y), stiffness scale (z).
     pub sim: Vec4,
     /// Enabled cull tests (x, mask of `cull::*`), blade shape (y), blade count (z),
     /// collider count (w).
     pub flags: UVec4,
-    /// Wind field (x, one of `wind::WIND_*`).
+    /// Wind field (x, one of `wind::WIND_*`), grass view (y, one of `VIEW_*`).
     pub modes: UVec4,
+    /// This frame's occluder depth pyramid; empty when there is none.
+    pub hiz: HiZLayout,
     /// Sphere colliders: centre (xyz) and radius (w); the first `flags.w` are used.
     pub colliders: [Vec4; MAX_COLLIDERS],
 }
@@ -87,6 +112,7 @@ impl FrameUniforms {
             wind: self.wind,
             wind_kind: self.modes.x,
             strength_decay: self.sim.y,
+            stiffness_scale: self.sim.z,
             colliders: self.flags.w,
         }
     }
@@ -118,6 +144,22 @@ pub struct SimulatePush {
     pub first_step: u32,
     /// Number of fixed steps this frame.
     pub steps: u32,
+}
+
+/// Push constants of one level of the depth-pyramid reduction.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct HiZPush {
+    /// The level written (≥ 1); it reads the level below.
+    pub level: u32,
+}
+
+/// Push constants of the overlay draw: the screen size in egui points.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct OverlayPush {
+    /// Width and height in points.
+    pub screen: spirv_std::glam::Vec2,
 }
 
 /// One vertex of a drawn surface (ground meshes and the collider ball).

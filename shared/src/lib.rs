@@ -12,6 +12,7 @@ pub mod cull;
 pub mod forces;
 #[cfg(not(target_arch = "spirv"))]
 pub mod generate;
+pub mod hiz;
 pub mod layout;
 pub mod lod;
 #[cfg(not(target_arch = "spirv"))]

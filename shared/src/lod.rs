@@ -1,19 +1,32 @@
-//! Level of detail of the tessellation control stage: fewer vertical segments far
-//! away; the width is always one segment.
+//! Level of detail of the tessellation control stage: a continuous tessellation level
+//! along the blade that falls with distance; the width is always one segment.
+//!
+//! The evaluation stage uses fractional-odd spacing: a level between two odd numbers
+//! splits the blade into the higher odd count with two shorter segments that grow as
+//! the level rises, so detail fades in and out without popping.
 
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
-/// Most vertical segments a blade gets (near the camera).
-pub const MAX_SEGMENTS: u32 = 8;
+/// Highest tessellation level along a blade.
+pub const MAX_LEVEL: f32 = 9.0;
 
-/// Vertical segments at `distance`: `most` up to `near`, falling linearly to `fewest`
-/// at `far` and beyond, rounded to a whole number so neighbouring blades match.
-pub fn vertical_segments(distance: f32, near: f32, far: f32, most: f32, fewest: f32) -> f32 {
+/// Most vertical segments a blade can get: [`MAX_LEVEL`] rounded up to odd.
+pub const MAX_SEGMENTS: u32 = 9;
+
+/// Tessellation level along the blade at `distance`: `most` up to `near`, falling
+/// linearly to `fewest` at `far` and beyond, not rounded (continuous LOD), within
+/// 1..=[`MAX_LEVEL`].
+pub fn vertical_level(distance: f32, near: f32, far: f32, most: f32, fewest: f32) -> f32 {
     let t = ((distance - near) / (far - near).max(1e-6)).clamp(0.0, 1.0);
-    (most + (fewest - most) * t)
-        .round()
-        .clamp(1.0, MAX_SEGMENTS as f32)
+    (most + (fewest - most) * t).clamp(1.0, MAX_LEVEL)
+}
+
+/// Segments fractional-odd spacing makes of `level`: the level rounded up to the next
+/// odd whole number.
+pub fn odd_segments(level: f32) -> u32 {
+    let n = level.clamp(1.0, MAX_LEVEL).ceil() as u32;
+    n + 1 - n % 2
 }
 
 /// Tessellation levels of a quad patch with u across the width and v along the
@@ -57,12 +70,34 @@ mod tests {
     use super::*;
 
     #[test]
-    fn segments_fall_with_distance_and_stay_whole() {
-        assert_eq!(vertical_segments(0.0, 5.0, 45.0, 8.0, 2.0), 8.0);
-        assert_eq!(vertical_segments(25.0, 5.0, 45.0, 8.0, 2.0), 5.0);
-        assert_eq!(vertical_segments(45.0, 5.0, 45.0, 8.0, 2.0), 2.0);
-        assert_eq!(vertical_segments(1e9, 5.0, 45.0, 8.0, 2.0), 2.0);
-        assert_eq!(vertical_segments(10.0, 5.0, 5.0, 8.0, 2.0), 2.0);
+    fn level_falls_continuously_with_distance() {
+        assert_eq!(vertical_level(0.0, 5.0, 45.0, 8.0, 2.0), 8.0);
+        assert_eq!(vertical_level(25.0, 5.0, 45.0, 8.0, 2.0), 5.0);
+        // Not rounded: a quarter of the way from 8 to 2.
+        assert_eq!(vertical_level(15.0, 5.0, 45.0, 8.0, 2.0), 6.5);
+        assert_eq!(vertical_level(45.0, 5.0, 45.0, 8.0, 2.0), 2.0);
+        assert_eq!(vertical_level(1e9, 5.0, 45.0, 8.0, 2.0), 2.0);
+        assert_eq!(vertical_level(10.0, 5.0, 5.0, 8.0, 2.0), 2.0);
+        // Clamped to what the chunks are sized for.
+        assert_eq!(vertical_level(0.0, 5.0, 45.0, 64.0, 2.0), MAX_LEVEL);
+        assert_eq!(vertical_level(1e9, 5.0, 45.0, 8.0, 0.0), 1.0);
+    }
+
+    #[test]
+    fn fractional_odd_rounds_up_to_odd() {
+        let cases = [
+            (1.0, 1),
+            (1.2, 3),
+            (3.0, 3),
+            (3.01, 5),
+            (6.5, 7),
+            (9.0, 9),
+            (20.0, 9),
+        ];
+        for (level, segments) in cases {
+            assert_eq!(odd_segments(level), segments, "level {level}");
+        }
+        assert_eq!(odd_segments(MAX_LEVEL), MAX_SEGMENTS);
     }
 
     #[test]

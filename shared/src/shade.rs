@@ -1,6 +1,8 @@
 //! Shading of the fragment stages: Lambert plus ambient, blades lit on both faces.
 
 use spirv_std::glam::{Vec2, Vec3, Vec4};
+#[cfg(target_arch = "spirv")]
+use spirv_std::num_traits::Float;
 
 /// Blade colour at the root (linear RGB).
 pub const BLADE_BASE: Vec3 = Vec3::new(0.02, 0.10, 0.01);
@@ -23,6 +25,49 @@ pub fn shade_blade(normal: Vec3, position: Vec3, camera: Vec3, light: Vec4, v: f
         normal
     };
     lambert(BLADE_BASE.lerp(BLADE_TIP, v), n, light)
+}
+
+/// Debug colour of a tessellation level: blue at level 1, through green, to red at
+/// [`MAX_LEVEL`](crate::lod::MAX_LEVEL), shaded like a blade so the shape still reads.
+pub fn lod_colour(level: f32) -> Vec3 {
+    let t = ((level - 1.0) / (crate::lod::MAX_LEVEL - 1.0)).clamp(0.0, 1.0);
+    let blue = Vec3::new(0.05, 0.15, 1.0);
+    let green = Vec3::new(0.1, 0.9, 0.1);
+    let red = Vec3::new(1.0, 0.08, 0.02);
+    if t < 0.5 {
+        blue.lerp(green, 2.0 * t)
+    } else {
+        green.lerp(red, 2.0 * t - 1.0)
+    }
+}
+
+/// What the grass fragment stage shows: the shaded blade (see `layout::VIEW_*`).
+pub fn blade_colour(
+    view: u32,
+    normal: Vec3,
+    position: Vec3,
+    camera: Vec3,
+    light: Vec4,
+    v: f32,
+    level: f32,
+) -> Vec3 {
+    let shaded = shade_blade(normal, position, camera, light, v);
+    if view == crate::layout::VIEW_LOD {
+        // The level's hue, with the blade's own light and gradient as brightness.
+        let brightness = shaded.length() / BLADE_TIP.length();
+        lod_colour(level) * (0.35 + 0.65 * brightness.min(1.0))
+    } else {
+        shaded
+    }
+}
+
+/// sRGB-encoded value to linear (the overlay's vertex colours are sRGB).
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 fn hash(x: u32, y: u32) -> f32 {
@@ -91,6 +136,27 @@ pub fn surface_albedo(material: u32, p: Vec3, n: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lod_colours_run_from_blue_to_red() {
+        let lo = lod_colour(1.0);
+        let mid = lod_colour(0.5 * (1.0 + crate::lod::MAX_LEVEL));
+        let hi = lod_colour(crate::lod::MAX_LEVEL);
+        assert!(lo.z > lo.x && lo.z > lo.y, "{lo}");
+        assert!(mid.y > mid.x && mid.y > mid.z, "{mid}");
+        assert!(hi.x > hi.y && hi.x > hi.z, "{hi}");
+        // Clamped outside the range.
+        assert_eq!(lod_colour(-5.0), lo);
+        assert_eq!(lod_colour(100.0), hi);
+    }
+
+    #[test]
+    fn srgb_conversion_at_known_points() {
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
+        // sRGB 0.5 is linear 0.214.
+        assert!((srgb_to_linear(0.5) - 0.214).abs() < 1e-3);
+    }
 
     #[test]
     fn lambert_hand_worked() {

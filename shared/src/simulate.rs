@@ -17,7 +17,7 @@ pub const STEPS_PER_SECOND: u32 = 120;
 pub const MAX_STEPS_PER_FRAME: u32 = 240;
 
 /// The forces' environment, as the uniform buffer carries it.
-#[derive(Copy, Clone, Debug, Default)]
+#[derive(Copy, Clone, Debug)]
 pub struct Environment {
     /// Gravity direction D (xyz) and acceleration (w).
     pub gravity: Vec4,
@@ -31,8 +31,26 @@ pub struct Environment {
     pub wind_kind: u32,
     /// Linear decay of the collision strength, per second.
     pub strength_decay: f32,
+    /// Factor on every blade's stiffness s (1: as generated).
+    pub stiffness_scale: f32,
     /// Sphere colliders in use (the first of the collider array).
     pub colliders: u32,
+}
+
+impl Default for Environment {
+    /// No forces but recovery at the blades' own stiffness, no colliders.
+    fn default() -> Self {
+        Self {
+            gravity: Vec4::ZERO,
+            gravity_centre: Vec4::ZERO,
+            centre_blend: 0.0,
+            wind: Vec4::ZERO,
+            wind_kind: 0,
+            strength_decay: 0.0,
+            stiffness_scale: 1.0,
+            colliders: 0,
+        }
+    }
 }
 
 /// A blade and its collision strength η.
@@ -56,7 +74,7 @@ pub fn step(
     );
     let wi = wind::wind_field(env.wind_kind, blade.root(), time, env.wind);
     let force = forces::gravity_from(&blade, g_env)
-        + forces::recovery(&blade, strength)
+        + forces::recovery(&blade, strength) * env.stiffness_scale
         + forces::wind_force(&blade, wi);
     let moved = blade.with_curve(blade.guide(), blade.tip() + force * dt);
     let (pushed, displacement) = collide::collide(&moved, spheres, env.colliders);

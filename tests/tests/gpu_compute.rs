@@ -202,7 +202,7 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
             let (renderer, host, gpu) = run_both(&ctx, &scene, &uniforms);
 
             // The visible set: the GPU's compacted survivors, named by their roots.
-            let count = renderer.visible.expect("visible count") as usize;
+            let count = renderer.visible().expect("visible count") as usize;
             let visible: Vec<Blade> = renderer.download(&renderer.field.visible, count).unwrap();
             let key = |b: &Blade| b.v0.to_array().map(f32::to_bits);
             let gpu_set: HashSet<_> = visible.iter().map(key).collect();

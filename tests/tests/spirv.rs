@@ -6,7 +6,9 @@ use ash::vk;
 use rspirv::dr::{Module, Operand};
 use rspirv::spirv::{BuiltIn, Decoration, ExecutionMode, ExecutionModel, Op, StorageClass};
 use runner::field::{BINDINGS, PUSH_CONSTANTS};
+use runner::passes::overlay;
 use runner::shaders;
+use runner::vulkan::descriptors::BindingSpec;
 use shared::layout;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -101,6 +103,9 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::GRASS_FS, ExecutionModel::Fragment),
         (shaders::GROUND_VS, ExecutionModel::Vertex),
         (shaders::GROUND_FS, ExecutionModel::Fragment),
+        (shaders::BUILD_HIZ, ExecutionModel::GLCompute),
+        (shaders::OVERLAY_VS, ExecutionModel::Vertex),
+        (shaders::OVERLAY_FS, ExecutionModel::Fragment),
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
@@ -187,23 +192,37 @@ fn struct_size(m: &Module, ty: u32) -> u32 {
     end
 }
 
+/// The descriptor bindings and push-constant range of the pipeline layout the runner
+/// builds for entry point `name`: the overlay's own, or the field's.
+fn runner_layout(name: &str) -> (&'static [BindingSpec], (vk::ShaderStageFlags, u32)) {
+    if name == shaders::OVERLAY_VS || name == shaders::OVERLAY_FS {
+        let push = size_of::<layout::OverlayPush>() as u32;
+        (&overlay::BINDINGS, (vk::ShaderStageFlags::VERTEX, push))
+    } else {
+        (&BINDINGS, PUSH_CONSTANTS)
+    }
+}
+
 #[test]
 fn descriptor_bindings_and_push_constants_match_the_runner() {
     let m = module();
     for (name, (model, interface, _)) in entry_points(&m) {
         let stage = stage_of(model);
+        let (bindings, push_range) = runner_layout(&name);
         // SPIR-V 1.4+: the interface lists every global the entry point uses.
         for &var in &interface {
             let Some((class, ty)) = pointee(&m, var) else {
                 continue;
             };
             match class {
-                StorageClass::Uniform | StorageClass::StorageBuffer => {
+                StorageClass::Uniform
+                | StorageClass::StorageBuffer
+                | StorageClass::UniformConstant => {
                     let set = decoration_value(&m, var, Decoration::DescriptorSet);
                     let binding = decoration_value(&m, var, Decoration::Binding);
                     assert_eq!(set, Some(layout::SET), "{name}: descriptor set of id {var}");
                     let binding = binding.expect("binding decoration");
-                    let spec = BINDINGS
+                    let spec = bindings
                         .iter()
                         .find(|b| b.binding == binding)
                         .unwrap_or_else(|| {
@@ -211,10 +230,10 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                                 "{name} uses binding {binding}, which the runner does not create"
                             )
                         });
-                    let ty_expected = if class == StorageClass::Uniform {
-                        vk::DescriptorType::UNIFORM_BUFFER
-                    } else {
-                        vk::DescriptorType::STORAGE_BUFFER
+                    let ty_expected = match class {
+                        StorageClass::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
+                        StorageClass::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+                        _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                     };
                     assert_eq!(spec.ty, ty_expected, "{name}: type of binding {binding}");
                     assert!(
@@ -225,18 +244,20 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                 StorageClass::PushConstant => {
                     let size = struct_size(&m, ty);
                     assert!(
-                        PUSH_CONSTANTS.0.contains(stage),
+                        push_range.0.contains(stage),
                         "{name}: push constants not in its stage"
                     );
                     assert!(
-                        size <= PUSH_CONSTANTS.1,
+                        size <= push_range.1,
                         "{name}: push block of {size} bytes, runner range {}",
-                        PUSH_CONSTANTS.1
+                        push_range.1
                     );
                     let expected = match name.as_str() {
                         n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
                         n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
                         n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
+                        n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
+                        n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
                         _ => panic!("{name} has push constants the runner does not push"),
                     };
                     assert_eq!(size as usize, expected, "{name}: push block size");
@@ -254,6 +275,7 @@ fn compute_workgroup_sizes_match_the_dispatches() {
     for (name, size) in [
         (shaders::SIMULATE_CULL, layout::SIMULATE_WORKGROUP),
         (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
+        (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
     ] {
         let function = entries[name].2;
         let local_size = m

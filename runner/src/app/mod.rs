@@ -1,5 +1,6 @@
 //! The application shells: the window viewer and the headless renderer.
 
+pub mod overlay;
 pub mod render;
 pub mod viewer;
 
@@ -66,6 +67,21 @@ pub fn prepare(
     settings.shape = common.shape.id();
     settings.tip_start = common.tip_start;
     settings.env.strength_decay = common.trample_decay;
+    settings.env.stiffness_scale = common.stiffness;
+    settings.env.gravity.w = common.gravity;
+    settings.env.gravity_centre.w = common.gravity;
+    let cull = &common.cull;
+    settings.cull = cull.mask();
+    settings.lod = !cull.no_lod;
+    settings.orientation_threshold = cull.orientation_threshold;
+    settings.frustum_tolerance = cull.frustum_tolerance;
+    settings.max_distance = cull.max_distance.unwrap_or(settings.max_distance);
+    settings.buckets = cull.buckets;
+    settings.lod_most = cull.lod_most;
+    settings.lod_fewest = cull.lod_fewest;
+    settings.lod_near = cull.lod_near;
+    settings.lod_far = cull.lod_far.unwrap_or(settings.lod_far);
+    settings.view = cull.view.id();
     if let Some(c) = common.gravity_centre {
         settings.env.gravity_centre = c.extend(settings.env.gravity.w);
         settings.env.centre_blend = 1.0;

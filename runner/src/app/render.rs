@@ -2,7 +2,7 @@
 
 use crate::cli::{Common, RenderArgs};
 use crate::collider::{Ball, drop_onto};
-use crate::renderer::{Renderer, Target};
+use crate::renderer::{CullCounts, FrameInput, PassTimes, Renderer, Target};
 use crate::vulkan::{Buffer, Context, ContextOptions, Image};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
@@ -19,6 +19,10 @@ pub struct RenderReport {
     pub pixels: Vec<u8>,
     /// Visible blades in the last frame.
     pub visible: u32,
+    /// What the culling tests did in the last frame.
+    pub counts: CullCounts,
+    /// GPU time per pass of the last frame, where the device has timestamps.
+    pub times: Option<PassTimes>,
     /// Blades in the field.
     pub blades: u32,
     /// Validation errors reported (0 without validation).
@@ -47,6 +51,17 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         report.visible,
         report.blades
     );
+    log::info!("last frame: {}", describe(&report.counts));
+    if let Some(t) = report.times {
+        log::info!(
+            "GPU ms: depth pyramid {:.3}, simulate+cull {:.3}, ground {:.3}, grass {:.3}, total {:.3}",
+            t.depth_pyramid,
+            t.simulate_cull,
+            t.ground,
+            t.grass,
+            t.total
+        );
+    }
     if report.validation_errors > 0 {
         bail!(
             "{} validation errors (see the log above)",
@@ -54,6 +69,21 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         );
     }
     Ok(report)
+}
+
+/// "N drawn, removed: orientation a, frustum b, ... (total T)".
+pub fn describe(c: &CullCounts) -> String {
+    let removed: Vec<String> = c
+        .by_test()
+        .iter()
+        .map(|(name, n)| format!("{name} {n}"))
+        .collect();
+    format!(
+        "{} drawn, removed by {} (total {})",
+        c.drawn,
+        removed.join(", "),
+        c.examined
+    )
 }
 
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
@@ -118,12 +148,15 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         let uniforms = settings.uniforms(&camera, aspect, &scene, &balls);
         renderer.render(
             slot,
-            &target,
-            &uniforms,
-            push,
-            None,
-            None,
-            last.then_some(&capture),
+            FrameInput {
+                target,
+                uniforms,
+                push,
+                wait: None,
+                signal: None,
+                capture: last.then_some(&capture),
+                overlay: None,
+            },
         )?;
         if args.frames >= 100 && (frame + 1) % progress_every == 0 {
             log::info!("frame {}/{}", frame + 1, args.frames);
@@ -132,7 +165,9 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     renderer.finish()?;
     Ok(RenderReport {
         pixels: capture.read::<u8>(bytes as usize)?,
-        visible: renderer.visible.unwrap_or(0),
+        visible: renderer.visible().unwrap_or(0),
+        counts: renderer.counts.unwrap_or_default(),
+        times: renderer.times,
         blades: count,
         validation_errors: ctx.validation_errors(),
         view_proj: camera.view_proj(aspect),

@@ -1,11 +1,14 @@
-//! The window viewer: winit event loop, orbit camera, the collider ball and the live
-//! switches (wind, blade shape), swapchain recreated on resize, frame rate and visible
-//! blades in the title once a second.
+//! The window viewer: winit event loop, orbit camera, the collider ball, the live
+//! switches (culling tests, LOD, view, wind, blade shape) by key and in the overlay,
+//! swapchain recreated on resize, frame rate and blade counts in the title once a
+//! second.
 
+use super::overlay::{Overlay, Readings};
 use crate::camera::OrbitCamera;
-use crate::cli::{Common, Shape, ViewArgs, Wind};
+use crate::cli::{Common, Shape, View, ViewArgs, Wind};
 use crate::collider::{Ball, drop_onto};
-use crate::renderer::{Renderer, Target};
+use crate::passes::overlay::OverlayFrame;
+use crate::renderer::{FrameInput, Renderer, Target};
 use crate::scene::{Scene, SceneFile, Settings};
 use crate::vulkan::swapchain::Swapchain;
 use crate::vulkan::{Context, ContextOptions};
@@ -62,7 +65,9 @@ struct Mouse {
 /// The controls, printed at start.
 pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: zoom, \
 arrows: roll the ball, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
-, .: turn the wind, S: next blade shape, Esc: quit";
+, .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
+occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
+O: overlay on/off, Esc: quit";
 
 /// Arrow keys held down.
 #[derive(Default)]
@@ -103,6 +108,8 @@ struct Running {
     clock: SimClock,
     mouse: Mouse,
     stats: Stats,
+    overlay: Overlay,
+    fps: f64,
     last_frame: Instant,
     frames: u64,
     recreate: bool,
@@ -133,7 +140,9 @@ impl Running {
         let (scene, settings) = super::prepare(common, &ctx, file)?;
         let size = window.inner_size();
         let swapchain = Swapchain::new(&ctx, (size.width, size.height), None)?;
-        let renderer = Renderer::new(&ctx, &scene, swapchain.format)?;
+        let mut renderer = Renderer::new(&ctx, &scene, swapchain.format)?;
+        renderer.enable_overlay()?;
+        let overlay = Overlay::new(&window);
         log::info!("{CONTROLS}");
         // The ball starts at the path's start, else in front of the camera's target.
         let start = common
@@ -161,6 +170,8 @@ impl Running {
                 since: Instant::now(),
                 frames: 0,
             },
+            overlay,
+            fps: 0.0,
             last_frame: Instant::now(),
             frames: 0,
             recreate: false,
@@ -194,10 +205,26 @@ impl Running {
         self.last_frame = now;
         let (first_step, steps) = self.clock.advance(dt);
         self.move_ball(dt as f32);
+        self.overlay.frame_time((dt * 1000.0) as f32);
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(());
         };
         let slot = self.renderer.begin_frame()?;
+        // After the read-back, so the overlay shows the newest counts.
+        let readings = Readings {
+            fps: self.fps,
+            blades: self.renderer.field.blade_count,
+            counts: self.renderer.counts,
+            times: self.renderer.times,
+            device: self.ctx.device_name(),
+            occluders: self.renderer.has_occluders,
+        };
+        let painted = self.overlay.run(
+            &self.window,
+            &readings,
+            &mut self.settings,
+            &mut self.ball_on,
+        );
         let available = self.renderer.image_available(slot);
         let Some((index, suboptimal)) = swapchain.acquire(available)? else {
             self.recreate = true;
@@ -221,14 +248,22 @@ impl Running {
             final_layout: vk::ImageLayout::PRESENT_SRC_KHR,
         };
         let finished = swapchain.render_finished[index as usize].semaphore;
+        let overlay = painted.as_ref().map(|p| OverlayFrame {
+            primitives: &p.primitives,
+            textures: &p.textures,
+            pixels_per_point: p.pixels_per_point,
+        });
         self.renderer.render(
             slot,
-            &target,
-            &uniforms,
-            SimulatePush { first_step, steps },
-            Some(available),
-            Some(finished),
-            None,
+            FrameInput {
+                target,
+                uniforms,
+                push: SimulatePush { first_step, steps },
+                wait: Some(available),
+                signal: Some(finished),
+                capture: None,
+                overlay,
+            },
         )?;
         if !swapchain.present(index)? || suboptimal {
             self.recreate = true;
@@ -244,7 +279,8 @@ impl Running {
         let elapsed = self.stats.since.elapsed().as_secs_f64();
         if elapsed >= 1.0 {
             let fps = f64::from(self.stats.frames) / elapsed;
-            let visible = self.renderer.visible.unwrap_or(0);
+            self.fps = fps;
+            let visible = self.renderer.visible().unwrap_or(0);
             let wind = Wind::ALL
                 .iter()
                 .find(|w| w.kind() == self.settings.env.wind_kind);
@@ -258,6 +294,9 @@ impl Running {
             );
             self.window.set_title(&format!("grass: {line}"));
             log::info!("{line}");
+            if let Some(counts) = self.renderer.counts {
+                log::info!("{}", super::render::describe(&counts));
+            }
             self.stats = Stats {
                 since: Instant::now(),
                 frames: 0,
@@ -316,6 +355,31 @@ impl Running {
                     let next = Shape::ALL[shape_index.map_or(0, |i| (i + 1) % Shape::ALL.len())];
                     s.shape = next.id();
                     log::info!("blade shape: {next:?}");
+                }
+                "1" | "2" | "3" | "4" => {
+                    let test = c.as_str().parse::<usize>().map_or(0, |n| n - 1);
+                    let bit = shared::cull::TESTS[test];
+                    s.cull ^= bit;
+                    let name = ["orientation", "frustum", "distance", "occlusion"][test];
+                    let state = if s.cull & bit != 0 { "on" } else { "off" };
+                    log::info!("{name} culling {state}");
+                }
+                "l" | "L" => {
+                    s.lod = !s.lod;
+                    log::info!("LOD {}", if s.lod { "on" } else { "off" });
+                }
+                "v" | "V" => {
+                    let index = View::ALL.iter().position(|v| v.id() == s.view);
+                    let next = View::ALL[index.map_or(0, |i| (i + 1) % View::ALL.len())];
+                    s.view = next.id();
+                    log::info!("view: {next:?}");
+                }
+                "o" | "O" => {
+                    self.overlay.visible = !self.overlay.visible;
+                    log::info!(
+                        "overlay {}",
+                        if self.overlay.visible { "on" } else { "off" }
+                    );
                 }
                 "[" | "]" | "," | "." => {
                     match c.as_str() {
@@ -376,6 +440,23 @@ impl ApplicationHandler for Viewer {
         let Some(state) = self.state.as_mut() else {
             return;
         };
+        // The overlay sees events first; what it uses does not move the camera.
+        let used = state.overlay.on_event(&state.window, &event);
+        let input = matches!(
+            event,
+            WindowEvent::KeyboardInput { .. }
+                | WindowEvent::MouseInput { .. }
+                | WindowEvent::MouseWheel { .. }
+                | WindowEvent::CursorMoved { .. }
+        );
+        if used && input {
+            // Keep the camera from sticking in a drag that ended over the overlay.
+            if matches!(event, WindowEvent::MouseInput { .. }) {
+                state.mouse.rotating = false;
+                state.mouse.panning = false;
+            }
+            return;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput { event, .. }

@@ -1,5 +1,6 @@
 //! The grass draw: the visible blades as one-vertex patches, drawn with one
-//! multi-draw-indirect call over the chunks the compute pass wrote.
+//! multi-draw-indirect call over the chunks the compute pass wrote; filled, or as a
+//! wireframe in the wireframe view.
 
 use crate::field::Field;
 use crate::shaders;
@@ -8,15 +9,17 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use shared::Blade;
+use shared::layout::VIEW_WIREFRAME;
 use std::sync::Arc;
 
-/// The tessellated grass pipeline.
+/// The tessellated grass pipelines.
 pub struct GrassPass {
-    pipeline: Pipeline,
+    filled: Pipeline,
+    wireframe: Pipeline,
 }
 
 impl GrassPass {
-    /// The pipeline for a colour target of `color_format`.
+    /// The pipelines for a colour target of `color_format`.
     pub fn new(
         ctx: &Arc<Context>,
         module: &ShaderModule,
@@ -25,35 +28,39 @@ impl GrassPass {
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
         // v0, v1, v2, up: four vec4 at locations 0..4.
-        let (bindings, attributes) = vec4_vertex_input::<Blade>();
-        let pipeline = Pipeline::graphics(
-            ctx,
-            &GraphicsDesc {
-                module,
-                stages: &[
-                    (St::VERTEX, shaders::GRASS_VS),
-                    (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
-                    (St::TESSELLATION_EVALUATION, shaders::GRASS_TES),
-                    (St::FRAGMENT, shaders::GRASS_FS),
-                ],
-                layout: &field.layout,
-                vertex_bindings: &bindings,
-                vertex_attributes: &attributes,
-                patch_control_points: 1,
-                polygon_mode: vk::PolygonMode::FILL,
-                color_format,
-                depth_format: super::DEPTH_FORMAT,
-            },
-        )?;
-        Ok(Self { pipeline })
+        let input = vec4_vertex_input::<Blade>();
+        let stages = [
+            (St::VERTEX, shaders::GRASS_VS),
+            (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
+            (St::TESSELLATION_EVALUATION, shaders::GRASS_TES),
+            (St::FRAGMENT, shaders::GRASS_FS),
+        ];
+        let mut desc = GraphicsDesc::opaque(
+            module,
+            &stages,
+            &field.layout,
+            &input,
+            color_format,
+            super::DEPTH_FORMAT,
+        );
+        desc.patch_control_points = 1;
+        let filled = Pipeline::graphics(ctx, &desc)?;
+        desc.polygon_mode = vk::PolygonMode::LINE;
+        let wireframe = Pipeline::graphics(ctx, &desc)?;
+        Ok(Self { filled, wireframe })
     }
 
-    /// Records the draw inside the frame's rendering scope.
-    pub fn record(&self, rec: &Recorder, field: &Field) {
-        let graphics = vk::PipelineBindPoint::GRAPHICS;
+    /// Records the draw inside the frame's rendering scope, in `view`
+    /// (`layout::VIEW_*`).
+    pub fn record(&self, rec: &Recorder, field: &Field, view: u32) {
+        let pipeline = if view == VIEW_WIREFRAME {
+            &self.wireframe
+        } else {
+            &self.filled
+        };
         rec.bind_pipeline(
-            graphics,
-            self.pipeline.pipeline,
+            vk::PipelineBindPoint::GRAPHICS,
+            pipeline.pipeline,
             field.layout.layout,
             field.descriptors.set,
         );

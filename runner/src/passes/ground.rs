@@ -50,9 +50,11 @@ impl MeshSet {
     }
 }
 
-/// The surface pipeline and its meshes.
+/// The surface pipelines and their meshes.
 pub struct GroundPass {
     pipeline: Pipeline,
+    /// Depth only, for the occluder pre-pass.
+    depth_only: Pipeline,
     vertices: Buffer,
     indices: Buffer,
     ground: Vec<Range>,
@@ -91,26 +93,20 @@ impl GroundPass {
         let indices = Buffer::upload(ctx, pool, "surface indices", &set.indices, U::INDEX_BUFFER)?;
 
         // Position and material, normal: two vec4 at locations 0 and 1.
-        let (bindings, attributes) = vec4_vertex_input::<SurfaceVertex>();
-        let pipeline = Pipeline::graphics(
-            ctx,
-            &GraphicsDesc {
-                module,
-                stages: &[
-                    (St::VERTEX, shaders::GROUND_VS),
-                    (St::FRAGMENT, shaders::GROUND_FS),
-                ],
-                layout: &field.layout,
-                vertex_bindings: &bindings,
-                vertex_attributes: &attributes,
-                patch_control_points: 0,
-                polygon_mode: vk::PolygonMode::FILL,
-                color_format,
-                depth_format: super::DEPTH_FORMAT,
-            },
-        )?;
+        let input = vec4_vertex_input::<SurfaceVertex>();
+        let stages = [
+            (St::VERTEX, shaders::GROUND_VS),
+            (St::FRAGMENT, shaders::GROUND_FS),
+        ];
+        let depth = super::DEPTH_FORMAT;
+        let desc = |stages, color| {
+            GraphicsDesc::opaque(module, stages, &field.layout, &input, color, depth)
+        };
+        let pipeline = Pipeline::graphics(ctx, &desc(&stages, color_format))?;
+        let depth_only = Pipeline::graphics(ctx, &desc(&stages[..1], vk::Format::UNDEFINED))?;
         Ok(Self {
             pipeline,
+            depth_only,
             vertices,
             indices,
             ground,
@@ -121,14 +117,19 @@ impl GroundPass {
     /// Records the ground and one ball per collider (centre xyz, radius w) inside the
     /// frame's rendering scope.
     pub fn record(&self, rec: &Recorder, field: &Field, balls: &[Vec4]) {
+        self.record_with(&self.pipeline, rec, field, balls);
+    }
+
+    /// Records the ground's depth alone (the occluders of the occlusion test) inside
+    /// a depth-only rendering scope.
+    pub fn record_occluders(&self, rec: &Recorder, field: &Field) {
+        self.record_with(&self.depth_only, rec, field, &[]);
+    }
+
+    fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field, balls: &[Vec4]) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
         let layout = field.layout.layout;
-        rec.bind_pipeline(
-            graphics,
-            self.pipeline.pipeline,
-            layout,
-            field.descriptors.set,
-        );
+        rec.bind_pipeline(graphics, pipeline.pipeline, layout, field.descriptors.set);
         rec.bind_vertex_buffer(self.vertices.buffer);
         rec.bind_index_buffer(self.indices.buffer);
         let draw = |range: &Range, model: Mat4| {

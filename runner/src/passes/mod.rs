@@ -3,6 +3,8 @@
 
 pub mod grass;
 pub mod ground;
+pub mod occlusion;
+pub mod overlay;
 pub mod simulate;
 
 /// Depth format of every pass.

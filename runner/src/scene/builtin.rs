@@ -1,4 +1,4 @@
-//! The built-in surfaces: plane, hills and sphere.
+//! The built-in surfaces: plane, hills, sphere, and the walled field.
 //!
 //! Each is a [`SurfaceMesh`] with unit vertex normals and triangles counter-clockwise
 //! seen from the normal side, ready for [`shared::mesh::scatter`].
@@ -97,6 +97,124 @@ fn grid(
         }
     }
     mesh
+}
+
+/// The stone blocks of [`walls`]: (min corner, max corner) as fractions of the side
+/// (x, z) and of the wall height (y).
+const WALLS: [([f32; 3], [f32; 3]); 4] = [
+    ([-0.40, 0.0, -0.06], [0.05, 1.0, -0.02]),
+    ([-0.05, 0.0, 0.16], [0.40, 0.8, 0.20]),
+    ([-0.32, 0.0, 0.26], [-0.12, 1.4, 0.40]),
+    ([0.18, 0.0, -0.36], [0.22, 0.9, -0.10]),
+];
+
+/// The occluder scene: a square field of side `side` (a grid of `cells`×`cells`)
+/// with stone walls and a block standing on it, returned as (ground with holes under
+/// the stones, the stones). Walls are a quarter of the side high (at least 2.5), so
+/// from a low camera they hide much of the grass behind them.
+pub fn walls(side: f32, cells: u32) -> (SurfaceMesh, SurfaceMesh) {
+    let height = (0.25 * side).max(2.5);
+    let boxes: Vec<(Vec3, Vec3)> = WALLS
+        .iter()
+        .map(|(lo, hi)| {
+            let scale = |f: [f32; 3]| Vec3::new(f[0] * side, f[1] * height, f[2] * side);
+            // Sunk a little into the ground so no seam shows.
+            (scale(*lo) - Vec3::Y * 0.05, scale(*hi))
+        })
+        .collect();
+    let mut ground = plane(side, cells);
+    ground.triangles.retain(|tri| {
+        let centroid = tri
+            .iter()
+            .map(|&i| ground.positions[i as usize])
+            .sum::<Vec3>()
+            / 3.0;
+        !boxes.iter().any(|(lo, hi)| {
+            (lo.x..=hi.x).contains(&centroid.x) && (lo.z..=hi.z).contains(&centroid.z)
+        })
+    });
+    let mut stones = SurfaceMesh::default();
+    for (lo, hi) in boxes {
+        add_box(&mut stones, lo, hi);
+    }
+    (ground, stones)
+}
+
+/// Appends the six faces of the box [`lo`, `hi`], each with its own outward normal.
+fn add_box(mesh: &mut SurfaceMesh, lo: Vec3, hi: Vec3) {
+    let corner = |x: bool, y: bool, z: bool| {
+        Vec3::new(
+            if x { hi.x } else { lo.x },
+            if y { hi.y } else { lo.y },
+            if z { hi.z } else { lo.z },
+        )
+    };
+    // Each face: normal and two edge directions (u, v) with u × v = normal.
+    let faces = [
+        (
+            Vec3::X,
+            [
+                (true, false, false),
+                (true, true, false),
+                (true, true, true),
+                (true, false, true),
+            ],
+        ),
+        (
+            -Vec3::X,
+            [
+                (false, false, false),
+                (false, false, true),
+                (false, true, true),
+                (false, true, false),
+            ],
+        ),
+        (
+            Vec3::Y,
+            [
+                (false, true, false),
+                (false, true, true),
+                (true, true, true),
+                (true, true, false),
+            ],
+        ),
+        (
+            -Vec3::Y,
+            [
+                (false, false, false),
+                (true, false, false),
+                (true, false, true),
+                (false, false, true),
+            ],
+        ),
+        (
+            Vec3::Z,
+            [
+                (false, false, true),
+                (true, false, true),
+                (true, true, true),
+                (false, true, true),
+            ],
+        ),
+        (
+            -Vec3::Z,
+            [
+                (false, false, false),
+                (false, true, false),
+                (true, true, false),
+                (true, false, false),
+            ],
+        ),
+    ];
+    for (normal, quad) in faces {
+        let base = mesh.positions.len() as u32;
+        for (x, y, z) in quad {
+            mesh.positions.push(corner(x, y, z));
+            mesh.normals.push(normal);
+        }
+        mesh.triangles.push([base, base + 1, base + 2]);
+        mesh.triangles.push([base, base + 2, base + 3]);
+    }
 }
 
 /// A sphere of `radius` (its absolute value) at `centre`: an icosahedron subdivided
@@ -207,6 +325,20 @@ mod tests {
                 assert!(face.dot(mesh.normals[*v as usize]) > 0.0, "triangle {i}");
             }
         }
+    }
+
+    #[test]
+    fn walls_stand_on_a_field_with_holes_under_them() {
+        let (ground, stones) = walls(20.0, 40);
+        assert_well_formed(&ground);
+        assert_well_formed(&stones);
+        // 4 boxes of 6 faces of 2 triangles.
+        assert_eq!(stones.triangles.len(), 48);
+        let (lo, hi) = stones.bounds().unwrap();
+        assert!(lo.y < 0.0 && hi.y >= 5.0 * 1.4 - 1e-4, "{lo} {hi}");
+        // Some ground is removed under the stones, most of it stays.
+        let full = plane(20.0, 40).area();
+        assert!(ground.area() < full && ground.area() > 0.8 * full);
     }
 
     #[test]

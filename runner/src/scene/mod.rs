@@ -11,7 +11,6 @@ use shared::Blade;
 use shared::cull;
 use shared::generate::{DENSITY, side_for};
 use shared::layout::{FrameUniforms, MAX_COLLIDERS};
-use shared::lod::MAX_SEGMENTS;
 use shared::mesh::{SurfaceMesh, scatter};
 use shared::simulate::Environment;
 use std::path::PathBuf;
@@ -31,6 +30,8 @@ pub enum SceneKind {
     Planet,
     /// `assets/meadow.glb`: a terrain with a rock, loaded through the glTF path.
     Meadow,
+    /// A field with stone walls and a block: the occlusion test's showcase.
+    Walls,
     /// A glTF 2.0 (`.gltf`, `.glb`) or Wavefront OBJ file.
     File(PathBuf),
 }
@@ -43,6 +44,7 @@ impl SceneKind {
             "hills" => Self::Hills,
             "planet" => Self::Planet,
             "meadow" => Self::Meadow,
+            "walls" => Self::Walls,
             path => Self::File(PathBuf::from(path)),
         }
     }
@@ -75,6 +77,22 @@ pub struct Scene {
     pub bounds: (Vec3, f32),
     /// Zero-area triangles skipped while loading.
     pub degenerate: usize,
+}
+
+/// True when every vertex of `mesh` lies on one plane with the same normal: such a
+/// ground can never hide grass standing on it from a camera above it.
+pub fn is_flat(mesh: &SurfaceMesh) -> bool {
+    let (Some(&p0), Some(&n0)) = (mesh.positions.first(), mesh.normals.first()) else {
+        return true;
+    };
+    let scale = mesh
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).length().max(1.0));
+    mesh.normals.iter().all(|n| n.dot(n0) > 1.0 - 1e-5)
+        && mesh
+            .positions
+            .iter()
+            .all(|p| (*p - p0).dot(n0).abs() <= 1e-5 * scale)
 }
 
 /// A scene file, read and checked.
@@ -131,6 +149,12 @@ impl Scene {
                 let radius = (area / (4.0 * std::f32::consts::PI)).sqrt().max(4.0);
                 let sphere = builtin::sphere(Vec3::ZERO, radius, 5);
                 ("planet".into(), sphere, none(), 0, Some(Vec3::ZERO))
+            }
+            (SceneKind::Walls, None) => {
+                // At least 12 units across, so the walls have room between them.
+                let side = side_for(total).max(12.0);
+                let (ground, stones) = builtin::walls(side, 48);
+                ("walls".into(), ground, stones, 0, None)
             }
             (SceneKind::Plane, None) => {
                 let side = side_for(total);
@@ -200,6 +224,12 @@ impl Scene {
     pub fn blade_count(&self) -> u32 {
         self.blades.len() as u32
     }
+
+    /// True when some surface can hide grass: bare rock, or ground that is not one
+    /// flat plane. Without occluders the occlusion test's depth pre-pass is skipped.
+    pub fn has_occluders(&self) -> bool {
+        !self.bare.is_empty() || !is_flat(&self.surface)
+    }
 }
 
 /// The settings of the simulation, culling, LOD and shading.
@@ -219,12 +249,18 @@ pub struct Settings {
     pub buckets: u32,
     /// Enabled cull tests (mask of `shared::cull::*`).
     pub cull: u32,
+    /// Level of detail on; off, every blade gets `lod_most`.
+    pub lod: bool,
     /// LOD: full detail up to `lod_near`, fewest segments from `lod_far`.
     pub lod_near: f32,
     /// See `lod_near`.
     pub lod_far: f32,
-    /// Fewest vertical segments, far away.
-    pub lod_min: f32,
+    /// Tessellation level along the blade near the camera.
+    pub lod_most: f32,
+    /// Tessellation level far away.
+    pub lod_fewest: f32,
+    /// Grass view (`shared::layout::VIEW_*`).
+    pub view: u32,
     /// Blade shape (`shared::shape::SHAPE_*`).
     pub shape: u32,
     /// Tip start k of the triangle-tip shape.
@@ -248,6 +284,7 @@ impl Settings {
                 wind: Vec4::new(1.0, 0.0, 0.35, 7.0),
                 wind_kind: shared::wind::WIND_BREEZE,
                 strength_decay: 0.25,
+                stiffness_scale: 1.0,
                 colliders: 0,
             },
             light: Vec3::new(0.4, 0.8, 0.3).normalize().extend(0.35),
@@ -256,9 +293,12 @@ impl Settings {
             max_distance: (size * 1.5).max(40.0),
             buckets: 8,
             cull: cull::ALL,
+            lod: true,
             lod_near: 6.0,
             lod_far: (size * 0.8).max(30.0),
-            lod_min: 2.0,
+            lod_most: 7.0,
+            lod_fewest: 1.0,
+            view: shared::layout::VIEW_SHADED,
             shape: shared::shape::SHAPE_QUADRATIC,
             tip_start: 0.5,
         }
@@ -291,14 +331,25 @@ impl Settings {
             lod: Vec4::new(
                 self.lod_near,
                 self.lod_far,
-                MAX_SEGMENTS as f32,
-                self.lod_min,
+                self.lod_most,
+                if self.lod {
+                    self.lod_fewest
+                } else {
+                    self.lod_most
+                },
             ),
             blade_shape: Vec4::new(self.tip_start, 0.0, 0.0, 0.0),
             gravity_centre: self.env.gravity_centre,
-            sim: Vec4::new(self.env.centre_blend, self.env.strength_decay, 0.0, 0.0),
+            sim: Vec4::new(
+                self.env.centre_blend,
+                self.env.strength_decay,
+                self.env.stiffness_scale,
+                0.0,
+            ),
             flags: UVec4::new(self.cull, self.shape, scene.blade_count(), used as u32),
-            modes: UVec4::new(self.env.wind_kind, 0, 0, 0),
+            modes: UVec4::new(self.env.wind_kind, self.view, 0, 0),
+            // Filled in by the renderer, which knows the target.
+            hiz: Default::default(),
             colliders,
         }
     }

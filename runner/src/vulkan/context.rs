@@ -60,6 +60,8 @@ pub struct Context {
     pub queue: vk::Queue,
     /// Its family index.
     pub queue_family: u32,
+    /// Valid bits of the queue's timestamps; 0 when it has none.
+    pub timestamp_bits: u32,
     /// Surface of the window, when there is one.
     pub surface: Option<vk::SurfaceKHR>,
     /// Surface functions.
@@ -141,6 +143,10 @@ impl Context {
         let properties = unsafe { instance.get_physical_device_properties(physical) };
         let device = create_device(&instance, physical, queue_family, surface.is_some())?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let timestamp_bits = unsafe {
+            instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
+                .timestamp_valid_bits
+        };
 
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
@@ -160,6 +166,7 @@ impl Context {
             device,
             queue,
             queue_family,
+            timestamp_bits,
             surface,
             surface_fn,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),

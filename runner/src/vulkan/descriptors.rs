@@ -97,6 +97,24 @@ impl DescriptorSet {
     }
 }
 
+impl DescriptorSet {
+    /// Points `binding` (a combined image sampler) at `view`, in
+    /// SHADER_READ_ONLY_OPTIMAL, sampled through `sampler`.
+    pub fn write_image(&self, binding: u32, view: vk::ImageView, sampler: vk::Sampler) {
+        let info = [vk::DescriptorImageInfo {
+            sampler,
+            image_view: view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .image_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+}
+
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         unsafe {

@@ -7,7 +7,9 @@ pub mod context;
 pub mod descriptors;
 pub mod image;
 pub mod pipeline;
+pub mod query;
 pub mod recorder;
+pub mod sampler;
 pub mod swapchain;
 
 pub use buffer::Buffer;

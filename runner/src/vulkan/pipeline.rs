@@ -151,18 +151,34 @@ impl Pipeline {
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let has_depth = desc.depth_format != vk::Format::UNDEFINED;
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(true)
-            .depth_write_enable(true)
+            .depth_test_enable(has_depth)
+            .depth_write_enable(has_depth)
             .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
-        let blend = [vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA)];
-        let color_blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
+        let mut attachment = vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA);
+        if desc.premultiplied_blend {
+            use vk::BlendFactor as F;
+            attachment = attachment
+                .blend_enable(true)
+                .src_color_blend_factor(F::ONE)
+                .dst_color_blend_factor(F::ONE_MINUS_SRC_ALPHA)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(F::ONE)
+                .dst_alpha_blend_factor(F::ONE_MINUS_SRC_ALPHA)
+                .alpha_blend_op(vk::BlendOp::ADD);
+        }
+        let has_color = desc.color_format != vk::Format::UNDEFINED;
+        let blend = [attachment];
+        let blend: &[_] = if has_color { &blend } else { &[] };
+        let color_blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let color_formats = [desc.color_format];
+        let color_formats: &[_] = if has_color { &color_formats } else { &[] };
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(&color_formats)
+            .color_attachment_formats(color_formats)
             .depth_attachment_format(desc.depth_format);
         let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
@@ -208,18 +224,49 @@ pub struct GraphicsDesc<'a> {
     pub patch_control_points: u32,
     /// Fill or wireframe.
     pub polygon_mode: vk::PolygonMode,
-    /// Colour attachment format.
+    /// Colour attachment format; `UNDEFINED` for none (a depth-only pass).
     pub color_format: vk::Format,
-    /// Depth attachment format.
+    /// Depth attachment format (tested and written); `UNDEFINED` for none.
     pub depth_format: vk::Format,
+    /// Blend premultiplied-alpha colour over the target instead of replacing it.
+    pub premultiplied_blend: bool,
 }
+
+impl<'a> GraphicsDesc<'a> {
+    /// An opaque, depth-tested triangle-list pipeline of `stages` over one buffer of
+    /// `vec4` vertex attributes; change fields for the rest.
+    pub fn opaque(
+        module: &'a ShaderModule,
+        stages: &'a [(vk::ShaderStageFlags, &'a str)],
+        layout: &'a PipelineLayout,
+        vertex_input: &'a VertexInput,
+        color_format: vk::Format,
+        depth_format: vk::Format,
+    ) -> Self {
+        Self {
+            module,
+            stages,
+            layout,
+            vertex_bindings: &vertex_input.0,
+            vertex_attributes: &vertex_input.1,
+            patch_control_points: 0,
+            polygon_mode: vk::PolygonMode::FILL,
+            color_format,
+            depth_format,
+            premultiplied_blend: false,
+        }
+    }
+}
+
+/// Vertex buffer bindings and attributes.
+pub type VertexInput = (
+    [vk::VertexInputBindingDescription; 1],
+    Vec<vk::VertexInputAttributeDescription>,
+);
 
 /// Vertex input of one buffer of `T`, read per vertex as consecutive `vec4`
 /// attributes at locations 0, 1, … (`T` is a whole number of `vec4`).
-pub fn vec4_vertex_input<T>() -> (
-    [vk::VertexInputBindingDescription; 1],
-    Vec<vk::VertexInputAttributeDescription>,
-) {
+pub fn vec4_vertex_input<T>() -> VertexInput {
     let stride = size_of::<T>() as u32;
     let binding = vk::VertexInputBindingDescription {
         binding: 0,

@@ -79,11 +79,18 @@ impl<'a> Recorder<'a> {
         unsafe { self.device.cmd_copy_buffer(self.cmd, src, dst, &[region]) };
     }
 
-    /// Copies a colour image (in TRANSFER_SRC_OPTIMAL) into a tightly packed buffer.
-    pub fn copy_image_to_buffer(&self, image: vk::Image, extent: vk::Extent2D, dst: vk::Buffer) {
+    /// Copies the `aspect` of an image (in TRANSFER_SRC_OPTIMAL) into a tightly packed
+    /// buffer.
+    pub fn copy_image_to_buffer(
+        &self,
+        image: vk::Image,
+        aspect: vk::ImageAspectFlags,
+        extent: vk::Extent2D,
+        dst: vk::Buffer,
+    ) {
         let region = vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
+                aspect_mask: aspect,
                 mip_level: 0,
                 base_array_layer: 0,
                 layer_count: 1,
@@ -99,6 +106,43 @@ impl<'a> Recorder<'a> {
                 image,
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 dst,
+                &[region],
+            )
+        };
+    }
+
+    /// Copies a tightly packed buffer into the `extent` of a colour image (in
+    /// TRANSFER_DST_OPTIMAL) at `offset`.
+    pub fn copy_buffer_to_image(
+        &self,
+        src: vk::Buffer,
+        image: vk::Image,
+        offset: vk::Offset2D,
+        extent: vk::Extent2D,
+    ) {
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_offset(vk::Offset3D {
+                x: offset.x,
+                y: offset.y,
+                z: 0,
+            })
+            .image_extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            });
+        unsafe {
+            self.device.cmd_copy_buffer_to_image(
+                self.cmd,
+                src,
+                image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 &[region],
             )
         };
@@ -139,43 +183,58 @@ impl<'a> Recorder<'a> {
         unsafe { self.device.cmd_dispatch(self.cmd, groups.0, groups.1, 1) };
     }
 
-    /// Starts rendering to `color` (cleared to `clear`) with `depth` (cleared to 1),
-    /// viewport and scissor covering `extent`.
+    /// Starts rendering to `color` (cleared to the colour given, else loaded) and
+    /// `depth` (cleared to 1 and stored), either optional, with viewport and scissor
+    /// covering `extent`.
     pub fn begin_rendering(
         &self,
-        color: vk::ImageView,
-        depth: vk::ImageView,
+        color: Option<(vk::ImageView, Option<[f32; 4]>)>,
+        depth: Option<vk::ImageView>,
         extent: vk::Extent2D,
-        clear: [f32; 4],
     ) {
-        let color_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(color)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue { float32: clear },
-            })];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
+        let color_attachment: Vec<_> = color
+            .iter()
+            .map(|&(view, clear)| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(view)
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(if clear.is_some() {
+                        vk::AttachmentLoadOp::CLEAR
+                    } else {
+                        vk::AttachmentLoadOp::LOAD
+                    })
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue {
+                        color: vk::ClearColorValue {
+                            float32: clear.unwrap_or_default(),
+                        },
+                    })
+            })
+            .collect();
+        let depth_attachment = depth.map(|view| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                })
+        });
         let area = vk::Rect2D {
             offset: vk::Offset2D::default(),
             extent,
         };
-        let info = vk::RenderingInfo::default()
+        let mut info = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
-            .color_attachments(&color_attachment)
-            .depth_attachment(&depth_attachment);
+            .color_attachments(&color_attachment);
+        if let Some(depth) = depth_attachment.as_ref() {
+            info = info.depth_attachment(depth);
+        }
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -189,6 +248,40 @@ impl<'a> Recorder<'a> {
             self.device.cmd_set_viewport(self.cmd, 0, &[viewport]);
             self.device.cmd_set_scissor(self.cmd, 0, &[area]);
         }
+    }
+
+    /// Sets the scissor rectangle.
+    pub fn set_scissor(&self, rect: vk::Rect2D) {
+        unsafe { self.device.cmd_set_scissor(self.cmd, 0, &[rect]) };
+    }
+
+    /// Binds descriptor set 0 of `layout` alone (the pipeline stays).
+    pub fn bind_set(
+        &self,
+        bind_point: vk::PipelineBindPoint,
+        layout: vk::PipelineLayout,
+        set: vk::DescriptorSet,
+    ) {
+        unsafe {
+            self.device
+                .cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, &[set], &[])
+        };
+    }
+
+    /// Resets queries `first .. first + count` of `pool`.
+    pub fn reset_queries(&self, pool: vk::QueryPool, first: u32, count: u32) {
+        unsafe {
+            self.device
+                .cmd_reset_query_pool(self.cmd, pool, first, count)
+        };
+    }
+
+    /// Writes a timestamp into `query` of `pool` once the stages `stage` are done.
+    pub fn write_timestamp(&self, pool: vk::QueryPool, query: u32, stage: vk::PipelineStageFlags2) {
+        unsafe {
+            self.device
+                .cmd_write_timestamp2(self.cmd, stage, pool, query)
+        };
     }
 
     /// Ends the rendering scope.

@@ -1,0 +1,320 @@
+//! The viewer's overlay (egui): frame rate and a frame-time graph, GPU time per pass,
+//! the blade counts of each culling test, and every live setting as a control.
+
+use crate::cli::{Shape, View, Wind};
+use crate::renderer::{CullCounts, PassTimes};
+use crate::scene::Settings;
+use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
+use shared::cull;
+use std::collections::VecDeque;
+use winit::event::WindowEvent;
+use winit::window::Window;
+
+/// Frames in the frame-time graph.
+const HISTORY: usize = 240;
+
+/// What the overlay shows besides the settings.
+pub struct Readings {
+    /// Frames per second over the last second.
+    pub fps: f64,
+    /// Blades in the field.
+    pub blades: u32,
+    /// The newest counts read back.
+    pub counts: Option<CullCounts>,
+    /// The newest pass times read back.
+    pub times: Option<PassTimes>,
+    /// The device's name.
+    pub device: String,
+    /// The scene has surfaces that can hide grass.
+    pub occluders: bool,
+}
+
+/// egui's output for one frame, ready for the overlay pass.
+pub struct Painted {
+    /// Tessellated meshes.
+    pub primitives: Vec<ClippedPrimitive>,
+    /// Texture changes.
+    pub textures: TexturesDelta,
+    /// Pixels per point.
+    pub pixels_per_point: f32,
+}
+
+/// egui state of the viewer's window.
+pub struct Overlay {
+    ctx: egui::Context,
+    state: egui_winit::State,
+    /// Shown (toggled with O).
+    pub visible: bool,
+    frame_ms: VecDeque<f32>,
+}
+
+impl Overlay {
+    /// The overlay of `window`, shown.
+    pub fn new(window: &Window) -> Self {
+        let ctx = egui::Context::default();
+        let state = egui_winit::State::new(
+            ctx.clone(),
+            egui::ViewportId::ROOT,
+            window,
+            Some(window.scale_factor() as f32),
+            None,
+            None,
+        );
+        Self {
+            ctx,
+            state,
+            visible: true,
+            frame_ms: VecDeque::with_capacity(HISTORY),
+        }
+    }
+
+    /// Passes a window event to egui; true when egui used it (the pointer is over
+    /// the overlay, or a control has the keyboard), so the camera should not.
+    pub fn on_event(&mut self, window: &Window, event: &WindowEvent) -> bool {
+        if !self.visible {
+            return false;
+        }
+        let response = self.state.on_window_event(window, event);
+        response.consumed
+            || self.ctx.egui_wants_pointer_input()
+            || self.ctx.egui_wants_keyboard_input()
+    }
+
+    /// Adds a frame's duration to the graph.
+    pub fn frame_time(&mut self, ms: f32) {
+        if self.frame_ms.len() == HISTORY {
+            self.frame_ms.pop_front();
+        }
+        self.frame_ms.push_back(ms);
+    }
+
+    /// Runs the interface for one frame: shows `readings`, lets the user edit
+    /// `settings` and `ball_on`, and returns what to paint (nothing when hidden).
+    pub fn run(
+        &mut self,
+        window: &Window,
+        readings: &Readings,
+        settings: &mut Settings,
+        ball_on: &mut bool,
+    ) -> Option<Painted> {
+        if !self.visible {
+            return None;
+        }
+        let input = self.state.take_egui_input(window);
+        let frame_ms: Vec<f32> = self.frame_ms.iter().copied().collect();
+        let output = self.ctx.run_pass(input, |ctx| {
+            egui::Window::new("grass")
+                .default_pos([12.0, 12.0])
+                .default_width(300.0)
+                .show(ctx, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        performance(ui, readings, &frame_ms);
+                        counts(ui, readings);
+                        controls(ui, settings, ball_on);
+                    });
+                });
+        });
+        self.state
+            .handle_platform_output(window, output.platform_output);
+        let pixels_per_point = output.pixels_per_point;
+        let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
+        Some(Painted {
+            primitives,
+            textures: output.textures_delta,
+            pixels_per_point,
+        })
+    }
+}
+
+/// FPS, the frame-time graph and GPU time per pass.
+fn performance(ui: &mut egui::Ui, r: &Readings, frame_ms: &[f32]) {
+    let last = frame_ms.last().copied().unwrap_or(0.0);
+    ui.label(format!("{:.1} fps, {last:.2} ms ({})", r.fps, r.device));
+    let top = frame_ms.iter().copied().fold(1000.0 / 30.0, f32::max);
+    let (response, painter) =
+        ui.allocate_painter(egui::vec2(ui.available_width(), 60.0), egui::Sense::hover());
+    let rect = response.rect;
+    painter.rect_filled(rect, 2.0, Color32::from_black_alpha(120));
+    let at = |i: usize, ms: f32| {
+        egui::pos2(
+            rect.left() + rect.width() * i as f32 / (HISTORY - 1) as f32,
+            rect.bottom() - rect.height() * (ms / top).min(1.0),
+        )
+    };
+    // 60 fps line.
+    let y = at(0, 1000.0 / 60.0).y;
+    painter.line_segment(
+        [egui::pos2(rect.left(), y), egui::pos2(rect.right(), y)],
+        Stroke::new(1.0, Color32::from_gray(110)),
+    );
+    let points: Vec<_> = frame_ms
+        .iter()
+        .enumerate()
+        .map(|(i, &ms)| at(i, ms))
+        .collect();
+    painter.add(egui::Shape::line(
+        points,
+        Stroke::new(1.5, Color32::LIGHT_GREEN),
+    ));
+    ui.label(format!(
+        "graph: last {HISTORY} frames, top {top:.0} ms, grey line 60 fps"
+    ));
+    match r.times {
+        Some(t) => {
+            egui::Grid::new("passes").num_columns(2).show(ui, |ui| {
+                let rows = [
+                    ("depth pyramid", t.depth_pyramid),
+                    ("simulate + cull", t.simulate_cull),
+                    ("ground", t.ground),
+                    ("grass", t.grass),
+                    ("overlay", t.overlay),
+                    ("GPU total", t.total),
+                ];
+                for (name, ms) in rows {
+                    ui.label(name);
+                    ui.label(format!("{ms:.3} ms"));
+                    ui.end_row();
+                }
+            });
+        }
+        None => {
+            ui.label("GPU timestamps: not available on this device");
+        }
+    }
+}
+
+/// Blades in the field, drawn, and removed by each test.
+fn counts(ui: &mut egui::Ui, r: &Readings) {
+    ui.separator();
+    let Some(c) = r.counts else {
+        ui.label(format!("{} blades", r.blades));
+        return;
+    };
+    let share = |n: u32| 100.0 * f64::from(n) / f64::from(c.examined.max(1));
+    egui::Grid::new("counts").num_columns(3).show(ui, |ui| {
+        ui.label("blades");
+        ui.label(c.examined.to_string());
+        ui.label("");
+        ui.end_row();
+        for (name, n) in c.by_test() {
+            ui.label(format!("removed by {name}"));
+            ui.label(n.to_string());
+            ui.label(format!("{:.1} %", share(n)));
+            ui.end_row();
+        }
+        ui.label("drawn");
+        ui.label(c.drawn.to_string());
+        ui.label(format!("{:.1} %", share(c.drawn)));
+        ui.end_row();
+    });
+    if !r.occluders {
+        ui.label("(flat ground, no rock: nothing here can occlude)");
+    }
+}
+
+/// The culling tests, LOD, view, wind, forces, shape and ball.
+fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
+    egui::CollapsingHeader::new("Culling (keys 1-4)")
+        .default_open(true)
+        .show(ui, |ui| culling(ui, s));
+    egui::CollapsingHeader::new("Level of detail and view")
+        .default_open(true)
+        .show(ui, |ui| detail(ui, s));
+    egui::CollapsingHeader::new("Wind, forces, shape, ball")
+        .default_open(false)
+        .show(ui, |ui| forces(ui, s, ball_on));
+    ui.label("O hides this panel");
+}
+
+fn culling(ui: &mut egui::Ui, s: &mut Settings) {
+    let names = ["orientation", "frustum", "distance", "occlusion"];
+    ui.horizontal_wrapped(|ui| {
+        for (bit, name) in cull::TESTS.iter().zip(names) {
+            let mut on = s.cull & bit != 0;
+            if ui.checkbox(&mut on, name).changed() {
+                s.cull ^= bit;
+            }
+        }
+    });
+    ui.add(
+        egui::Slider::new(&mut s.orientation_threshold, 0.0..=1.0).text("orientation threshold"),
+    );
+    ui.add(egui::Slider::new(&mut s.frustum_tolerance, 0.0..=2.0).text("frustum tolerance"));
+    ui.add(
+        egui::Slider::new(&mut s.max_distance, 1.0..=1000.0)
+            .logarithmic(true)
+            .text("max distance"),
+    );
+    ui.add(egui::Slider::new(&mut s.buckets, 1..=32).text("distance buckets"));
+}
+
+fn detail(ui: &mut egui::Ui, s: &mut Settings) {
+    ui.checkbox(&mut s.lod, "level of detail (L)");
+    ui.add(egui::Slider::new(&mut s.lod_most, 1.0..=shared::lod::MAX_LEVEL).text("level near"));
+    ui.add(egui::Slider::new(&mut s.lod_fewest, 1.0..=shared::lod::MAX_LEVEL).text("level far"));
+    ui.add(egui::Slider::new(&mut s.lod_near, 0.0..=100.0).text("full detail to"));
+    ui.add(
+        egui::Slider::new(&mut s.lod_far, 1.0..=1000.0)
+            .logarithmic(true)
+            .text("fewest from"),
+    );
+    ui.horizontal(|ui| {
+        ui.label("view (V)");
+        for view in View::ALL {
+            ui.radio_value(&mut s.view, view.id(), format!("{view:?}"));
+        }
+    });
+}
+
+fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
+    let wind = s.env.wind;
+    let (mut direction, mut strength) = (wind.z.atan2(wind.x).to_degrees(), wind.w);
+    egui::ComboBox::from_label("wind (W)")
+        .selected_text(format!(
+            "{:?}",
+            Wind::ALL
+                .iter()
+                .find(|w| w.kind() == s.env.wind_kind)
+                .copied()
+                .unwrap_or(Wind::Calm)
+        ))
+        .show_ui(ui, |ui| {
+            for w in Wind::ALL {
+                ui.selectable_value(&mut s.env.wind_kind, w.kind(), format!("{w:?}"));
+            }
+        });
+    let strength_changed = ui
+        .add(egui::Slider::new(&mut strength, 0.0..=30.0).text("wind strength"))
+        .changed();
+    let direction_changed = ui
+        .add(egui::Slider::new(&mut direction, -180.0..=180.0).text("wind direction °"))
+        .changed();
+    if strength_changed || direction_changed {
+        s.env.wind = super::wind_vector(direction, strength);
+    }
+    ui.add(egui::Slider::new(&mut s.env.stiffness_scale, 0.0..=4.0).text("stiffness ×"));
+    if ui
+        .add(egui::Slider::new(&mut s.env.gravity.w, 0.0..=30.0).text("gravity"))
+        .changed()
+    {
+        s.env.gravity_centre.w = s.env.gravity.w;
+    }
+
+    ui.separator();
+    egui::ComboBox::from_label("blade shape (S)")
+        .selected_text(format!(
+            "{:?}",
+            Shape::ALL
+                .iter()
+                .find(|w| w.id() == s.shape)
+                .copied()
+                .unwrap_or(Shape::Quadratic)
+        ))
+        .show_ui(ui, |ui| {
+            for shape in Shape::ALL {
+                ui.selectable_value(&mut s.shape, shape.id(), format!("{shape:?}"));
+            }
+        });
+    ui.add(egui::Slider::new(&mut s.tip_start, 0.0..=1.0).text("tip start"));
+    ui.checkbox(ball_on, "ball (B)");
+}

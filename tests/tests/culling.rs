@@ -1,0 +1,147 @@
+//! Culling and LOD on the GPU: the per-test counters, each switch's effect on them,
+//! occlusion culling that removes blades without changing the picture, and reference
+//! images of the LOD and wireframe views.
+
+use runner::renderer::CullCounts;
+use tests::{check_reference, device_available, difference, render_image, save_failure};
+
+/// Every blade lands in exactly one count, and the GPU looked at each of them.
+fn assert_sums(counts: &CullCounts, blades: u32, what: &str) {
+    assert_eq!(
+        counts.examined, blades,
+        "{what}: blades examined, {counts:?}"
+    );
+    assert_eq!(
+        counts.drawn + counts.removed(),
+        blades,
+        "{what}: drawn + removed, {counts:?}"
+    );
+}
+
+#[test]
+fn each_switch_changes_its_counter_and_the_counts_always_sum() {
+    if !device_available("each_switch_changes_its_counter") {
+        return;
+    }
+    // Zoomed in so part of the field is off screen (frustum has work), low among the
+    // walls so they hide grass (occlusion has work).
+    let base = "--scene walls --blades 4096 --frames 4 --width 160 --height 120 --zoom 2 --pitch 8";
+    let (all_on, _) = render_image(base);
+    let on = all_on.counts;
+    println!("all tests on: {on:?}");
+    assert_sums(&on, 4096, "all on");
+    for (name, n) in on.by_test() {
+        assert!(n > 0, "with every test on, {name} removed nothing: {on:?}");
+    }
+
+    let switches = [
+        ("--no-cull-orientation", 0),
+        ("--no-cull-frustum", 1),
+        ("--no-cull-distance", 2),
+        ("--no-cull-occlusion", 3),
+    ];
+    for (flag, test) in switches {
+        let (report, _) = render_image(&format!("{base} {flag}"));
+        let c = report.counts;
+        println!("{flag}: {c:?}");
+        assert_sums(&c, 4096, flag);
+        let counts = c.by_test();
+        assert_eq!(
+            counts[test].1, 0,
+            "{flag}: {} still removed blades",
+            counts[test].0
+        );
+        // What a test no longer removes is drawn or falls to a later test; the
+        // tests before it are unchanged.
+        for earlier in 0..test {
+            assert_eq!(counts[earlier], on.by_test()[earlier], "{flag}");
+        }
+        assert!(c.drawn >= on.drawn, "{flag}: fewer drawn with a test off");
+    }
+
+    let (none, _) = render_image(&format!(
+        "{base} --no-cull-orientation --no-cull-frustum --no-cull-distance --no-cull-occlusion"
+    ));
+    assert_eq!(none.counts.drawn, 4096, "no tests: {:?}", none.counts);
+    assert_sums(&none.counts, 4096, "no tests");
+}
+
+#[test]
+fn occlusion_culling_removes_blades_without_changing_the_image() {
+    if !device_available("occlusion_culling_removes_blades") {
+        return;
+    }
+    // The walls scene from low down: the stones hide much of the field.
+    let base =
+        "--scene walls --blades 8192 --frames 10 --width 256 --height 160 --pitch 8 --zoom 1.4";
+    let (on, image_on) = render_image(base);
+    let (off, image_off) = render_image(&format!("{base} --no-cull-occlusion"));
+    println!("occlusion on: {:?}\noff: {:?}", on.counts, off.counts);
+    assert_sums(&on.counts, 8192, "occlusion on");
+    assert_sums(&off.counts, 8192, "occlusion off");
+    // The occlusion test runs last, so it takes its blades from the drawn ones.
+    assert!(
+        on.counts.occlusion > 8192 / 50,
+        "occlusion removed only {} blades",
+        on.counts.occlusion
+    );
+    assert_eq!(on.counts.drawn + on.counts.occlusion, off.counts.drawn);
+
+    // Conservative: the pictures are the same. Tolerance: mean difference below 0.05
+    // of 255 and at most 0.1 % of the pixels off by more than 64 in a channel (the
+    // test is exact by construction; the slack covers driver nondeterminism).
+    let (diff, picture) = difference(&image_on, &image_off);
+    println!(
+        "on vs off: mean {:.4}, outliers {:.5}",
+        diff.mean, diff.outliers
+    );
+    assert!(
+        diff.mean < 0.05 && diff.outliers <= 0.001,
+        "occlusion culling changed the image: {diff:?}; {}",
+        save_failure("occlusion_on", &image_on, Some(&picture))
+    );
+}
+
+#[test]
+fn lod_and_wireframe_views_match_their_references() {
+    if !device_available("lod_and_wireframe_views") {
+        return;
+    }
+    // LOD from 2 to 12 units across the small field, so every level shows.
+    let base =
+        "--blades 2048 --seed 1 --frames 20 --width 160 --height 160 --lod-near 2 --lod-far 12";
+    let (_, lod) = render_image(&format!("{base} --view lod"));
+    let (_, flat_lod) = render_image(&format!("{base} --view lod --no-lod"));
+    check_reference("view_lod", &lod);
+    // Close up, where the wireframe's segments are wider than a pixel.
+    let close = format!("{base} --zoom 3");
+    let (_, shaded) = render_image(&close);
+    let (_, wire) = render_image(&format!("{close} --view wireframe"));
+    check_reference("view_wireframe", &wire);
+    let (d, _) = difference(&wire, &shaded);
+    println!("wireframe vs shaded: {d:?}");
+    assert!(
+        !d.within_tolerance(),
+        "the wireframe view looks like the shaded one"
+    );
+
+    // Levels near the camera are yellow to red, far ones green to blue. Without LOD
+    // every blade has the near level, so the green-to-blue blades go.
+    let cool = |image: &image::RgbaImage| {
+        image
+            .pixels()
+            .filter(|p| {
+                let [r, g, b, _] = p.0.map(i32::from);
+                // Green or blue over red, and not the pale sky.
+                (g > r + 20 || b > r + 60) && r < 120
+            })
+            .count()
+    };
+    let (with_lod, without) = (cool(&lod), cool(&flat_lod));
+    println!("green-to-blue pixels: {with_lod} with LOD, {without} without");
+    assert!(
+        with_lod > 4 * without + 200,
+        "LOD off should remove the low levels: {with_lod} vs {without}; {}",
+        save_failure("view_lod_off", &flat_lod, None)
+    );
+}

@@ -107,11 +107,9 @@ impl Overlay {
                 .default_pos([12.0, 12.0])
                 .default_width(300.0)
                 .show(ctx, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
-                        performance(ui, readings, &frame_ms);
-                        counts(ui, readings);
-                        controls(ui, settings, ball_on);
-                    });
+                    performance(ui, readings, &frame_ms);
+                    counts(ui, readings);
+                    controls(ui, settings, ball_on);
                 });
         });
         self.state
@@ -218,7 +216,7 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
         .default_open(true)
         .show(ui, |ui| culling(ui, s));
     egui::CollapsingHeader::new("Level of detail and view")
-        .default_open(true)
+        .default_open(false)
         .show(ui, |ui| detail(ui, s));
     egui::CollapsingHeader::new("Wind, forces, shape, ball")
         .default_open(false)

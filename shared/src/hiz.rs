@@ -353,7 +353,14 @@ mod tests {
         for _ in 0..2000 {
             let root = Vec3::new(rng.range(-6.0, 6.0), 0.0, rng.range(-8.0, 4.0));
             let height = rng.range(0.5, 4.0);
-            let rest = Blade::at_rest(root, Vec3::Y, rng.range(0.0, 6.28), height, 0.15, 10.0);
+            let rest = Blade::at_rest(
+                root,
+                Vec3::Y,
+                rng.range(0.0, std::f32::consts::TAU),
+                height,
+                0.15,
+                10.0,
+            );
             let lean = Vec3::new(rng.range(-1.0, 1.0), 0.0, rng.range(-1.0, 1.0));
             let blade = rest.with_curve(rest.guide() + 0.3 * lean, rest.tip() + lean);
             if !is_occluded(&blade, &depth) {

@@ -245,6 +245,12 @@ impl Renderer {
         Ok(())
     }
 
+    /// The depth pyramid's layout for the current target (empty before the first
+    /// frame).
+    pub fn hiz(&self) -> shared::hiz::HiZLayout {
+        self.occlusion.hiz
+    }
+
     /// Visible blades in the newest frame read back.
     pub fn visible(&self) -> Option<u32> {
         self.counts.map(|c| c.drawn)

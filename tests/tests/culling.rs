@@ -2,8 +2,19 @@
 //! occlusion culling that removes blades without changing the picture, and reference
 //! images of the LOD and wireframe views.
 
-use runner::renderer::CullCounts;
-use tests::{check_reference, device_available, difference, render_image, save_failure};
+use ash::vk;
+use runner::app::render::FORMAT;
+use runner::renderer::{CullCounts, FrameInput, Renderer, Target};
+use runner::scene::{BladeCount, Scene, SceneKind, Settings};
+use runner::vulkan::Image;
+use shared::Blade;
+use shared::cull::{self, cull_outcome};
+use shared::hiz;
+use shared::layout::SimulatePush;
+use std::collections::HashSet;
+use tests::{
+    check_reference, device_available, difference, render_image, save_failure, with_device,
+};
 
 /// Every blade lands in exactly one count, and the GPU looked at each of them.
 fn assert_sums(counts: &CullCounts, blades: u32, what: &str) {
@@ -141,5 +152,114 @@ fn lod_and_wireframe_views_match_their_references() {
         with_lod > 4 * without + 200,
         "LOD off should remove the low levels: {with_lod} vs {without}; {}",
         save_failure("view_lod_off", &flat_lod, None)
+    );
+}
+
+#[test]
+fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
+    with_device(
+        "gpu_pyramid_and_occlusion_decisions_match_the_host",
+        |ctx| {
+            let kind = SceneKind::Walls;
+            let scene = Scene::build(&kind, None, BladeCount::Total(8192), 3, |_| Ok(())).unwrap();
+            let settings = Settings::for_scene(&scene);
+            let mut camera = scene.camera();
+            camera.pitch = 8f32.to_radians();
+            camera.distance /= 1.4;
+            let extent = vk::Extent2D {
+                width: 256,
+                height: 160,
+            };
+            let aspect = extent.width as f32 / extent.height as f32;
+            let color = Image::new(
+                &ctx,
+                "test target",
+                extent,
+                FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                vk::ImageAspectFlags::COLOR,
+            )
+            .unwrap();
+            let mut renderer = Renderer::new(&ctx, &scene, FORMAT).unwrap();
+            let mut uniforms = settings.uniforms(&camera, aspect, &scene, &[]);
+            // No simulation step: the GPU culls the blades exactly as the host holds them.
+            let slot = renderer.begin_frame().unwrap();
+            let target = Target {
+                image: color.image,
+                view: color.view,
+                extent,
+                final_layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            };
+            let input = FrameInput {
+                target,
+                uniforms,
+                push: SimulatePush::default(),
+                wait: None,
+                signal: None,
+                capture: None,
+                overlay: None,
+            };
+            renderer.render(slot, input).unwrap();
+            renderer.finish().unwrap();
+            let counts = renderer.counts.expect("counts");
+            uniforms.hiz = renderer.hiz();
+            let layout = uniforms.hiz;
+            let pyramid: Vec<f32> = renderer
+                .download(&renderer.field.pyramid, layout.len() as usize)
+                .unwrap();
+
+            // Every level above 0 is the host's reduction of the GPU's level 0.
+            let (w, h) = (layout.width(), layout.height());
+            let (host_layout, host_pyramid) = hiz::build(&pyramid[..(w * h) as usize], w, h);
+            assert_eq!(host_layout, layout);
+            assert_eq!(
+                host_pyramid, pyramid,
+                "pyramid levels differ from the host's"
+            );
+            let occluder_pixels = pyramid[..(w * h) as usize]
+                .iter()
+                .filter(|&&d| d < 1.0)
+                .count();
+            assert!(occluder_pixels > 0, "the pre-pass drew no occluder");
+            println!(
+                "pyramid {w}x{h}, {} levels, occluders on {occluder_pixels} pixels",
+                layout.levels()
+            );
+
+            // The host's outcome for every blade against the GPU's pyramid.
+            let count = renderer.visible().unwrap() as usize;
+            let visible: Vec<Blade> = renderer.download(&renderer.field.visible, count).unwrap();
+            let key = |b: &Blade| b.v0.to_array().map(f32::to_bits);
+            let gpu_set: HashSet<_> = visible.iter().map(key).collect();
+            let (cam, p) = (uniforms.camera_pos(), uniforms.cull_params());
+            let mut host_counts = [0u32; 5];
+            let mut mismatched = 0;
+            for (id, b) in scene.blades.iter().enumerate() {
+                let outcome =
+                    cull_outcome(b, id as u32, cam, uniforms.view_proj, &p, &pyramid, &layout);
+                host_counts[outcome as usize] += 1;
+                mismatched += usize::from((outcome == cull::KEPT) != gpu_set.contains(&key(b)));
+            }
+            println!(
+                "GPU {counts:?}; host kept/by test {host_counts:?}; {mismatched} blades disagree"
+            );
+            assert!(
+                counts.occlusion > 100,
+                "occlusion removed only {}",
+                counts.occlusion
+            );
+            // Float rounding may flip blades within a hair of a threshold; allow 0.2 %.
+            assert!(mismatched <= 16, "{mismatched} blades decided differently");
+            let gpu = [
+                counts.drawn,
+                counts.orientation,
+                counts.frustum,
+                counts.distance,
+                counts.occlusion,
+            ];
+            for (g, h) in gpu.iter().zip(host_counts) {
+                assert!(g.abs_diff(h) <= 16, "GPU {gpu:?}, host {host_counts:?}");
+            }
+        },
     );
 }

@@ -231,38 +231,34 @@ impl OverlayPass {
                 _ => None,
             })
             .collect();
-        let vertex_count: usize = meshes.iter().map(|(_, m)| m.vertices.len()).sum();
-        let index_count: usize = meshes.iter().map(|(_, m)| m.indices.len()).sum();
-        if index_count == 0 {
+        if meshes.is_empty() {
             return Ok(());
         }
         let geometry = &mut self.geometry[slot];
-        let vertices = grow(
-            &self.ctx,
-            &mut geometry.vertices,
-            "overlay vertices",
-            (vertex_count * size_of::<Vertex>()) as u64,
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-        )?;
-        let all: Vec<Vertex> = meshes
+        let vertices: Vec<Vertex> = meshes
             .iter()
             .flat_map(|(_, m)| m.vertices.iter().copied())
             .collect();
-        vertices.write(&all)?;
-        let vertex_buffer = vertices.buffer;
-        let indices = grow(
+        let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+        let vertex_buffer = upload(
             &self.ctx,
-            &mut geometry.indices,
-            "overlay indices",
-            (index_count * 4) as u64,
-            vk::BufferUsageFlags::INDEX_BUFFER,
+            &mut geometry.vertices,
+            "overlay vertices",
+            &vertices,
+            usage,
         )?;
-        let all: Vec<u32> = meshes
+        let indices: Vec<u32> = meshes
             .iter()
             .flat_map(|(_, m)| m.indices.iter().copied())
             .collect();
-        indices.write(&all)?;
-        let index_buffer = indices.buffer;
+        let usage = vk::BufferUsageFlags::INDEX_BUFFER;
+        let index_buffer = upload(
+            &self.ctx,
+            &mut geometry.indices,
+            "overlay indices",
+            &indices,
+            usage,
+        )?;
 
         let ppp = frame.pixels_per_point;
         let graphics = vk::PipelineBindPoint::GRAPHICS;
@@ -301,15 +297,16 @@ impl OverlayPass {
     }
 }
 
-/// The slot's buffer, replaced by a larger one (with room to grow) when `bytes` do
-/// not fit.
-fn grow<'a>(
+/// Writes `data` into the slot's host-visible buffer, first replaced by a larger one
+/// (with room to grow) when it does not fit; returns the buffer.
+fn upload<T: bytemuck::Pod>(
     ctx: &Arc<Context>,
-    buffer: &'a mut Option<Buffer>,
+    buffer: &mut Option<Buffer>,
     name: &str,
-    bytes: u64,
+    data: &[T],
     usage: vk::BufferUsageFlags,
-) -> Result<&'a mut Buffer> {
+) -> Result<vk::Buffer> {
+    let bytes = size_of_val(data) as u64;
     if buffer.as_ref().is_none_or(|b| b.size < bytes) {
         let size = bytes.next_power_of_two().max(64 * 1024);
         *buffer = Some(Buffer::new(
@@ -320,7 +317,9 @@ fn grow<'a>(
             MemoryLocation::CpuToGpu,
         )?);
     }
-    Ok(buffer.as_mut().expect("just created"))
+    let buffer = buffer.as_mut().context("overlay buffer")?;
+    buffer.write(data)?;
+    Ok(buffer.buffer)
 }
 
 /// A clip rectangle in points as a scissor in pixels inside `extent`; `None` when

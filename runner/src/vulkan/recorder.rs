@@ -88,18 +88,7 @@ impl<'a> Recorder<'a> {
         extent: vk::Extent2D,
         dst: vk::Buffer,
     ) {
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
+        let region = image_region(aspect, vk::Offset2D::default(), extent);
         unsafe {
             self.device.cmd_copy_image_to_buffer(
                 self.cmd,
@@ -120,23 +109,7 @@ impl<'a> Recorder<'a> {
         offset: vk::Offset2D,
         extent: vk::Extent2D,
     ) {
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_offset(vk::Offset3D {
-                x: offset.x,
-                y: offset.y,
-                z: 0,
-            })
-            .image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
+        let region = image_region(vk::ImageAspectFlags::COLOR, offset, extent);
         unsafe {
             self.device.cmd_copy_buffer_to_image(
                 self.cmd,
@@ -321,4 +294,30 @@ impl<'a> Recorder<'a> {
                 .cmd_draw_indirect(self.cmd, buffer, 0, count, stride)
         };
     }
+}
+
+/// The `extent` at `offset` of mip level 0, layer 0 of an image's `aspect`, to or from
+/// a tightly packed buffer.
+fn image_region(
+    aspect: vk::ImageAspectFlags,
+    offset: vk::Offset2D,
+    extent: vk::Extent2D,
+) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: aspect,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_offset(vk::Offset3D {
+            x: offset.x,
+            y: offset.y,
+            z: 0,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
 }

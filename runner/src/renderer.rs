@@ -101,12 +101,13 @@ impl CullCounts {
     }
     /// (test name, blades it removed), in the order the tests run.
     pub fn by_test(&self) -> [(&'static str, u32); 4] {
-        [
-            ("orientation", self.orientation),
-            ("frustum", self.frustum),
-            ("distance", self.distance),
-            ("occlusion", self.occlusion),
-        ]
+        let removed = [
+            self.orientation,
+            self.frustum,
+            self.distance,
+            self.occlusion,
+        ];
+        std::array::from_fn(|i| (shared::cull::TEST_NAMES[i], removed[i]))
     }
 }
 

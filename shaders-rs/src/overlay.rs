@@ -19,8 +19,7 @@ pub fn overlay_vs(
     out_uv: &mut Vec2,
     out_color: &mut Vec4,
 ) {
-    let clip = 2.0 * position / push.screen - Vec2::ONE;
-    *out_position = clip.extend(0.0).extend(1.0);
+    *out_position = push.to_clip(position);
     *out_uv = uv;
     *out_color = Vec4::new(
         srgb_to_linear(color.x),

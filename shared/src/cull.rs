@@ -35,6 +35,8 @@ pub const OCCLUSION: u32 = 8;
 pub const ALL: u32 = ORIENTATION | FRUSTUM | DISTANCE | OCCLUSION;
 /// The tests in the order they run, which is the order of their counters.
 pub const TESTS: [u32; 4] = [ORIENTATION, FRUSTUM, DISTANCE, OCCLUSION];
+/// Names of [`TESTS`], for logs and the overlay.
+pub const TEST_NAMES: [&str; 4] = ["orientation", "frustum", "distance", "occlusion"];
 
 /// Outcome of [`cull_outcome`]: the blade is drawn.
 pub const KEPT: u32 = 0;

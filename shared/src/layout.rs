@@ -162,6 +162,15 @@ pub struct OverlayPush {
     pub screen: spirv_std::glam::Vec2,
 }
 
+impl OverlayPush {
+    /// An overlay position in points (origin top left, y down) in clip space.
+    pub fn to_clip(&self, points: spirv_std::glam::Vec2) -> Vec4 {
+        (2.0 * points / self.screen - spirv_std::glam::Vec2::ONE)
+            .extend(0.0)
+            .extend(1.0)
+    }
+}
+
 /// One vertex of a drawn surface (ground meshes and the collider ball).
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]

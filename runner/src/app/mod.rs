@@ -89,6 +89,11 @@ pub fn prepare(
     Ok((scene, settings))
 }
 
+/// (degrees around the vertical, strength) of a wind made by [`wind_vector`].
+pub fn wind_angles(wind: glam::Vec4) -> (f32, f32) {
+    (wind.z.atan2(wind.x).to_degrees(), wind.w)
+}
+
 /// Wind (direction xyz, strength w) blowing towards `degrees` around the vertical.
 pub fn wind_vector(degrees: f32, strength: f32) -> glam::Vec4 {
     let (sin, cos) = degrees.to_radians().sin_cos();

@@ -225,9 +225,8 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
 }
 
 fn culling(ui: &mut egui::Ui, s: &mut Settings) {
-    let names = ["orientation", "frustum", "distance", "occlusion"];
     ui.horizontal_wrapped(|ui| {
-        for (bit, name) in cull::TESTS.iter().zip(names) {
+        for (bit, name) in cull::TESTS.iter().zip(cull::TEST_NAMES) {
             let mut on = s.cull & bit != 0;
             if ui.checkbox(&mut on, name).changed() {
                 s.cull ^= bit;
@@ -265,8 +264,7 @@ fn detail(ui: &mut egui::Ui, s: &mut Settings) {
 }
 
 fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
-    let wind = s.env.wind;
-    let (mut direction, mut strength) = (wind.z.atan2(wind.x).to_degrees(), wind.w);
+    let (mut direction, mut strength) = super::wind_angles(s.env.wind);
     egui::ComboBox::from_label("wind (W)")
         .selected_text(format!(
             "{:?}",

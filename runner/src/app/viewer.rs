@@ -334,8 +334,7 @@ impl Running {
         let s = &mut self.settings;
         let wind_index = Wind::ALL.iter().position(|w| w.kind() == s.env.wind_kind);
         let shape_index = Shape::ALL.iter().position(|w| w.id() == s.shape);
-        let wind = s.env.wind;
-        let (mut direction, mut strength) = (wind.z.atan2(wind.x).to_degrees(), wind.w);
+        let (mut direction, mut strength) = super::wind_angles(s.env.wind);
         match key {
             Key::Named(NamedKey::ArrowLeft) => self.arrows.left = true,
             Key::Named(NamedKey::ArrowRight) => self.arrows.right = true,
@@ -360,7 +359,7 @@ impl Running {
                     let test = c.as_str().parse::<usize>().map_or(0, |n| n - 1);
                     let bit = shared::cull::TESTS[test];
                     s.cull ^= bit;
-                    let name = ["orientation", "frustum", "distance", "occlusion"][test];
+                    let name = shared::cull::TEST_NAMES[test];
                     let state = if s.cull & bit != 0 { "on" } else { "off" };
                     log::info!("{name} culling {state}");
                 }

@@ -114,7 +114,8 @@ impl CullCounts {
 /// GPU time of each pass of one frame, in milliseconds, from timestamp queries.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
 pub struct PassTimes {
-    /// Occluder depth pre-pass and pyramid reduction.
+    /// Uniform update and counter reset, then the occluder depth pre-pass and the
+    /// pyramid reduction (when they run).
     pub depth_pyramid: f64,
     /// Simulate, cull, compact and write the draws.
     pub simulate_cull: f64,

@@ -161,7 +161,7 @@ fn performance(ui: &mut egui::Ui, r: &Readings, frame_ms: &[f32]) {
         Some(t) => {
             egui::Grid::new("passes").num_columns(2).show(ui, |ui| {
                 let rows = [
-                    ("depth pyramid", t.depth_pyramid),
+                    ("uploads + depth pyramid", t.depth_pyramid),
                     ("simulate + cull", t.simulate_cull),
                     ("ground", t.ground),
                     ("grass", t.grass),

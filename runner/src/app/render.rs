@@ -54,7 +54,7 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     log::info!("last frame: {}", describe(&report.counts));
     if let Some(t) = report.times {
         log::info!(
-            "GPU ms: depth pyramid {:.3}, simulate+cull {:.3}, ground {:.3}, grass {:.3}, total {:.3}",
+            "GPU ms: uploads + depth pyramid {:.3}, simulate+cull {:.3}, ground {:.3}, grass {:.3}, total {:.3}",
             t.depth_pyramid,
             t.simulate_cull,
             t.ground,

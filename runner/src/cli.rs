@@ -28,6 +28,100 @@ pub enum Command {
     View(ViewArgs),
     /// Render offscreen, without any window system, and write a PNG.
     Render(RenderArgs),
+    /// Time blade counts and culling configurations headless; print a table and
+    /// write a CSV.
+    Bench(BenchArgs),
+}
+
+/// Options of the benchmark.
+#[derive(Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Blade counts to sweep, comma-separated (`--blades N` runs one) [default: powers
+    /// of two from 1,024 to 4,194,304 that the device holds; up to 8,192 on a
+    /// software device].
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..=(1 << 26)))]
+    pub counts: Vec<u32>,
+    /// Configurations, comma-separated [default: all].
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub configs: Vec<BenchConfig>,
+    /// Camera preset.
+    #[arg(long, value_enum, default_value_t = CameraPreset::Edge)]
+    pub camera: CameraPreset,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1920, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 1080, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub height: u32,
+    /// Measured frames per point.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Frames run before measuring each point.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub warmup: u32,
+    /// CSV file of the results.
+    #[arg(long, default_value = "bench.csv")]
+    pub out: PathBuf,
+}
+
+/// What runs in a benchmark configuration.
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum BenchConfig {
+    /// No culling, no LOD.
+    None,
+    /// The orientation test alone.
+    Orientation,
+    /// The frustum test alone.
+    Frustum,
+    /// The distance test alone.
+    Distance,
+    /// The occlusion test alone.
+    Occlusion,
+    /// Orientation, frustum and distance.
+    Culls,
+    /// Those three and LOD.
+    CullsLod,
+    /// Every test and LOD.
+    CullsLodOcclusion,
+}
+
+impl BenchConfig {
+    /// Every configuration, in the order of the report.
+    pub const ALL: [BenchConfig; 8] = [
+        BenchConfig::None,
+        BenchConfig::Orientation,
+        BenchConfig::Frustum,
+        BenchConfig::Distance,
+        BenchConfig::Occlusion,
+        BenchConfig::Culls,
+        BenchConfig::CullsLod,
+        BenchConfig::CullsLodOcclusion,
+    ];
+
+    /// (enabled tests, a mask of `shared::cull::*`; LOD on).
+    pub fn switches(self) -> (u32, bool) {
+        use shared::cull::*;
+        let culls = ORIENTATION | FRUSTUM | DISTANCE;
+        match self {
+            BenchConfig::None => (0, false),
+            BenchConfig::Orientation => (ORIENTATION, false),
+            BenchConfig::Frustum => (FRUSTUM, false),
+            BenchConfig::Distance => (DISTANCE, false),
+            BenchConfig::Occlusion => (OCCLUSION, false),
+            BenchConfig::Culls => (culls, false),
+            BenchConfig::CullsLod => (culls, true),
+            BenchConfig::CullsLodOcclusion => (ALL, true),
+        }
+    }
+}
+
+/// Where the benchmark's camera stands.
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum CameraPreset {
+    /// At the field's edge, two units up, looking across it.
+    Edge,
+    /// High above, the whole field in view.
+    Overview,
 }
 
 /// Options every command takes.

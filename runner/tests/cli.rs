@@ -137,10 +137,75 @@ fn out_of_range_options_are_refused_by_the_parser() {
         &["render", "--wind", "hurricane"],
         &["render", "--shape", "star"],
         &["render", "--blades", "0"],
+        &["render", "--orientation-threshold", "1.5"],
+        &["render", "--buckets", "0"],
+        &["render", "--lod-most", "12"],
+        &["render", "--view", "xray"],
+        &["bench", "--configs", "everything"],
+        &["bench", "--counts", "0"],
+        &["bench", "--camera", "drone"],
     ] {
         let o = grass(args);
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
         assert!(stderr.contains("error"), "{args:?}: {stderr}");
     }
+}
+
+#[test]
+fn bench_writes_one_csv_row_per_point() {
+    let dir = scratch("bench");
+    let csv = dir.join("bench.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let o = grass(&[
+        "bench",
+        "--counts",
+        "64,128",
+        "--configs",
+        "none,culls-lod",
+        "--frames",
+        "3",
+        "--warmup",
+        "1",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--out",
+        csv_arg,
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    if !o.status.success() && !gpu_required() && stderr.contains("device") {
+        eprintln!("skipped, no device: {stderr}");
+        return;
+    }
+    assert!(o.status.success(), "{stderr}");
+    let text = std::fs::read_to_string(&csv).expect("bench CSV");
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows.len(), 5, "header and 4 points: {text}");
+    assert!(rows[0].starts_with("device,scene,camera,width,height,frames,config,blades,drawn"));
+    let header: Vec<&str> = rows[0].split(',').collect();
+    for (row, (config, blades)) in rows[1..].iter().zip([
+        ("None", "64"),
+        ("CullsLod", "64"),
+        ("None", "128"),
+        ("CullsLod", "128"),
+    ]) {
+        // The device name comes first, quoted (it may hold commas).
+        let (device, rest) = row[1..].split_once("\",").expect("quoted device name");
+        let cells: Vec<&str> = [device].into_iter().chain(rest.split(',')).collect();
+        assert_eq!(cells.len(), header.len(), "{row}");
+        assert_eq!((cells[6], cells[7]), (config, blades), "{row}");
+        // Without culling every blade is drawn.
+        if config == "None" {
+            assert_eq!(cells[8], blades, "{row}");
+        }
+        for value in &cells[9..] {
+            let v: f64 = value.parse().unwrap_or_else(|_| panic!("{value} in {row}"));
+            assert!(v.is_finite() && v >= 0.0, "{row}");
+        }
+    }
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("simulate+cull ms"), "table: {stdout}");
 }

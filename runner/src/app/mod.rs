@@ -1,5 +1,6 @@
 //! The application shells: the window viewer and the headless renderer.
 
+pub mod bench;
 pub mod overlay;
 pub mod render;
 pub mod viewer;
@@ -21,6 +22,7 @@ pub const DEFAULT_BLADES_SOFTWARE: u32 = 2048;
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&cli.common, &args).map(|_| ()),
+        Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),
         Some(Command::View(args)) => viewer::run(&cli.common, &args),
         None => viewer::run(&cli.common, &cli.view),
     }
@@ -61,7 +63,13 @@ pub fn prepare(
         );
     }
     log::info!("scene {}: {} blades", scene.name, scene.blade_count());
-    let mut settings = Settings::for_scene(&scene);
+    let settings = settings(common, &scene);
+    Ok((scene, settings))
+}
+
+/// The settings the command line asks for, on `scene`.
+pub fn settings(common: &Common, scene: &Scene) -> Settings {
+    let mut settings = Settings::for_scene(scene);
     settings.env.wind_kind = common.wind.kind();
     settings.env.wind = wind_vector(common.wind_direction, common.wind_strength);
     settings.shape = common.shape.id();
@@ -86,7 +94,7 @@ pub fn prepare(
         settings.env.gravity_centre = c.extend(settings.env.gravity.w);
         settings.env.centre_blend = 1.0;
     }
-    Ok((scene, settings))
+    settings
 }
 
 /// (degrees around the vertical, strength) of a wind made by [`wind_vector`].

@@ -9,6 +9,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::layout::SimulatePush;
 use shared::simulate::SimClock;
+use std::sync::Arc;
 
 /// Colour format of the offscreen image (written to PNG as is).
 pub const FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -86,6 +87,53 @@ pub fn describe(c: &CullCounts) -> String {
     )
 }
 
+/// An offscreen colour target and the host-visible buffer its pixels are copied to.
+pub struct Offscreen {
+    /// The colour image.
+    pub color: Image,
+    /// Receives the pixels of a frame that asks for them.
+    pub capture: Buffer,
+}
+
+impl Offscreen {
+    /// A `width` × `height` target in [`FORMAT`].
+    pub fn new(ctx: &Arc<Context>, width: u32, height: u32) -> Result<Self> {
+        let extent = vk::Extent2D { width, height };
+        let color = Image::new(
+            ctx,
+            "offscreen colour",
+            extent,
+            FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+        )?;
+        let capture = Buffer::new(
+            ctx,
+            "capture",
+            u64::from(width) * u64::from(height) * 4,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(Self { color, capture })
+    }
+
+    /// The frame target (left ready for the capture copy).
+    pub fn target(&self) -> Target {
+        Target {
+            image: self.color.image,
+            view: self.color.view,
+            extent: self.color.extent,
+            final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        }
+    }
+
+    /// RGBA8 pixels of the last frame that asked for a capture (wait for it first).
+    pub fn pixels(&self) -> Result<Vec<u8>> {
+        let e = self.color.extent;
+        self.capture.read::<u8>((e.width * e.height * 4) as usize)
+    }
+}
+
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     let file = common.scene_kind().read()?;
@@ -101,32 +149,8 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     camera.pitch = args.pitch.map_or(camera.pitch, f32::to_radians);
     let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
 
-    let extent = vk::Extent2D {
-        width: args.width,
-        height: args.height,
-    };
-    let color = Image::new(
-        &ctx,
-        "offscreen colour",
-        extent,
-        FORMAT,
-        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-        vk::ImageAspectFlags::COLOR,
-    )?;
-    let bytes = u64::from(args.width) * u64::from(args.height) * 4;
-    let capture = Buffer::new(
-        &ctx,
-        "capture",
-        bytes,
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-    )?;
-    let target = Target {
-        image: color.image,
-        view: color.view,
-        extent,
-        final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-    };
+    let offscreen = Offscreen::new(&ctx, args.width, args.height)?;
+    let target = offscreen.target();
     let aspect = args.width as f32 / args.height as f32;
     let mut clock = SimClock::default();
     let progress_every = (args.frames / 10).max(1);
@@ -154,7 +178,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
                 push,
                 wait: None,
                 signal: None,
-                capture: last.then_some(&capture),
+                capture: last.then_some(&offscreen.capture),
                 overlay: None,
             },
         )?;
@@ -164,7 +188,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     }
     renderer.finish()?;
     Ok(RenderReport {
-        pixels: capture.read::<u8>(bytes as usize)?,
+        pixels: offscreen.pixels()?,
         visible: renderer.visible().unwrap_or(0),
         counts: renderer.counts.unwrap_or_default(),
         times: renderer.times,

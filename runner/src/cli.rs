@@ -59,7 +59,8 @@ pub struct BenchArgs {
     /// Frames run before measuring each point.
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     pub warmup: u32,
-    /// CSV file of the results.
+    /// CSV file of the results; the charts (`_frame`, `_passes`, `_configs`) and the
+    /// preset's picture (`.view.png`) are written next to it.
     #[arg(long, default_value = "bench.csv")]
     pub out: PathBuf,
 }

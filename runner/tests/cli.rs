@@ -208,4 +208,16 @@ fn bench_writes_one_csv_row_per_point() {
     }
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("simulate+cull ms"), "table: {stdout}");
+    // The charts and the preset's picture, as PNG files of their stated sizes.
+    for (name, size) in [
+        ("bench_frame.png", (1000, 640)),
+        ("bench_passes.png", (1000, 640)),
+        ("bench_configs.png", (1000, 640)),
+        ("bench.view.png", (32, 32)),
+    ] {
+        let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{name} is not a PNG");
+        let dim = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+        assert_eq!((dim(16), dim(20)), size, "{name}: size");
+    }
 }

@@ -166,14 +166,18 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let mut settings = base;
             configure(&mut settings, config);
             let uniforms = settings.uniforms(&camera, aspect, &scene, &[]);
-            points.push(measure(
+            // The last frame of the last point is kept: the preset's picture.
+            let capture = points.len() + 1 == total;
+            let point = measure(
                 &mut renderer,
                 &offscreen,
                 uniforms,
                 args,
                 config,
                 n,
-            )?);
+                capture,
+            )?;
+            points.push(point);
         }
     }
     progress.done(total);
@@ -182,6 +186,18 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     write_csv(&args.out, &device, common, args, &points)
         .with_context(|| format!("write {}", args.out.display()))?;
     log::info!("wrote {}", args.out.display());
+    let title = format!(
+        "{device}, {}x{}, camera {:?}",
+        args.width, args.height, args.camera
+    );
+    let charts = super::charts::write(&args.out, &title, &points).context("draw the charts")?;
+    let view = args.out.with_extension("view.png");
+    let (w, h) = (args.width, args.height);
+    image::save_buffer(&view, &offscreen.pixels()?, w, h, image::ColorType::Rgba8)
+        .with_context(|| format!("write {}", view.display()))?;
+    for path in charts.iter().chain([&view]) {
+        log::info!("wrote {}", path.display());
+    }
     Ok(points)
 }
 
@@ -193,13 +209,15 @@ fn measure(
     args: &BenchArgs,
     config: BenchConfig,
     blades: u32,
+    capture: bool,
 ) -> Result<Point> {
     let mut clock = SimClock::default();
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
     let mut last = Instant::now();
     let slots = crate::renderer::FRAMES_IN_FLIGHT as u32;
     // Each slot's read-back is of its previous frame: skip those of the warm-up.
-    for frame in 0..args.warmup + args.frames + slots {
+    let frames = args.warmup + args.frames + slots;
+    for frame in 0..frames {
         let slot = renderer.begin_frame()?;
         let now = Instant::now();
         if frame >= args.warmup + slots {
@@ -215,7 +233,7 @@ fn measure(
             push: SimulatePush { first_step, steps },
             wait: None,
             signal: None,
-            capture: None,
+            capture: (capture && frame + 1 == frames).then_some(&offscreen.capture),
             overlay: None,
         };
         renderer.render(slot, input)?;

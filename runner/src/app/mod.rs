@@ -1,6 +1,7 @@
 //! The application shells: the window viewer and the headless renderer.
 
 pub mod bench;
+pub mod charts;
 pub mod overlay;
 pub mod render;
 pub mod viewer;

@@ -9,7 +9,9 @@ use anyhow::{Result, bail};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
-use shared::layout::{self, ChunkPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush};
+use shared::layout::{
+    self, ChunkPush, CopyPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush,
+};
 use shared::lod::blades_per_chunk;
 use std::sync::Arc;
 
@@ -54,7 +56,7 @@ pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
     max(
         max(
             max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
-            size_of::<HiZPush>(),
+            max(size_of::<HiZPush>(), size_of::<CopyPush>()),
         ),
         size_of::<SurfacePush>(),
     ) as u32,

@@ -253,6 +253,35 @@ impl Renderer {
         self.occlusion.hiz
     }
 
+    /// Bandwidth reference: GB/s of the copy shader moving every blade (64 bytes read,
+    /// 64 written), the best of `repeats` timed dispatches; `None` without timestamps.
+    /// Overwrites the visible buffer, which the next frame rewrites.
+    pub fn copy_bandwidth(&mut self, repeats: u32) -> Result<Option<f64>> {
+        self.ctx.wait_idle()?;
+        let Some(stamps) = TimestampPool::new(&self.ctx, 2 * repeats.max(1))? else {
+            return Ok(None);
+        };
+        self.pool.one_shot(|rec| {
+            rec.reset_queries(stamps.pool, 0, stamps.count);
+            for r in 0..stamps.count / 2 {
+                rec.write_timestamp(stamps.pool, 2 * r, S::ALL_COMMANDS);
+                self.simulate.record_copy(rec, &self.field);
+                rec.write_timestamp(stamps.pool, 2 * r + 1, S::ALL_COMMANDS);
+                rec.memory_barrier(
+                    (S::COMPUTE_SHADER, A::SHADER_WRITE),
+                    (S::COMPUTE_SHADER, A::SHADER_WRITE),
+                );
+            }
+        })?;
+        let ms = stamps.read_all_ms().context("copy timestamps")?;
+        let best = ms
+            .chunks(2)
+            .map(|pair| pair[1] - pair[0])
+            .fold(f64::MAX, f64::min);
+        let bytes = 2.0 * 64.0 * f64::from(self.field.blade_count);
+        Ok(Some(bytes / (best * 1e-3) / 1e9))
+    }
+
     /// Visible blades in the newest frame read back.
     pub fn visible(&self) -> Option<u32> {
         self.counts.map(|c| c.drawn)

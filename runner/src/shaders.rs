@@ -5,6 +5,8 @@ pub const SPIRV: &[u8] = include_bytes!(env!("GRASS_SPIRV"));
 
 /// Compute: simulate, cull and compact.
 pub const SIMULATE_CULL: &str = "compute::simulate_cull";
+/// Compute: the bandwidth reference, a plain copy of every blade.
+pub const COPY_BLADES: &str = "compute::copy_blades";
 /// Compute: one level of the occluders' depth pyramid.
 pub const BUILD_HIZ: &str = "compute::build_hiz";
 /// Compute: one indirect draw command per chunk of visible blades.

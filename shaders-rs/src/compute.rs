@@ -6,8 +6,8 @@ use shared::Blade;
 use shared::cull::{KEPT, cull_outcome};
 use shared::hiz::{level_size, reduce};
 use shared::layout::{
-    CHUNK_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_VISIBLE, ChunkPush, FrameUniforms,
-    HiZPush, SIMULATE_WORKGROUP, SimulatePush, flat_index,
+    CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_VISIBLE, ChunkPush,
+    CopyPush, FrameUniforms, HiZPush, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
 use shared::lod::chunk_range;
 use shared::simulate::simulate;
@@ -121,6 +121,22 @@ pub fn build_hiz(
     }
     let value = reduce(pyramid, hiz, push.level, id.x, id.y);
     pyramid[(hiz.offset(push.level) + id.y * w + id.x) as usize] = value;
+}
+
+/// The benchmark's bandwidth reference: one thread per blade copies it from the blade
+/// buffer to the visible buffer (64 bytes read, 64 written) and does nothing else.
+#[spirv(compute(threads(256)))]
+pub fn copy_blades(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(push_constant)] push: &CopyPush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Blade],
+) {
+    let i = flat_index(id, workgroups, COPY_WORKGROUP);
+    if i < push.count {
+        visible[i as usize] = blades[i as usize];
+    }
 }
 
 /// One thread per chunk: the draw command of its slice of the visible blades.

@@ -11,6 +11,8 @@ use spirv_std::glam::{Mat4, UVec3, UVec4, Vec3, Vec4};
 pub const SIMULATE_WORKGROUP: u32 = 64;
 /// Threads per workgroup of the pass writing one draw command per chunk.
 pub const CHUNK_WORKGROUP: u32 = 64;
+/// Threads per workgroup of the bandwidth reference (a plain copy of the blades).
+pub const COPY_WORKGROUP: u32 = 256;
 /// Threads per workgroup (8 × 8) of the depth-pyramid reduction.
 pub const HIZ_WORKGROUP: u32 = 8;
 
@@ -188,6 +190,14 @@ pub struct SurfaceVertex {
 pub struct SurfacePush {
     /// Model to world.
     pub model: Mat4,
+}
+
+/// Push constants of the bandwidth reference: blades to copy.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CopyPush {
+    /// Number of blades.
+    pub count: u32,
 }
 
 /// Push constants of the chunk pass: how the visible blades split into draws.

@@ -104,6 +104,7 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::GROUND_VS, ExecutionModel::Vertex),
         (shaders::GROUND_FS, ExecutionModel::Fragment),
         (shaders::BUILD_HIZ, ExecutionModel::GLCompute),
+        (shaders::COPY_BLADES, ExecutionModel::GLCompute),
         (shaders::OVERLAY_VS, ExecutionModel::Vertex),
         (shaders::OVERLAY_FS, ExecutionModel::Fragment),
     ];
@@ -257,6 +258,7 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                         n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
                         n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
                         n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
+                        n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                         n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
                         _ => panic!("{name} has push constants the runner does not push"),
                     };
@@ -276,6 +278,7 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::SIMULATE_CULL, layout::SIMULATE_WORKGROUP),
         (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
+        (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
     ] {
         let function = entries[name].2;
         let local_size = m

@@ -143,6 +143,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     let offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let aspect = args.width as f32 / args.height as f32;
     let mut points = Vec::new();
+    let mut reference = None;
     let progress = Progress::new(total);
     for &n in &counts {
         // The file was checked before the device opened; read again for each count.
@@ -179,10 +180,16 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             )?;
             points.push(point);
         }
+        if Some(&n) == counts.last() {
+            reference = renderer.copy_bandwidth(10)?.map(|gbs| (n, gbs));
+        }
     }
     progress.done(total);
     let device = ctx.device_name();
     print_table(&device, args, &points);
+    if let Some((n, gbs)) = reference {
+        print_bandwidth(n, gbs, &points);
+    }
     write_csv(&args.out, &device, common, args, &points)
         .with_context(|| format!("write {}", args.out.display()))?;
     log::info!("wrote {}", args.out.display());
@@ -286,6 +293,30 @@ impl Progress {
     }
 }
 
+/// Bytes the simulate-and-cull pass moves for `blades` blades of which `drawn` survive:
+/// each blade and its collision strength read and written (2 × 68 bytes), each
+/// survivor written once more (64 bytes).
+pub fn compute_bytes(blades: u32, drawn: f64) -> f64 {
+    2.0 * 68.0 * f64::from(blades) + 64.0 * drawn
+}
+
+/// The compute pass's bandwidth at `blades` against the copy shader's `reference`.
+fn print_bandwidth(blades: u32, reference: f64, points: &[Point]) {
+    let line = format!(
+        "bandwidth reference: the copy shader moves {reference:.0} GB/s over {blades} blades"
+    );
+    println!("{line}");
+    log::info!("{line}");
+    for p in points.iter().filter(|p| p.blades == blades) {
+        let gbs = compute_bytes(blades, p.drawn) / (p.simulate_cull.median * 1e-3) / 1e9;
+        println!(
+            "  {:<20} simulate+cull {gbs:>7.0} GB/s, {:>5.1} % of the reference",
+            format!("{:?}", p.config),
+            100.0 * gbs / reference
+        );
+    }
+}
+
 fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
     println!(
         "{device}, {}x{}, camera {:?}, {} frames per point (median, p95 in brackets)",
@@ -356,6 +387,12 @@ fn write_csv(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn compute_bytes_by_hand() {
+        // 1,000 blades × 136 bytes + 500 survivors × 64 bytes.
+        assert_eq!(compute_bytes(1000, 500.0), 136_000.0 + 32_000.0);
+    }
 
     #[test]
     fn percentiles_by_nearest_rank() {

@@ -7,7 +7,9 @@ use crate::vulkan::pipeline::{Pipeline, ShaderModule};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::layout::{CHUNK_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SimulatePush};
+use shared::layout::{
+    CHUNK_WORKGROUP, COPY_WORKGROUP, ChunkPush, CopyPush, SIMULATE_WORKGROUP, SimulatePush,
+};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -18,6 +20,7 @@ pub struct SimulatePass {
     ctx: Arc<Context>,
     simulate: Pipeline,
     write_draws: Pipeline,
+    copy: Pipeline,
 }
 
 impl SimulatePass {
@@ -27,6 +30,7 @@ impl SimulatePass {
             ctx: ctx.clone(),
             simulate: Pipeline::compute(ctx, &field.layout, module, shaders::SIMULATE_CULL)?,
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
+            copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
         })
     }
 
@@ -35,6 +39,23 @@ impl SimulatePass {
         let groups = items.div_ceil(size).max(1);
         let x = groups.min(self.ctx.properties.limits.max_compute_work_group_count[0]);
         (x, groups.div_ceil(x))
+    }
+
+    /// Records the bandwidth reference: every blade copied into the visible buffer
+    /// (which the next frame overwrites).
+    pub fn record_copy(&self, rec: &Recorder, field: &Field) {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        rec.bind_pipeline(
+            vk::PipelineBindPoint::COMPUTE,
+            self.copy.pipeline,
+            layout,
+            set,
+        );
+        let push = CopyPush {
+            count: field.blade_count,
+        };
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        rec.dispatch(self.workgroups(field.blade_count, COPY_WORKGROUP));
     }
 
     /// Records the pass. The counter reset and the uniform update must come before,

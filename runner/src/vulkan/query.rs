@@ -32,6 +32,13 @@ impl TimestampPool {
         }))
     }
 
+    /// Milliseconds from the first timestamp to each timestamp (0 for the first), when
+    /// all are available.
+    pub fn read_all_ms(&self) -> Option<Vec<f64>> {
+        let rest = self.read_ms()?;
+        Some(std::iter::once(0.0).chain(rest).collect())
+    }
+
     /// Milliseconds from the first timestamp to each of the others, when all are
     /// available (no waiting: call once the frame's fence has signalled).
     pub fn read_ms(&self) -> Option<Vec<f64>> {

@@ -12,7 +12,7 @@ use shared::layout::{
 use shared::lod::chunk_range;
 use shared::simulate::simulate;
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
-use spirv_std::glam::UVec3;
+use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::indirect_command::DrawIndirectCommand;
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
@@ -123,15 +123,16 @@ pub fn build_hiz(
     pyramid[(hiz.offset(push.level) + id.y * w + id.x) as usize] = value;
 }
 
-/// The benchmark's bandwidth reference: one thread per blade copies it from the blade
-/// buffer to the visible buffer (64 bytes read, 64 written) and does nothing else.
+/// The benchmark's bandwidth reference: the blade buffer copied into the visible
+/// buffer, one `vec4` (16 bytes) per thread, so neighbouring threads touch
+/// neighbouring bytes; nothing else.
 #[spirv(compute(threads(256)))]
 pub fn copy_blades(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(push_constant)] push: &CopyPush,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Vec4],
 ) {
     let i = flat_index(id, workgroups, COPY_WORKGROUP);
     if i < push.count {

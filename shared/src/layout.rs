@@ -192,11 +192,11 @@ pub struct SurfacePush {
     pub model: Mat4,
 }
 
-/// Push constants of the bandwidth reference: blades to copy.
+/// Push constants of the bandwidth reference: `vec4`s to copy (4 per blade).
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CopyPush {
-    /// Number of blades.
+    /// Number of `vec4`.
     pub count: u32,
 }
 

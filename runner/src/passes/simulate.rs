@@ -51,11 +51,12 @@ impl SimulatePass {
             layout,
             set,
         );
+        // Four vec4 per blade.
         let push = CopyPush {
-            count: field.blade_count,
+            count: field.blade_count * 4,
         };
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        rec.dispatch(self.workgroups(field.blade_count, COPY_WORKGROUP));
+        rec.dispatch(self.workgroups(push.count, COPY_WORKGROUP));
     }
 
     /// Records the pass. The counter reset and the uniform update must come before,

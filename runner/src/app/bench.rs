@@ -8,7 +8,7 @@ use crate::cli::{BenchArgs, BenchConfig, CameraPreset, Common};
 use crate::field::Field;
 use crate::renderer::{FrameInput, PassTimes, Renderer};
 use crate::scene::{BladeCount, Scene, Settings};
-use crate::vulkan::{Context, ContextOptions};
+use crate::vulkan::Context;
 use anyhow::{Context as _, Result};
 use glam::Vec3;
 use shared::layout::SimulatePush;
@@ -125,11 +125,7 @@ fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
 
 /// Runs the sweep, prints the table and writes the CSV.
 pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
-    let file = common.scene_kind().read()?;
-    let ctx = Context::new(ContextOptions {
-        validation: common.validation_requested(),
-        ..Default::default()
-    })?;
+    let (file, ctx) = super::open_headless(common)?;
     let counts = counts(common, args, &ctx);
     for &n in &counts {
         Field::check_limits(&ctx, u64::from(n))?;

@@ -29,6 +29,17 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// The scene file (read and checked first, so a bad file fails without a GPU), then a
+/// headless context: how `render` and `bench` start.
+pub fn open_headless(common: &Common) -> Result<(Option<SceneFile>, std::sync::Arc<Context>)> {
+    let file = common.scene_kind().read()?;
+    let ctx = Context::new(crate::vulkan::ContextOptions {
+        validation: common.validation_requested(),
+        ..Default::default()
+    })?;
+    Ok((file, ctx))
+}
+
 /// The blade count asked for, or the default for this device.
 pub fn blade_count(common: &Common, ctx: &Context) -> BladeCount {
     match common.blade_count() {

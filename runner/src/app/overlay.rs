@@ -23,8 +23,6 @@ pub struct Readings {
     pub counts: Option<CullCounts>,
     /// The newest pass times read back.
     pub times: Option<PassTimes>,
-    /// The device's name.
-    pub device: String,
     /// The scene has surfaces that can hide grass.
     pub occluders: bool,
 }
@@ -46,11 +44,13 @@ pub struct Overlay {
     /// Shown (toggled with O).
     pub visible: bool,
     frame_ms: VecDeque<f32>,
+    /// The device's name, shown with the frame rate.
+    device: String,
 }
 
 impl Overlay {
-    /// The overlay of `window`, shown.
-    pub fn new(window: &Window) -> Self {
+    /// The overlay of `window` drawn by `device` (its name), shown.
+    pub fn new(window: &Window, device: String) -> Self {
         let ctx = egui::Context::default();
         let state = egui_winit::State::new(
             ctx.clone(),
@@ -65,6 +65,7 @@ impl Overlay {
             state,
             visible: true,
             frame_ms: VecDeque::with_capacity(HISTORY),
+            device,
         }
     }
 
@@ -101,13 +102,13 @@ impl Overlay {
             return None;
         }
         let input = self.state.take_egui_input(window);
-        let frame_ms: Vec<f32> = self.frame_ms.iter().copied().collect();
+        let frame_ms: &[f32] = self.frame_ms.make_contiguous();
         let output = self.ctx.run_pass(input, |ctx| {
             egui::Window::new("grass")
                 .default_pos([12.0, 12.0])
                 .default_width(300.0)
                 .show(ctx, |ui| {
-                    performance(ui, readings, &frame_ms);
+                    performance(ui, readings, &self.device, frame_ms);
                     counts(ui, readings);
                     controls(ui, settings, ball_on);
                 });
@@ -125,9 +126,9 @@ impl Overlay {
 }
 
 /// FPS, the frame-time graph and GPU time per pass.
-fn performance(ui: &mut egui::Ui, r: &Readings, frame_ms: &[f32]) {
+fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) {
     let last = frame_ms.last().copied().unwrap_or(0.0);
-    ui.label(format!("{:.1} fps, {last:.2} ms ({})", r.fps, r.device));
+    ui.label(format!("{:.1} fps, {last:.2} ms ({device})", r.fps));
     let top = frame_ms.iter().copied().fold(1000.0 / 30.0, f32::max);
     let (response, painter) =
         ui.allocate_painter(egui::vec2(ui.available_width(), 60.0), egui::Sense::hover());

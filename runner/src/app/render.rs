@@ -3,7 +3,7 @@
 use crate::cli::{Common, RenderArgs};
 use crate::collider::{Ball, drop_onto};
 use crate::renderer::{CullCounts, FrameInput, PassTimes, Renderer, Target};
-use crate::vulkan::{Buffer, Context, ContextOptions, Image};
+use crate::vulkan::{Buffer, Context, Image};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -136,11 +136,7 @@ impl Offscreen {
 
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
-    let file = common.scene_kind().read()?;
-    let ctx = Context::new(ContextOptions {
-        validation: common.validation_requested(),
-        ..Default::default()
-    })?;
+    let (file, ctx) = super::open_headless(common)?;
     let (scene, settings) = super::prepare(common, &ctx, file)?;
     let count = scene.blade_count();
     let mut camera = scene.camera();

@@ -142,7 +142,7 @@ impl Running {
         let swapchain = Swapchain::new(&ctx, (size.width, size.height), None)?;
         let mut renderer = Renderer::new(&ctx, &scene, swapchain.format)?;
         renderer.enable_overlay()?;
-        let overlay = Overlay::new(&window);
+        let overlay = Overlay::new(&window, ctx.device_name());
         log::info!("{CONTROLS}");
         // The ball starts at the path's start, else in front of the camera's target.
         let start = common
@@ -216,7 +216,6 @@ impl Running {
             blades: self.renderer.field.blade_count,
             counts: self.renderer.counts,
             times: self.renderer.times,
-            device: self.ctx.device_name(),
             occluders: self.renderer.has_occluders,
         };
         let painted = self.overlay.run(

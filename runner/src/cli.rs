@@ -226,12 +226,10 @@ pub struct CullArgs {
     /// LOD: tessellation level far away (1 to 9).
     #[arg(long, global = true, default_value_t = 1.0, value_parser = range(1.0, shared::lod::MAX_LEVEL))]
     pub lod_fewest: f32,
-    /// LOD: full detail up to this distance.
-    #[arg(long, global = true, default_value_t = 6.0, value_parser = range(0.0, 1e6))]
-    pub lod_near: f32,
-    /// LOD: fewest segments from this distance on [default: from the scene's size].
-    #[arg(long, global = true, value_parser = range(0.1, 1e6))]
-    pub lod_far: Option<f32>,
+    /// LOD: screen pixels per segment along a blade (a blade this tall or shorter is
+    /// one segment).
+    #[arg(long, global = true, default_value_t = shared::lod::PIXELS_PER_SEGMENT, value_parser = range(1.0, 1e4))]
+    pub lod_pixels: f32,
     /// How the grass is drawn.
     #[arg(long, global = true, value_enum, default_value_t = View::Shaded)]
     pub view: View,

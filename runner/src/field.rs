@@ -10,7 +10,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
 use shared::layout::{
-    self, ChunkPush, CopyPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush,
+    self, ChunkPush, CopyPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush, ThroughputPush,
 };
 use shared::lod::blades_per_chunk;
 use std::sync::Arc;
@@ -25,30 +25,46 @@ const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
 );
 
 const fn storage(binding: u32) -> BindingSpec {
+    storage_in(binding, vk::ShaderStageFlags::empty())
+}
+
+/// A storage buffer read by the compute passes and the `graphics` stages.
+const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec {
     BindingSpec {
         binding,
         ty: vk::DescriptorType::STORAGE_BUFFER,
-        stages: vk::ShaderStageFlags::COMPUTE,
+        stages: vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::COMPUTE.as_raw() | graphics.as_raw(),
+        ),
     }
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 7] = [
+pub const BINDINGS: [BindingSpec; 8] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::UNIFORM_BUFFER,
         stages: UNIFORM_STAGES,
     },
-    storage(layout::BINDING_BLADES),
-    storage(layout::BINDING_VISIBLE),
+    // The grass draw's tessellation stages read the blades through their index.
+    storage_in(
+        layout::BINDING_BLADES,
+        vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+                | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
+        ),
+    ),
+    storage_in(layout::BINDING_VISIBLE, vk::ShaderStageFlags::VERTEX),
     storage(layout::BINDING_COUNTERS),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),
+    storage(layout::BINDING_SCRATCH),
 ];
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
-/// blocks and the surface draw's model matrix, so every push names these stages.
+/// blocks, the surface draw's model matrix and the throughput reference's grid, so every
+/// push names these stages.
 pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
     vk::ShaderStageFlags::from_raw(
         vk::ShaderStageFlags::COMPUTE.as_raw() | vk::ShaderStageFlags::VERTEX.as_raw(),
@@ -58,7 +74,7 @@ pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
             max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
             max(size_of::<HiZPush>(), size_of::<CopyPush>()),
         ),
-        size_of::<SurfacePush>(),
+        max(size_of::<SurfacePush>(), size_of::<ThroughputPush>()),
     ) as u32,
 );
 
@@ -78,7 +94,8 @@ pub struct Field {
     pub blades: Buffer,
     /// Collision strength η per blade, simulated in place.
     pub strengths: Buffer,
-    /// This frame's visible blades, compacted; the grass draw's vertex buffer.
+    /// This frame's visible blades' indices (`u32`), compacted; read by the grass
+    /// draw's vertex stage.
     pub visible: Buffer,
     /// The counters (`layout::COUNTER_*`).
     pub counters: Buffer,
@@ -126,7 +143,6 @@ impl Field {
     pub fn new(ctx: &Arc<Context>, pool: &CommandPool, blades: &[Blade]) -> Result<Self> {
         Self::check_limits(ctx, blades.len() as u64)?;
         let count = blades.len() as u32;
-        let bytes = blades.len() as u64 * size_of::<Blade>() as u64;
         let chunk_size = blades_per_chunk();
         let chunk_count = count.div_ceil(chunk_size);
 
@@ -147,8 +163,8 @@ impl Field {
         )?;
         let visible = device_buffer(
             "visible",
-            bytes,
-            U::STORAGE_BUFFER | U::VERTEX_BUFFER | U::TRANSFER_SRC,
+            u64::from(count) * 4,
+            U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
         let counters = device_buffer(
             "counters",
@@ -181,6 +197,8 @@ impl Field {
             &draws,
             &strengths,
             &pyramid,
+            // The bandwidth reference binds its own while it runs.
+            &visible,
         ];
         for (spec, buffer) in BINDINGS.iter().zip(bound) {
             descriptors.write_buffer(spec.binding, spec.ty, buffer.buffer);

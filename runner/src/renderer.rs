@@ -11,11 +11,12 @@ use crate::passes::ground::GroundPass;
 use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::simulate::SimulatePass;
+use crate::passes::throughput::ThroughputPass;
 use crate::scene::{Scene, builtin};
 use crate::shaders;
 use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use crate::vulkan::pipeline::ShaderModule;
-use crate::vulkan::query::TimestampPool;
+use crate::vulkan::query::{TimestampPool, TrianglePool};
 use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
@@ -154,6 +155,7 @@ pub struct FrameSlot {
     image_available: Semaphore,
     counters: Buffer,
     timestamps: Option<TimestampPool>,
+    triangles: Option<TrianglePool>,
     submitted: bool,
 }
 
@@ -177,6 +179,9 @@ pub struct Renderer {
     pub counts: Option<CullCounts>,
     /// The pass times of the newest frame whose timestamps were read back.
     pub times: Option<PassTimes>,
+    /// The triangles the grass draw generated in the newest frame read back (pipeline
+    /// statistics, where the device has them).
+    pub triangles: Option<u64>,
     pool: CommandPool,
     module: ShaderModule,
 }
@@ -213,6 +218,7 @@ impl Renderer {
                         MemoryLocation::GpuToCpu,
                     )?,
                     timestamps: TimestampPool::new(ctx, TIMESTAMPS)?,
+                    triangles: TrianglePool::new(ctx)?,
                     submitted: false,
                 })
             })
@@ -232,6 +238,7 @@ impl Renderer {
             depth: None,
             counts: None,
             times: None,
+            triangles: None,
             pool,
             module,
         })
@@ -254,9 +261,85 @@ impl Renderer {
     }
 
     /// Bandwidth reference: GB/s of the copy shader moving every blade (64 bytes read,
-    /// 64 written), the best of `repeats` timed dispatches; `None` without timestamps.
-    /// Overwrites the visible buffer, which the next frame rewrites.
+    /// 64 written) into a scratch buffer made for it, the best of `repeats` timed
+    /// dispatches; `None` without timestamps.
     pub fn copy_bandwidth(&mut self, repeats: u32) -> Result<Option<f64>> {
+        let bytes = u64::from(self.field.blade_count) * size_of::<shared::Blade>() as u64;
+        let scratch = Buffer::new(
+            &self.ctx,
+            "copy reference",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let descriptors = &self.field.descriptors;
+        self.ctx.wait_idle()?;
+        descriptors.write_buffer(layout::BINDING_SCRATCH, storage, scratch.buffer);
+        let best = self.best_time(repeats, |rec| self.simulate.record_copy(rec, &self.field));
+        // Back to the placeholder before the scratch buffer goes.
+        self.ctx.wait_idle()?;
+        descriptors.write_buffer(layout::BINDING_SCRATCH, storage, self.field.visible.buffer);
+        Ok(best?.map(|ms| 2.0 * bytes as f64 / (ms * 1e-3) / 1e9))
+    }
+
+    /// Triangle-throughput reference: milliseconds to draw `patches` trivially shaded
+    /// one-vertex patches at tessellation `level` into `target` (depth tested, on a
+    /// grid of small cells), the best of `repeats`, and the triangles generated
+    /// (pipeline statistics, where the device has them); `None` without timestamps.
+    /// The patches are drawn in chunks of the grass draw's size.
+    pub fn triangle_throughput(
+        &mut self,
+        target: &Target,
+        patches: u32,
+        level: f32,
+        repeats: u32,
+    ) -> Result<Option<(f64, Option<u64>)>> {
+        self.ensure_depth(target.extent)?;
+        let pass = ThroughputPass::new(&self.ctx, &self.module, &self.field, self.color_format)?;
+        let depth = self.depth.as_ref().context("depth image")?;
+        let push = shared::reference::push(level, target.extent.width, target.extent.height);
+        let attachments = (
+            S::COLOR_ATTACHMENT_OUTPUT | S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+            A::COLOR_ATTACHMENT_WRITE | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        );
+        let layouts = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
+        let depth_layouts = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+        );
+        let triangles = TrianglePool::new(&self.ctx)?;
+        let best = self.best_time(repeats, |rec| {
+            let color = vk::ImageAspectFlags::COLOR;
+            rec.image_barrier(target.image, color, layouts, attachments, attachments);
+            let aspect = vk::ImageAspectFlags::DEPTH;
+            rec.image_barrier(depth.image, aspect, depth_layouts, attachments, attachments);
+            if let Some(t) = &triangles {
+                rec.reset_queries(t.pool, 0, 1);
+            }
+            rec.begin_rendering(
+                Some((target.view, Some(SKY))),
+                Some(depth.view),
+                target.extent,
+            );
+            if let Some(t) = &triangles {
+                rec.begin_query(t.pool);
+            }
+            pass.record(rec, &self.field, push, patches, self.field.chunk_size);
+            if let Some(t) = &triangles {
+                rec.end_query(t.pool);
+            }
+            rec.end_rendering();
+        })?;
+        Ok(best.map(|ms| (ms, triangles.as_ref().and_then(TrianglePool::read))))
+    }
+
+    /// The shortest of `repeats` timed runs of `record`, in milliseconds, each after
+    /// the previous one's writes; `None` without timestamps.
+    fn best_time(&self, repeats: u32, record: impl Fn(&Recorder)) -> Result<Option<f64>> {
         self.ctx.wait_idle()?;
         let Some(stamps) = TimestampPool::new(&self.ctx, 2 * repeats.max(1))? else {
             return Ok(None);
@@ -265,21 +348,20 @@ impl Renderer {
             rec.reset_queries(stamps.pool, 0, stamps.count);
             for r in 0..stamps.count / 2 {
                 rec.write_timestamp(stamps.pool, 2 * r, S::ALL_COMMANDS);
-                self.simulate.record_copy(rec, &self.field);
+                record(rec);
                 rec.write_timestamp(stamps.pool, 2 * r + 1, S::ALL_COMMANDS);
                 rec.memory_barrier(
-                    (S::COMPUTE_SHADER, A::SHADER_WRITE),
-                    (S::COMPUTE_SHADER, A::SHADER_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
                 );
             }
         })?;
-        let ms = stamps.read_all_ms().context("copy timestamps")?;
+        let ms = stamps.read_all_ms().context("reference timestamps")?;
         let best = ms
             .chunks(2)
             .map(|pair| pair[1] - pair[0])
             .fold(f64::MAX, f64::min);
-        let bytes = 2.0 * 64.0 * f64::from(self.field.blade_count);
-        Ok(Some(bytes / (best * 1e-3) / 1e9))
+        Ok(Some(best))
     }
 
     /// Visible blades in the newest frame read back.
@@ -304,6 +386,7 @@ impl Renderer {
             if let Some(marks) = slot.timestamps.as_ref().and_then(TimestampPool::read_ms) {
                 self.times = Some(PassTimes::from_marks(&marks));
             }
+            self.triangles = slot.triangles.as_ref().and_then(TrianglePool::read);
         }
         Ok(())
     }
@@ -358,6 +441,10 @@ impl Renderer {
         if let Some(pool) = stamps {
             rec.reset_queries(pool, 0, TIMESTAMPS);
         }
+        let triangles = self.slots[slot].triangles.as_ref().map(|t| t.pool);
+        if let Some(pool) = triangles {
+            rec.reset_queries(pool, 0, 1);
+        }
         stamp(0);
         self.begin_compute(&rec, &uniforms);
         if occlusion {
@@ -368,7 +455,7 @@ impl Renderer {
         stamp(1);
         self.record_compute(&rec, slot, input.push);
         stamp(2);
-        self.record_draw(&rec, &target, &uniforms, &stamp);
+        self.record_draw(&rec, &target, &uniforms, &stamp, triangles);
         stamp(4);
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             rec.memory_barrier(
@@ -465,13 +552,15 @@ impl Renderer {
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 
-    /// Ground, then grass, into the target; `stamp(3)` between them.
+    /// Ground, then grass, into the target; `stamp(3)` between them, the grass's
+    /// triangles counted into `triangles`.
     fn record_draw(
         &self,
         rec: &Recorder,
         target: &Target,
         uniforms: &FrameUniforms,
         stamp: &dyn Fn(u32),
+        triangles: Option<vk::QueryPool>,
     ) {
         let depth = self
             .depth
@@ -507,7 +596,13 @@ impl Renderer {
         let balls = &uniforms.colliders[..used];
         self.ground.record(rec, &self.field, balls);
         stamp(3);
+        if let Some(pool) = triangles {
+            rec.begin_query(pool);
+        }
         self.grass.record(rec, &self.field, uniforms.modes.y);
+        if let Some(pool) = triangles {
+            rec.end_query(pool);
+        }
         rec.end_rendering();
     }
 

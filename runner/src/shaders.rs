@@ -27,3 +27,11 @@ pub const GROUND_FS: &str = "ground::ground_fs";
 pub const OVERLAY_VS: &str = "overlay::overlay_vs";
 /// Overlay fragment stage.
 pub const OVERLAY_FS: &str = "overlay::overlay_fs";
+/// Triangle-throughput reference, vertex stage.
+pub const THROUGHPUT_VS: &str = "throughput::throughput_vs";
+/// Triangle-throughput reference, tessellation control stage.
+pub const THROUGHPUT_TCS: &str = "throughput::throughput_tcs";
+/// Triangle-throughput reference, tessellation evaluation stage.
+pub const THROUGHPUT_TES: &str = "throughput::throughput_tes";
+/// Triangle-throughput reference, fragment stage.
+pub const THROUGHPUT_FS: &str = "throughput::throughput_fs";

@@ -197,23 +197,39 @@ fn bench_writes_one_csv_row_per_point() {
         let cells: Vec<&str> = [device].into_iter().chain(rest.split(',')).collect();
         assert_eq!(cells.len(), header.len(), "{row}");
         assert_eq!((cells[6], cells[7]), (config, blades), "{row}");
-        // Without culling every blade is drawn.
+        let column = |name: &str| cells[header.iter().position(|h| *h == name).unwrap()];
+        // Without culling every blade is drawn at level 7: 6 · 7 − 4 = 38 triangles
+        // each, where the device counts them; and its still frame is the unculled one.
         if config == "None" {
             assert_eq!(cells[8], blades, "{row}");
+            let triangles = column("triangles");
+            if !triangles.is_empty() {
+                let expected = blades.parse::<u64>().unwrap() * 38;
+                assert_eq!(triangles, expected.to_string(), "{row}");
+            }
+            let difference: f64 = column("mean_difference").parse().unwrap();
+            assert!(difference < 0.05, "{row}");
         }
         for value in &cells[9..] {
+            // Triangles and the references are empty where the device lacks the
+            // queries they need.
+            if value.is_empty() {
+                continue;
+            }
             let v: f64 = value.parse().unwrap_or_else(|_| panic!("{value} in {row}"));
             assert!(v.is_finite() && v >= 0.0, "{row}");
         }
     }
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("simulate+cull ms"), "table: {stdout}");
+    assert!(stdout.contains("bandwidth reference"), "{stdout}");
     // The charts and the preset's picture, as PNG files of their stated sizes.
     for (name, size) in [
         ("bench_frame.png", (1000, 640)),
         ("bench_passes.png", (1000, 640)),
         ("bench_configs.png", (1000, 640)),
         ("bench.view.png", (32, 32)),
+        ("bench.unculled.png", (32, 32)),
     ] {
         let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{name} is not a PNG");

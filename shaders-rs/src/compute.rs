@@ -20,8 +20,8 @@ use spirv_std::spirv;
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
 /// (the blade and its collision strength η are read and written back), then the cull
 /// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
-/// device counter once; a visible blade lands at the workgroup's base (one device
-/// atomic) plus its place within the workgroup.
+/// device counter once; a visible blade's index (4 bytes, not its 64) lands at the
+/// workgroup's base (one device atomic) plus its place within the workgroup.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn simulate_cull(
@@ -31,7 +31,7 @@ pub fn simulate_cull(
     #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(push_constant)] push: &SimulatePush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
@@ -44,19 +44,17 @@ pub fn simulate_cull(
 
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     let in_field = index < frame.blade_count();
-    let mut blade = Blade::default();
     let mut outcome = KEPT;
     let mut place = 0;
     if in_field {
         let i = index as usize;
-        let (simulated, strength) = simulate(
+        let (blade, strength) = simulate(
             (blades[i], strengths[i]),
             &frame.environment(),
             &frame.colliders,
             push.first_step,
             push.steps,
         );
-        blade = simulated;
         blades[i] = blade;
         strengths[i] = strength;
         outcome = cull_outcome(
@@ -101,7 +99,7 @@ pub fn simulate_cull(
     workgroup_memory_barrier_with_group_sync();
 
     if in_field && outcome == KEPT {
-        visible[(tally[COUNTER_VISIBLE] + place) as usize] = blade;
+        visible[(tally[COUNTER_VISIBLE] + place) as usize] = index;
     }
 }
 
@@ -123,7 +121,7 @@ pub fn build_hiz(
     pyramid[(hiz.offset(push.level) + id.y * w + id.x) as usize] = value;
 }
 
-/// The benchmark's bandwidth reference: the blade buffer copied into the visible
+/// The benchmark's bandwidth reference: the blade buffer copied into a scratch
 /// buffer, one `vec4` (16 bytes) per thread, so neighbouring threads touch
 /// neighbouring bytes; nothing else.
 #[spirv(compute(threads(256)))]
@@ -132,11 +130,11 @@ pub fn copy_blades(
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(push_constant)] push: &CopyPush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] scratch: &mut [Vec4],
 ) {
     let i = flat_index(id, workgroups, COPY_WORKGROUP);
     if i < push.count {
-        visible[i as usize] = blades[i as usize];
+        scratch[i as usize] = blades[i as usize];
     }
 }
 

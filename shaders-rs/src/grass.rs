@@ -1,62 +1,49 @@
 //! The grass pipeline: one visible blade is one patch of one control point.
 //!
-//! rust-gpu has no `patch` decoration for user outputs, so the blade travels from the
-//! control to the evaluation stage as per-vertex arrays of length 1. The tessellation
-//! levels get their `Patch` decoration from the runner's build script.
+//! The draw has no vertex buffer: vertex k reads the k-th visible blade's index, and
+//! the tessellation stages read that blade from the blade buffer (vertex pulling), so
+//! only the index and the level travel between stages. rust-gpu has no `patch`
+//! decoration for user outputs, so they go from the control to the evaluation stage as
+//! per-vertex arrays of length 1. The tessellation levels get their `Patch`
+//! decoration from the runner's build script.
 
 use shared::Blade;
 use shared::layout::FrameUniforms;
-use shared::lod::{tess_levels, vertical_level};
+use shared::lod::{screen_level, tess_levels};
 use shared::shade::blade_colour;
 use shared::shape::surface_point;
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
 
-/// Passes the blade (four vertex attributes of the visible buffer) on.
-#[allow(clippy::too_many_arguments)]
+/// The index of the visible blade this vertex stands for.
 #[spirv(vertex)]
 pub fn grass_vs(
-    v0: Vec4,
-    v1: Vec4,
-    v2: Vec4,
-    up: Vec4,
-    out_v0: &mut Vec4,
-    out_v1: &mut Vec4,
-    out_v2: &mut Vec4,
-    out_up: &mut Vec4,
+    #[spirv(vertex_index)] vertex: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
+    out_blade: &mut u32,
 ) {
-    *out_v0 = v0;
-    *out_v1 = v1;
-    *out_v2 = v2;
-    *out_up = up;
+    *out_blade = visible[vertex as usize];
 }
 
-/// Level of detail: a continuous tessellation level along the blade from its distance
-/// to the camera (fractional-odd spacing in the evaluation stage), passed on for the
-/// LOD view.
+/// Level of detail: a continuous tessellation level along the blade from its height
+/// on screen (fractional-odd spacing in the evaluation stage), passed on for the LOD
+/// view.
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn grass_tcs(
     #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    in_v0: [Vec4; 1],
-    in_v1: [Vec4; 1],
-    in_v2: [Vec4; 1],
-    in_up: [Vec4; 1],
-    out_v0: &mut [Vec4; 1],
-    out_v1: &mut [Vec4; 1],
-    out_v2: &mut [Vec4; 1],
-    out_up: &mut [Vec4; 1],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    in_blade: [u32; 1],
+    out_blade: &mut [u32; 1],
     out_level: &mut [f32; 1],
     #[spirv(tess_level_outer)] outer: &mut [f32; 4],
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
-    out_v0[0] = in_v0[0];
-    out_v1[0] = in_v1[0];
-    out_v2[0] = in_v2[0];
-    out_up[0] = in_up[0];
-    let distance = (in_v0[0].xyz() - frame.camera_pos()).length();
+    out_blade[0] = in_blade[0];
+    let blade = &blades[in_blade[0] as usize];
+    let distance = (blade.v0.xyz() - frame.camera_pos()).length();
     let lod = frame.lod;
-    let level = vertical_level(distance, lod.x, lod.y, lod.z, lod.w);
+    let level = screen_level(blade.height(), distance, lod.x, lod.y, lod.z, lod.w);
     out_level[0] = level;
     let (o, i) = tess_levels(level);
     *outer = o;
@@ -69,10 +56,8 @@ pub fn grass_tcs(
 pub fn grass_tes(
     #[spirv(tess_coord)] coord: Vec3,
     #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    in_v0: [Vec4; 1],
-    in_v1: [Vec4; 1],
-    in_v2: [Vec4; 1],
-    in_up: [Vec4; 1],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    in_blade: [u32; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
     out_normal: &mut Vec3,
@@ -80,13 +65,8 @@ pub fn grass_tes(
     out_uv: &mut Vec2,
     out_level: &mut f32,
 ) {
-    let blade = Blade {
-        v0: in_v0[0],
-        v1: in_v1[0],
-        v2: in_v2[0],
-        up: in_up[0],
-    };
-    let p = surface_point(&blade, coord.x, coord.y, frame.flags.y, frame.blade_shape.x);
+    let blade = &blades[in_blade[0] as usize];
+    let p = surface_point(blade, coord.x, coord.y, frame.flags.y, frame.blade_shape.x);
     *out_position = frame.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;

@@ -10,3 +10,4 @@ pub mod compute;
 pub mod grass;
 pub mod ground;
 pub mod overlay;
+pub mod throughput;

@@ -27,10 +27,11 @@ pub fn flat_index(global_id: UVec3, workgroups: UVec3, workgroup_size: u32) -> u
 pub const SET: u32 = 0;
 /// Binding of [`FrameUniforms`] (uniform buffer), in every pipeline.
 pub const BINDING_UNIFORMS: u32 = 0;
-/// Binding of the blade buffer (storage, read-write), in the compute pipelines.
+/// Binding of the blade buffer (storage): simulated in place by the compute pass,
+/// read by the grass draw's tessellation stages.
 pub const BINDING_BLADES: u32 = 1;
-/// Binding of the visible blades, compacted (storage, written by the compute pass,
-/// then the grass draw's vertex buffer).
+/// Binding of the visible blades' indices, compacted (storage, `u32`: written by the
+/// compute pass, read by the grass draw's vertex stage).
 pub const BINDING_VISIBLE: u32 = 2;
 /// Binding of the counters (storage, `u32` array; [`COUNTER_VISIBLE`] first).
 pub const BINDING_COUNTERS: u32 = 3;
@@ -42,6 +43,9 @@ pub const BINDING_STRENGTH: u32 = 5;
 /// Binding of the occluders' depth pyramid (storage, `f32`, laid out by
 /// [`HiZLayout`]), built and read by the compute pipelines.
 pub const BINDING_PYRAMID: u32 = 6;
+/// Binding of the bandwidth reference's destination (storage, one blade per blade),
+/// bound only while the reference runs.
+pub const BINDING_SCRATCH: u32 = 7;
 
 /// Most sphere colliders per frame.
 pub const MAX_COLLIDERS: usize = 16;
@@ -84,7 +88,8 @@ pub struct FrameUniforms {
     pub wind: Vec4,
     /// Orientation threshold, frustum tolerance, max distance, bucket count.
     pub cull: Vec4,
-    /// LOD: near distance, far distance, most and fewest vertical segments.
+    /// LOD: focal length in pixels (`lod::focal_pixels`), screen pixels per segment,
+    /// most and fewest vertical segments.
     pub lod: Vec4,
     /// Tip start k of the triangle-tip shape (x).
     pub blade_shape: Vec4,
@@ -190,6 +195,22 @@ pub struct SurfaceVertex {
 pub struct SurfacePush {
     /// Model to world.
     pub model: Mat4,
+}
+
+/// Push constants of the triangle-throughput reference: the tessellation level of
+/// every patch and the grid of screen cells the patches are laid on.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ThroughputPush {
+    /// Tessellation level along each patch (odd: that many segments, two triangles
+    /// each).
+    pub level: f32,
+    /// Cells across the screen.
+    pub columns: u32,
+    /// Cells down the screen.
+    pub rows: u32,
+    /// Padding to 16 bytes.
+    pub pad: u32,
 }
 
 /// Push constants of the bandwidth reference: `vec4`s to copy (4 per blade).

@@ -17,6 +17,7 @@ pub mod layout;
 pub mod lod;
 #[cfg(not(target_arch = "spirv"))]
 pub mod mesh;
+pub mod reference;
 pub mod shade;
 pub mod shape;
 pub mod simulate;

@@ -1,5 +1,6 @@
 //! Level of detail of the tessellation control stage: a continuous tessellation level
-//! along the blade that falls with distance; the width is always one segment.
+//! along the blade from its height on screen, so a segment covers about the same
+//! number of pixels near and far; the width is always one segment.
 //!
 //! The evaluation stage uses fractional-odd spacing: a level between two odd numbers
 //! splits the blade into the higher odd count with two shorter segments that grow as
@@ -14,12 +15,34 @@ pub const MAX_LEVEL: f32 = 9.0;
 /// Most vertical segments a blade can get: [`MAX_LEVEL`] rounded up to odd.
 pub const MAX_SEGMENTS: u32 = 9;
 
-/// Tessellation level along the blade at `distance`: `most` up to `near`, falling
-/// linearly to `fewest` at `far` and beyond, not rounded (continuous LOD), within
-/// 1..=[`MAX_LEVEL`].
-pub fn vertical_level(distance: f32, near: f32, far: f32, most: f32, fewest: f32) -> f32 {
-    let t = ((distance - near) / (far - near).max(1e-6)).clamp(0.0, 1.0);
-    (most + (fewest - most) * t).clamp(1.0, MAX_LEVEL)
+/// Default screen pixels per segment along a blade: coarse, because the tessellator
+/// turns each segment into six triangles (`reference::triangles_per_patch`); chosen
+/// by measurement (docs/performance-notes.md).
+pub const PIXELS_PER_SEGMENT: f32 = 16.0;
+
+/// Focal length in pixels of a perspective projection with vertical field of view
+/// `fov_y` (radians) on a target `height` pixels tall: an object of size s at
+/// distance d covers s · focal / d pixels.
+pub fn focal_pixels(fov_y: f32, height: f32) -> f32 {
+    0.5 * height / (0.5 * fov_y).tan()
+}
+
+/// Tessellation level along a blade of `height` at `distance` from the camera: its
+/// height on screen (`focal` from [`focal_pixels`]) over `pixels` per segment, between
+/// `fewest` and `most`, not rounded (continuous LOD), within 1..=[`MAX_LEVEL`]. With
+/// `fewest` = `most` every blade gets `most` (LOD off).
+pub fn screen_level(
+    height: f32,
+    distance: f32,
+    focal: f32,
+    pixels: f32,
+    most: f32,
+    fewest: f32,
+) -> f32 {
+    let on_screen = height * focal / distance.max(1e-6);
+    (on_screen / pixels.max(1e-6))
+        .clamp(fewest.min(most), most)
+        .clamp(1.0, MAX_LEVEL)
 }
 
 /// Segments fractional-odd spacing makes of `level`: the level rounded up to the next
@@ -70,17 +93,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn level_falls_continuously_with_distance() {
-        assert_eq!(vertical_level(0.0, 5.0, 45.0, 8.0, 2.0), 8.0);
-        assert_eq!(vertical_level(25.0, 5.0, 45.0, 8.0, 2.0), 5.0);
-        // Not rounded: a quarter of the way from 8 to 2.
-        assert_eq!(vertical_level(15.0, 5.0, 45.0, 8.0, 2.0), 6.5);
-        assert_eq!(vertical_level(45.0, 5.0, 45.0, 8.0, 2.0), 2.0);
-        assert_eq!(vertical_level(1e9, 5.0, 45.0, 8.0, 2.0), 2.0);
-        assert_eq!(vertical_level(10.0, 5.0, 5.0, 8.0, 2.0), 2.0);
+    fn focal_length_by_hand() {
+        // 90 degrees: half the height at distance 1 covers half the target.
+        let f = focal_pixels(90f32.to_radians(), 1000.0);
+        assert!((f - 500.0).abs() < 1e-3, "{f}");
+    }
+
+    #[test]
+    fn level_follows_the_height_on_screen() {
+        // A 1-unit blade at 10 units with a 1,200-pixel focal length is 120 pixels
+        // tall: 20 pixels per segment make 6, continuous.
+        assert_eq!(screen_level(1.0, 10.0, 1200.0, 20.0, 9.0, 1.0), 6.0);
+        assert_eq!(screen_level(1.0, 16.0, 1200.0, 20.0, 9.0, 1.0), 3.75);
+        // Twice as far, half the level; never below the fewest or above the most.
+        assert_eq!(screen_level(1.0, 20.0, 1200.0, 20.0, 9.0, 1.0), 3.0);
+        assert_eq!(screen_level(1.0, 1e4, 1200.0, 20.0, 9.0, 2.0), 2.0);
+        assert_eq!(screen_level(1.0, 0.5, 1200.0, 20.0, 7.0, 1.0), 7.0);
+        assert_eq!(screen_level(1.0, 0.0, 1200.0, 20.0, 7.0, 1.0), 7.0);
+        // LOD off: fewest = most.
+        assert_eq!(screen_level(1.0, 1e4, 1200.0, 20.0, 7.0, 7.0), 7.0);
         // Clamped to what the chunks are sized for.
-        assert_eq!(vertical_level(0.0, 5.0, 45.0, 64.0, 2.0), MAX_LEVEL);
-        assert_eq!(vertical_level(1e9, 5.0, 45.0, 8.0, 0.0), 1.0);
+        assert_eq!(screen_level(1.0, 1.0, 1200.0, 1.0, 64.0, 1.0), MAX_LEVEL);
+        assert_eq!(screen_level(1.0, 1e9, 1200.0, 20.0, 7.0, 0.0), 1.0);
     }
 
     #[test]

@@ -7,7 +7,6 @@ use runner::app::render::FORMAT;
 use runner::renderer::{CullCounts, FrameInput, Renderer, Target};
 use runner::scene::{BladeCount, Scene, SceneKind, Settings};
 use runner::vulkan::Image;
-use shared::Blade;
 use shared::cull::{self, cull_outcome};
 use shared::hiz;
 use shared::layout::SimulatePush;
@@ -116,9 +115,9 @@ fn lod_and_wireframe_views_match_their_references() {
     if !device_available("lod_and_wireframe_views") {
         return;
     }
-    // LOD from 2 to 12 units across the small field, so every level shows.
-    let base =
-        "--blades 2048 --seed 1 --frames 20 --width 160 --height 160 --lod-near 2 --lod-far 12";
+    // Blades are about 45 pixels tall in front and 15 at the back here: at 6 pixels
+    // per segment the levels run from 7 down to about 2.
+    let base = "--blades 2048 --seed 1 --frames 20 --width 160 --height 160 --lod-pixels 6";
     let (_, lod) = render_image(&format!("{base} --view lod"));
     let (_, flat_lod) = render_image(&format!("{base} --view lod --no-lod"));
     check_reference("view_lod", &lod);
@@ -170,7 +169,6 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
                 width: 256,
                 height: 160,
             };
-            let aspect = extent.width as f32 / extent.height as f32;
             let color = Image::new(
                 &ctx,
                 "test target",
@@ -181,7 +179,8 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             )
             .unwrap();
             let mut renderer = Renderer::new(&ctx, &scene, FORMAT).unwrap();
-            let mut uniforms = settings.uniforms(&camera, aspect, &scene, &[]);
+            let mut uniforms =
+                settings.uniforms(&camera, (extent.width, extent.height), &scene, &[]);
             // No simulation step: the GPU culls the blades exactly as the host holds them.
             let slot = renderer.begin_frame().unwrap();
             let target = Target {
@@ -228,9 +227,8 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
 
             // The host's outcome for every blade against the GPU's pyramid.
             let count = renderer.visible().unwrap() as usize;
-            let visible: Vec<Blade> = renderer.download(&renderer.field.visible, count).unwrap();
-            let key = |b: &Blade| b.v0.to_array().map(f32::to_bits);
-            let gpu_set: HashSet<_> = visible.iter().map(key).collect();
+            let visible: Vec<u32> = renderer.download(&renderer.field.visible, count).unwrap();
+            let gpu_set: HashSet<u32> = visible.into_iter().collect();
             let (cam, p) = (uniforms.camera_pos(), uniforms.cull_params());
             let mut host_counts = [0u32; 5];
             let mut mismatched = 0;
@@ -238,7 +236,8 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
                 let outcome =
                     cull_outcome(b, id as u32, cam, uniforms.view_proj, &p, &pyramid, &layout);
                 host_counts[outcome as usize] += 1;
-                mismatched += usize::from((outcome == cull::KEPT) != gpu_set.contains(&key(b)));
+                mismatched +=
+                    usize::from((outcome == cull::KEPT) != gpu_set.contains(&(id as u32)));
             }
             println!(
                 "GPU {counts:?}; host kept/by test {host_counts:?}; {mismatched} blades disagree"

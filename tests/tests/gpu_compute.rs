@@ -66,7 +66,7 @@ fn setup(wind_kind: u32, blend: f32) -> (Scene, FrameUniforms) {
         distance: side * 0.6,
         fov_y: 40f32.to_radians(),
     };
-    let uniforms = settings.uniforms(&camera, 1.0, &scene, &BALLS);
+    let uniforms = settings.uniforms(&camera, (256, 256), &scene, &BALLS);
     (scene, uniforms)
 }
 
@@ -201,11 +201,14 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
             let (scene, uniforms) = setup(WIND_BREEZE, 0.0);
             let (renderer, host, gpu) = run_both(&ctx, &scene, &uniforms);
 
-            // The visible set: the GPU's compacted survivors, named by their roots.
+            // The visible set: the GPU's compacted survivors' indices.
             let count = renderer.visible().expect("visible count") as usize;
-            let visible: Vec<Blade> = renderer.download(&renderer.field.visible, count).unwrap();
-            let key = |b: &Blade| b.v0.to_array().map(f32::to_bits);
-            let gpu_set: HashSet<_> = visible.iter().map(key).collect();
+            let visible: Vec<u32> = renderer.download(&renderer.field.visible, count).unwrap();
+            assert!(
+                visible.iter().all(|&i| i < BLADES),
+                "index out of the field"
+            );
+            let gpu_set: HashSet<u32> = visible.into_iter().collect();
             assert_eq!(gpu_set.len(), count, "a blade was appended twice");
             let p = uniforms.cull_params();
             let cam = uniforms.camera_pos();
@@ -225,7 +228,7 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
                 compared += 1;
                 let host_visible = cull::is_visible(b, id, cam, uniforms.view_proj, &p);
                 assert_eq!(
-                    gpu_set.contains(&key(b)),
+                    gpu_set.contains(&id),
                     host_visible,
                     "blade {id}: visible on the host: {host_visible}"
                 );

@@ -107,6 +107,13 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::COPY_BLADES, ExecutionModel::GLCompute),
         (shaders::OVERLAY_VS, ExecutionModel::Vertex),
         (shaders::OVERLAY_FS, ExecutionModel::Fragment),
+        (shaders::THROUGHPUT_VS, ExecutionModel::Vertex),
+        (shaders::THROUGHPUT_TCS, ExecutionModel::TessellationControl),
+        (
+            shaders::THROUGHPUT_TES,
+            ExecutionModel::TessellationEvaluation,
+        ),
+        (shaders::THROUGHPUT_FS, ExecutionModel::Fragment),
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
@@ -260,6 +267,7 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                         n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
                         n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                         n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
+                        n if n == shaders::THROUGHPUT_VS => size_of::<layout::ThroughputPush>(),
                         _ => panic!("{name} has push constants the runner does not push"),
                     };
                     assert_eq!(size as usize, expected, "{name}: push block size");

@@ -70,6 +70,42 @@ pub struct Point {
     pub ground: Spread,
     /// Grass.
     pub grass: Spread,
+    /// Triangles the grass draw generated (median; pipeline statistics, where the
+    /// device has them).
+    pub triangles: Option<f64>,
+    /// Mean difference from the same still frame with no culling and no LOD, in 8-bit
+    /// levels averaged over the pixels' colour channels.
+    pub difference: f64,
+}
+
+/// What this device does at most, measured in the same run with the largest field.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct References {
+    /// The copy shader's bandwidth, GB/s.
+    pub copy_gbs: Option<f64>,
+    /// The throughput reference's cost per patch, ms.
+    pub patch_ms: f64,
+    /// Its cost per triangle, ms.
+    pub triangle_ms: f64,
+    /// Its best triangles per second (at the highest level).
+    pub triangles_per_s: f64,
+}
+
+impl References {
+    /// Per-patch and per-triangle cost from the reference's times `t_low` and `t_high`
+    /// (ms) for `patches` patches of `low` and `high` triangles each:
+    /// t = patches · (patch + triangles · triangle). Neither is below zero (timing
+    /// noise on a software device can make a straight fit say so).
+    pub fn fit(patches: f64, (low, t_low): (f64, f64), (high, t_high): (f64, f64)) -> (f64, f64) {
+        let triangle = ((t_high - t_low) / (patches * (high - low))).max(0.0);
+        let patch = (t_low / patches - low * triangle).max(0.0);
+        (patch, triangle)
+    }
+
+    /// What the reference would take to draw `patches` patches making `triangles`.
+    pub fn grass_ms(&self, patches: f64, triangles: f64) -> f64 {
+        patches * self.patch_ms + triangles * self.triangle_ms
+    }
 }
 
 /// The camera of `preset` over `scene`.
@@ -137,9 +173,9 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     };
     let total = counts.len() * configs.len();
     let offscreen = Offscreen::new(&ctx, args.width, args.height)?;
-    let aspect = args.width as f32 / args.height as f32;
     let mut points = Vec::new();
-    let mut reference = None;
+    let mut references = References::default();
+    let (mut view, mut unculled) = (Vec::new(), Vec::new());
     let progress = Progress::new(total);
     for &n in &counts {
         // The file was checked before the device opened; read again for each count.
@@ -158,47 +194,50 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         let base = super::settings(common, &scene);
         let camera = camera(&scene, args.camera);
         let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
-        for &config in &configs {
-            progress.show(points.len(), &format!("{config:?} at {n} blades"));
+        let uniforms = |config| {
             let mut settings = base;
             configure(&mut settings, config);
-            let uniforms = settings.uniforms(&camera, aspect, &scene, &[]);
-            // The last frame of the last point is kept: the preset's picture.
-            let capture = points.len() + 1 == total;
-            let point = measure(
-                &mut renderer,
-                &offscreen,
-                uniforms,
-                args,
-                config,
-                n,
-                capture,
-            )?;
+            settings.uniforms(&camera, (args.width, args.height), &scene, &[])
+        };
+        let first = points.len();
+        for &config in &configs {
+            progress.show(points.len(), &format!("{config:?} at {n} blades"));
+            let point = measure(&mut renderer, &offscreen, uniforms(config), args, config, n)?;
             points.push(point);
         }
+        // The blades as the sweep left them, without culling or LOD, then each
+        // configuration in the same state.
+        unculled = still(&mut renderer, &offscreen, uniforms(BenchConfig::None))?;
+        for point in &mut points[first..] {
+            view = still(&mut renderer, &offscreen, uniforms(point.config))?;
+            point.difference = mean_difference(&view, &unculled);
+        }
         if Some(&n) == counts.last() {
-            reference = renderer.copy_bandwidth(10)?.map(|gbs| (n, gbs));
+            progress.show(points.len(), "references");
+            references = measure_references(&mut renderer, &offscreen, n)?;
         }
     }
     progress.done(total);
     let device = ctx.device_name();
     print_table(&device, args, &points);
-    if let Some((n, gbs)) = reference {
-        print_bandwidth(n, gbs, &points);
-    }
-    write_csv(&args.out, &device, common, args, &points)
+    print_references(counts.last().copied().unwrap_or(0), &references, &points);
+    write_csv(&args.out, &device, common, args, &points, &references)
         .with_context(|| format!("write {}", args.out.display()))?;
     log::info!("wrote {}", args.out.display());
     let title = format!(
         "{device}, {}x{}, camera {:?}",
         args.width, args.height, args.camera
     );
-    let charts = super::charts::write(&args.out, &title, &points).context("draw the charts")?;
-    let view = args.out.with_extension("view.png");
+    let mut written =
+        super::charts::write(&args.out, &title, &points).context("draw the charts")?;
     let (w, h) = (args.width, args.height);
-    image::save_buffer(&view, &offscreen.pixels()?, w, h, image::ColorType::Rgba8)
-        .with_context(|| format!("write {}", view.display()))?;
-    for path in charts.iter().chain([&view]) {
+    for (pixels, extension) in [(&view, "view.png"), (&unculled, "unculled.png")] {
+        let path = args.out.with_extension(extension);
+        image::save_buffer(&path, pixels, w, h, image::ColorType::Rgba8)
+            .with_context(|| format!("write {}", path.display()))?;
+        written.push(path);
+    }
+    for path in &written {
         log::info!("wrote {}", path.display());
     }
     Ok(points)
@@ -212,10 +251,10 @@ fn measure(
     args: &BenchArgs,
     config: BenchConfig,
     blades: u32,
-    capture: bool,
 ) -> Result<Point> {
     let mut clock = SimClock::default();
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
+    let mut triangles = Vec::new();
     let mut last = Instant::now();
     let slots = crate::renderer::FRAMES_IN_FLIGHT as u32;
     // Each slot's read-back is of its previous frame: skip those of the warm-up.
@@ -227,6 +266,7 @@ fn measure(
             cpu.push(now.duration_since(last).as_secs_f64() * 1000.0);
             times.extend(renderer.times);
             drawn.extend(renderer.counts.map(|c| f64::from(c.drawn)));
+            triangles.extend(renderer.triangles.map(|t| t as f64));
         }
         last = now;
         let (first_step, steps) = clock.advance(1.0 / 60.0);
@@ -236,12 +276,13 @@ fn measure(
             push: SimulatePush { first_step, steps },
             wait: None,
             signal: None,
-            capture: (capture && frame + 1 == frames).then_some(&offscreen.capture),
+            capture: None,
             overlay: None,
         };
         renderer.render(slot, input)?;
     }
     renderer.finish()?;
+    let triangles = (!triangles.is_empty()).then(|| Spread::of(&triangles).median);
     let pass = |f: fn(&PassTimes) -> f64| Spread::of(&times.iter().map(f).collect::<Vec<_>>());
     Ok(Point {
         config,
@@ -253,9 +294,95 @@ fn measure(
         simulate_cull: pass(|t| t.simulate_cull),
         ground: pass(|t| t.ground),
         grass: pass(|t| t.grass),
+        triangles,
+        difference: 0.0,
     })
 }
 
+/// One frame with no simulation step, captured: the picture of `uniforms` with the
+/// blades exactly as they are.
+fn still(
+    renderer: &mut Renderer,
+    offscreen: &Offscreen,
+    uniforms: shared::layout::FrameUniforms,
+) -> Result<Vec<u8>> {
+    let slot = renderer.begin_frame()?;
+    let input = FrameInput {
+        target: offscreen.target(),
+        uniforms,
+        push: SimulatePush {
+            first_step: 0,
+            steps: 0,
+        },
+        wait: None,
+        signal: None,
+        capture: Some(&offscreen.capture),
+        overlay: None,
+    };
+    renderer.render(slot, input)?;
+    renderer.finish()?;
+    offscreen.pixels()
+}
+
+/// Mean absolute difference of two RGBA8 images of one size, over the pixels' red,
+/// green and blue channels, in 8-bit levels (0 to 255).
+pub fn mean_difference(a: &[u8], b: &[u8]) -> f64 {
+    let (sum, count) = a
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0)
+        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]) as u64))
+        .fold((0u64, 0u64), |(s, n), d| (s + d, n + 1));
+    if count == 0 {
+        0.0
+    } else {
+        sum as f64 / count as f64
+    }
+}
+
+/// Tessellation levels the throughput reference is timed at: the fewest and the most
+/// segments a blade gets.
+const REFERENCE_LEVELS: [f32; 2] = [1.0, shared::lod::MAX_LEVEL];
+
+/// The bandwidth and triangle-throughput references over a field of `blades`.
+fn measure_references(
+    renderer: &mut Renderer,
+    offscreen: &Offscreen,
+    blades: u32,
+) -> Result<References> {
+    let repeats = 10;
+    let copy_gbs = renderer.copy_bandwidth(repeats)?;
+    let target = offscreen.target();
+    let mut timed = Vec::new();
+    for level in REFERENCE_LEVELS {
+        let Some((ms, counted)) = renderer.triangle_throughput(&target, blades, level, repeats)?
+        else {
+            return Ok(References {
+                copy_gbs,
+                ..Default::default()
+            });
+        };
+        // Per patch as counted, else as the tessellation rules give it.
+        let triangles = counted.map_or(
+            f64::from(shared::reference::triangles_per_patch(level)),
+            |t| t as f64 / f64::from(blades),
+        );
+        log::info!(
+            "triangle reference at level {level}: {triangles} triangles per patch, {ms:.3} ms"
+        );
+        timed.push((triangles, ms));
+    }
+    let patches = f64::from(blades);
+    let (patch_ms, triangle_ms) = References::fit(patches, timed[0], timed[1]);
+    let (most, ms) = timed[1];
+    Ok(References {
+        copy_gbs,
+        patch_ms,
+        triangle_ms,
+        triangles_per_s: patches * most / (ms * 1e-3),
+    })
+}
 /// A progress bar on stderr.
 struct Progress {
     total: usize,
@@ -291,48 +418,90 @@ impl Progress {
 
 /// Bytes the simulate-and-cull pass moves for `blades` blades of which `drawn` survive:
 /// each blade and its collision strength read and written (2 × 68 bytes), each
-/// survivor written once more (64 bytes).
+/// survivor's index written (4 bytes).
 pub fn compute_bytes(blades: u32, drawn: f64) -> f64 {
-    2.0 * 68.0 * f64::from(blades) + 64.0 * drawn
+    2.0 * 68.0 * f64::from(blades) + 4.0 * drawn
 }
 
-/// The compute pass's bandwidth at `blades` against the copy shader's `reference`.
-fn print_bandwidth(blades: u32, reference: f64, points: &[Point]) {
-    let line = format!(
-        "bandwidth reference: the copy shader moves {reference:.0} GB/s over {blades} blades"
-    );
-    println!("{line}");
-    log::info!("{line}");
-    for p in points.iter().filter(|p| p.blades == blades) {
-        let gbs = compute_bytes(blades, p.drawn) / (p.simulate_cull.median * 1e-3) / 1e9;
-        println!(
-            "  {:<20} simulate+cull {gbs:>7.0} GB/s, {:>5.1} % of the reference",
-            format!("{:?}", p.config),
-            100.0 * gbs / reference
-        );
+/// The compute pass against the copy shader's bandwidth, and the grass draw against
+/// the throughput reference, for every point of the largest count, `blades`.
+fn print_references(blades: u32, r: &References, points: &[Point]) {
+    let mut lines = Vec::new();
+    if let Some(copy) = r.copy_gbs {
+        lines.push(format!(
+            "bandwidth reference: the copy shader moves {copy:.0} GB/s over {blades} blades"
+        ));
     }
+    if r.triangles_per_s > 0.0 {
+        lines.push(format!(
+            "triangle reference: {:.0} M triangles/s at {} segments; {:.2} ns per patch + {:.3} ns per triangle",
+            r.triangles_per_s / 1e6,
+            shared::lod::MAX_SEGMENTS,
+            r.patch_ms * 1e6,
+            r.triangle_ms * 1e6
+        ));
+    }
+    for line in &lines {
+        println!("{line}");
+        log::info!("{line}");
+    }
+    for p in points.iter().filter(|p| p.blades == blades) {
+        let mut line = format!("  {:<20}", format!("{:?}", p.config));
+        if let Some(copy) = r.copy_gbs {
+            let gbs = compute_gbs(p);
+            line += &format!(
+                " simulate+cull {gbs:>6.0} GB/s ({:>5.1} % of the copy)",
+                100.0 * gbs / copy
+            );
+        }
+        if let (Some(triangles), true) = (p.triangles, r.triangles_per_s > 0.0) {
+            let ideal = r.grass_ms(p.drawn, triangles);
+            line += &format!(
+                "; grass {:.1} M triangles, reference {ideal:.3} ms ({:>5.1} % of its speed)",
+                triangles / 1e6,
+                100.0 * ideal / p.grass.median
+            );
+        }
+        println!("{line}");
+    }
+}
+
+/// The simulate-and-cull pass's bandwidth at point `p`, GB/s.
+fn compute_gbs(p: &Point) -> f64 {
+    compute_bytes(p.blades, p.drawn) / (p.simulate_cull.median * 1e-3) / 1e9
 }
 
 fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
     println!(
-        "{device}, {}x{}, camera {:?}, {} frames per point (median, p95 in brackets)",
+        "{device}, {}x{}, camera {:?}, {} frames per point (median, p95 in brackets; \
+         diff: mean difference from no culling and no LOD, 0-255)",
         args.width, args.height, args.camera, args.frames
     );
     println!(
-        "{:<20} {:>9} {:>9} {:>18} {:>18} {:>18} {:>18}",
-        "config", "blades", "drawn", "simulate+cull ms", "grass ms", "GPU frame ms", "CPU frame ms"
+        "{:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6}",
+        "config",
+        "blades",
+        "drawn",
+        "triangles",
+        "simulate+cull ms",
+        "grass ms",
+        "GPU frame ms",
+        "CPU frame ms",
+        "diff"
     );
     let cell = |s: Spread| format!("{:.3} ({:.3})", s.median, s.p95);
     for p in points {
         println!(
-            "{:<20} {:>9} {:>9.0} {:>18} {:>18} {:>18} {:>18}",
+            "{:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2}",
             format!("{:?}", p.config),
             p.blades,
             p.drawn,
+            p.triangles.map_or("-".into(), |t| format!("{t:.0}")),
             cell(p.simulate_cull),
             cell(p.grass),
             cell(p.gpu),
-            cell(p.cpu)
+            cell(p.cpu),
+            p.difference
         );
     }
 }
@@ -343,16 +512,24 @@ fn write_csv(
     common: &Common,
     args: &BenchArgs,
     points: &[Point],
+    r: &References,
 ) -> Result<()> {
     let mut out = String::from(
         "device,scene,camera,width,height,frames,config,blades,drawn,\
          cpu_ms_median,cpu_ms_p95,gpu_ms_median,gpu_ms_p95,\
          uploads_pyramid_ms_median,simulate_cull_ms_median,simulate_cull_ms_p95,\
-         ground_ms_median,grass_ms_median,grass_ms_p95\n",
+         ground_ms_median,grass_ms_median,grass_ms_p95,triangles,mean_difference,\
+         simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms\n",
     );
+    let optional =
+        |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
     for p in points {
+        let reference_ms = p
+            .triangles
+            .filter(|_| r.triangles_per_s > 0.0)
+            .map(|t| r.grass_ms(p.drawn, t));
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{}\n",
             common.scene,
             args.camera,
             args.width,
@@ -371,6 +548,11 @@ fn write_csv(
             p.ground.median,
             p.grass.median,
             p.grass.p95,
+            optional(p.triangles, 0),
+            p.difference,
+            compute_gbs(p),
+            optional(r.copy_gbs, 0),
+            optional(reference_ms, 4),
         );
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -386,8 +568,34 @@ mod tests {
 
     #[test]
     fn compute_bytes_by_hand() {
-        // 1,000 blades × 136 bytes + 500 survivors × 64 bytes.
-        assert_eq!(compute_bytes(1000, 500.0), 136_000.0 + 32_000.0);
+        // 1,000 blades × 136 bytes + 500 survivors × 4 bytes.
+        assert_eq!(compute_bytes(1000, 500.0), 136_000.0 + 2_000.0);
+    }
+
+    #[test]
+    fn mean_difference_by_hand() {
+        let black = [0, 0, 0, 255, 0, 0, 0, 255];
+        // One pixel off by (30, 60, 90), alpha ignored: 180 / 6 channels.
+        let other = [30, 60, 90, 0, 0, 0, 0, 255];
+        assert_eq!(mean_difference(&black, &other), 30.0);
+        assert_eq!(mean_difference(&other, &other), 0.0);
+        assert_eq!(mean_difference(&[], &[]), 0.0);
+    }
+
+    #[test]
+    fn reference_costs_from_two_levels() {
+        // 1,000 patches: 0.01 ms each, plus 0.001 ms per triangle.
+        let t = |triangles: f64| 1000.0 * (0.01 + triangles * 0.001);
+        let (patch, triangle) = References::fit(1000.0, (2.0, t(2.0)), (18.0, t(18.0)));
+        assert!((patch - 0.01).abs() < 1e-12 && (triangle - 0.001).abs() < 1e-12);
+        let r = References {
+            patch_ms: patch,
+            triangle_ms: triangle,
+            ..Default::default()
+        };
+        assert!((r.grass_ms(500.0, 4000.0) - (5.0 + 4.0)).abs() < 1e-9);
+        // Noise that makes the higher level faster is no negative cost.
+        assert_eq!(References::fit(10.0, (2.0, 5.0), (18.0, 4.0)), (0.5, 0.0));
     }
 
     #[test]

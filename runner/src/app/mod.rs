@@ -99,8 +99,7 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     settings.buckets = cull.buckets;
     settings.lod_most = cull.lod_most;
     settings.lod_fewest = cull.lod_fewest;
-    settings.lod_near = cull.lod_near;
-    settings.lod_far = cull.lod_far.unwrap_or(settings.lod_far);
+    settings.lod_pixels = cull.lod_pixels;
     settings.view = cull.view.id();
     if let Some(c) = common.gravity_centre {
         settings.env.gravity_centre = c.extend(settings.env.gravity.w);

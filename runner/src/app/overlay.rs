@@ -250,11 +250,10 @@ fn detail(ui: &mut egui::Ui, s: &mut Settings) {
     ui.checkbox(&mut s.lod, "level of detail (L)");
     ui.add(egui::Slider::new(&mut s.lod_most, 1.0..=shared::lod::MAX_LEVEL).text("level near"));
     ui.add(egui::Slider::new(&mut s.lod_fewest, 1.0..=shared::lod::MAX_LEVEL).text("level far"));
-    ui.add(egui::Slider::new(&mut s.lod_near, 0.0..=100.0).text("full detail to"));
     ui.add(
-        egui::Slider::new(&mut s.lod_far, 1.0..=1000.0)
+        egui::Slider::new(&mut s.lod_pixels, 1.0..=200.0)
             .logarithmic(true)
-            .text("fewest from"),
+            .text("pixels per segment"),
     );
     ui.horizontal(|ui| {
         ui.label("view (V)");

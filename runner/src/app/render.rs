@@ -165,7 +165,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
             })
         });
         let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
-        let uniforms = settings.uniforms(&camera, aspect, &scene, &balls);
+        let uniforms = settings.uniforms(&camera, (args.width, args.height), &scene, &balls);
         renderer.render(
             slot,
             FrameInput {

@@ -230,16 +230,18 @@ impl Running {
             return Ok(());
         };
         let extent = swapchain.extent;
-        let aspect = extent.width as f32 / extent.height as f32;
         let balls: Vec<_> = self
             .ball
             .iter()
             .filter(|_| self.ball_on)
             .map(Ball::sphere)
             .collect();
-        let uniforms = self
-            .settings
-            .uniforms(&self.camera, aspect, &self.scene, &balls);
+        let uniforms = self.settings.uniforms(
+            &self.camera,
+            (extent.width, extent.height),
+            &self.scene,
+            &balls,
+        );
         let target = Target {
             image: swapchain.images[index as usize],
             view: swapchain.views[index as usize],

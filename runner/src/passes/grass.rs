@@ -1,6 +1,7 @@
 //! The grass draw: the visible blades as one-vertex patches, drawn with one
 //! multi-draw-indirect call over the chunks the compute pass wrote; filled, or as a
-//! wireframe in the wireframe view.
+//! wireframe in the wireframe view. There is no vertex buffer: the shaders read each
+//! blade through its index in the visible buffer.
 
 use crate::field::Field;
 use crate::shaders;
@@ -8,7 +9,6 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule, vec4_vertex_
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::Blade;
 use shared::layout::VIEW_WIREFRAME;
 use std::sync::Arc;
 
@@ -27,8 +27,7 @@ impl GrassPass {
         color_format: vk::Format,
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
-        // v0, v1, v2, up: four vec4 at locations 0..4.
-        let input = vec4_vertex_input::<Blade>();
+        let input = vec4_vertex_input::<()>();
         let stages = [
             (St::VERTEX, shaders::GRASS_VS),
             (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
@@ -43,6 +42,7 @@ impl GrassPass {
             color_format,
             super::DEPTH_FORMAT,
         );
+        desc.vertex_bindings = &[];
         desc.patch_control_points = 1;
         let filled = Pipeline::graphics(ctx, &desc)?;
         desc.polygon_mode = vk::PolygonMode::LINE;
@@ -64,7 +64,6 @@ impl GrassPass {
             field.layout.layout,
             field.descriptors.set,
         );
-        rec.bind_vertex_buffer(field.visible.buffer);
         rec.draw_indirect(field.draws.buffer, field.chunk_count);
     }
 }

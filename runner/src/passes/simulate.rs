@@ -41,8 +41,8 @@ impl SimulatePass {
         (x, groups.div_ceil(x))
     }
 
-    /// Records the bandwidth reference: every blade copied into the visible buffer
-    /// (which the next frame overwrites).
+    /// Records the bandwidth reference: every blade copied into the buffer at
+    /// `layout::BINDING_SCRATCH`.
     pub fn record_copy(&self, rec: &Recorder, field: &Field) {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         rec.bind_pipeline(
@@ -83,8 +83,8 @@ impl SimulatePass {
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (
-                S::DRAW_INDIRECT | S::VERTEX_ATTRIBUTE_INPUT | S::COPY,
-                A::INDIRECT_COMMAND_READ | A::VERTEX_ATTRIBUTE_READ | A::TRANSFER_READ,
+                S::DRAW_INDIRECT | S::VERTEX_SHADER | S::PRE_RASTERIZATION_SHADERS | S::COPY,
+                A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ | A::TRANSFER_READ,
             ),
         );
     }

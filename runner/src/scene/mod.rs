@@ -251,10 +251,8 @@ pub struct Settings {
     pub cull: u32,
     /// Level of detail on; off, every blade gets `lod_most`.
     pub lod: bool,
-    /// LOD: full detail up to `lod_near`, fewest segments from `lod_far`.
-    pub lod_near: f32,
-    /// See `lod_near`.
-    pub lod_far: f32,
+    /// LOD: screen pixels per segment along a blade.
+    pub lod_pixels: f32,
     /// Tessellation level along the blade near the camera.
     pub lod_most: f32,
     /// Tessellation level far away.
@@ -294,8 +292,7 @@ impl Settings {
             buckets: 8,
             cull: cull::ALL,
             lod: true,
-            lod_near: 6.0,
-            lod_far: (size * 0.8).max(30.0),
+            lod_pixels: shared::lod::PIXELS_PER_SEGMENT,
             lod_most: 7.0,
             lod_fewest: 1.0,
             view: shared::layout::VIEW_SHADED,
@@ -304,15 +301,17 @@ impl Settings {
         }
     }
 
-    /// The uniform block of a frame seen by `camera` on a target of `aspect`, with
-    /// the sphere colliders `balls` (centre xyz, radius w; at most `MAX_COLLIDERS`).
+    /// The uniform block of a frame seen by `camera` on a target of `extent` (width,
+    /// height in pixels), with the sphere colliders `balls` (centre xyz, radius w; at
+    /// most `MAX_COLLIDERS`).
     pub fn uniforms(
         &self,
         camera: &OrbitCamera,
-        aspect: f32,
+        extent: (u32, u32),
         scene: &Scene,
         balls: &[Vec4],
     ) -> FrameUniforms {
+        let aspect = extent.0 as f32 / extent.1.max(1) as f32;
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
         let used = balls.len().min(MAX_COLLIDERS);
         colliders[..used].copy_from_slice(&balls[..used]);
@@ -329,8 +328,8 @@ impl Settings {
                 self.buckets as f32,
             ),
             lod: Vec4::new(
-                self.lod_near,
-                self.lod_far,
+                shared::lod::focal_pixels(camera.fov_y, extent.1 as f32),
+                self.lod_pixels,
                 self.lod_most,
                 if self.lod {
                     self.lod_fewest

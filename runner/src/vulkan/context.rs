@@ -62,6 +62,8 @@ pub struct Context {
     pub queue_family: u32,
     /// Valid bits of the queue's timestamps; 0 when it has none.
     pub timestamp_bits: u32,
+    /// Pipeline statistics queries are enabled (the device has them).
+    pub pipeline_statistics: bool,
     /// Surface of the window, when there is one.
     pub surface: Option<vk::SurfaceKHR>,
     /// Surface functions.
@@ -141,7 +143,16 @@ impl Context {
 
         let (physical, queue_family) = pick_device(&instance, &surface_fn, surface)?;
         let properties = unsafe { instance.get_physical_device_properties(physical) };
-        let device = create_device(&instance, physical, queue_family, surface.is_some())?;
+        let pipeline_statistics = unsafe { instance.get_physical_device_features(physical) }
+            .pipeline_statistics_query
+            == vk::TRUE;
+        let device = create_device(
+            &instance,
+            physical,
+            queue_family,
+            surface.is_some(),
+            pipeline_statistics,
+        )?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let timestamp_bits = unsafe {
             instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
@@ -167,6 +178,7 @@ impl Context {
             queue,
             queue_family,
             timestamp_bits,
+            pipeline_statistics,
             surface,
             surface_fn,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
@@ -350,6 +362,7 @@ fn create_device(
     physical: vk::PhysicalDevice,
     queue_family: u32,
     present: bool,
+    pipeline_statistics: bool,
 ) -> Result<ash::Device> {
     let priorities = [1.0];
     let queues = [vk::DeviceQueueCreateInfo::default()
@@ -358,7 +371,8 @@ fn create_device(
     let core = vk::PhysicalDeviceFeatures::default()
         .tessellation_shader(true)
         .multi_draw_indirect(true)
-        .fill_mode_non_solid(true);
+        .fill_mode_non_solid(true)
+        .pipeline_statistics_query(pipeline_statistics);
     let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
         .vulkan_memory_model(true)
         .vulkan_memory_model_device_scope(true);

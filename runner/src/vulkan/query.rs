@@ -1,4 +1,5 @@
-//! Timestamp query pools: GPU time between points of a frame.
+//! Query pools: GPU time between points of a frame (timestamps), and the triangles a
+//! draw generates (pipeline statistics).
 
 use super::Context;
 use anyhow::{Context as _, Result};
@@ -70,6 +71,55 @@ impl TimestampPool {
 }
 
 impl Drop for TimestampPool {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };
+    }
+}
+
+/// One pipeline-statistics query counting the primitives that reach the clipper: the
+/// triangles a draw generates after tessellation.
+pub struct TrianglePool {
+    ctx: Arc<Context>,
+    /// The pool.
+    pub pool: vk::QueryPool,
+}
+
+impl TrianglePool {
+    /// The query, or `None` when the device has no pipeline statistics.
+    pub fn new(ctx: &Arc<Context>) -> Result<Option<Self>> {
+        if !ctx.pipeline_statistics {
+            return Ok(None);
+        }
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::PIPELINE_STATISTICS)
+            .query_count(1)
+            .pipeline_statistics(vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS);
+        let pool = unsafe { ctx.device.create_query_pool(&info, None) }
+            .context("create pipeline statistics query pool")?;
+        Ok(Some(Self {
+            ctx: ctx.clone(),
+            pool,
+        }))
+    }
+
+    /// The triangles counted, when available (no waiting: call once the frame's fence
+    /// has signalled).
+    pub fn read(&self) -> Option<u64> {
+        let mut count = [0u64];
+        unsafe {
+            self.ctx.device.get_query_pool_results(
+                self.pool,
+                0,
+                &mut count,
+                vk::QueryResultFlags::TYPE_64,
+            )
+        }
+        .ok()?;
+        Some(count[0])
+    }
+}
+
+impl Drop for TrianglePool {
     fn drop(&mut self) {
         unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };
     }

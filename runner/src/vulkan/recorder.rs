@@ -257,6 +257,19 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Starts counting into query 0 of `pool`.
+    pub fn begin_query(&self, pool: vk::QueryPool) {
+        unsafe {
+            self.device
+                .cmd_begin_query(self.cmd, pool, 0, vk::QueryControlFlags::empty())
+        };
+    }
+
+    /// Stops counting into query 0 of `pool`.
+    pub fn end_query(&self, pool: vk::QueryPool) {
+        unsafe { self.device.cmd_end_query(self.cmd, pool, 0) };
+    }
+
     /// Ends the rendering scope.
     pub fn end_rendering(&self) {
         unsafe { self.device.cmd_end_rendering(self.cmd) };
@@ -284,6 +297,11 @@ impl<'a> Recorder<'a> {
             self.device
                 .cmd_draw_indexed(self.cmd, count, 1, first, vertex_offset, 0)
         };
+    }
+
+    /// Draws `count` vertices from `first`, one instance.
+    pub fn draw(&self, first: u32, count: u32) {
+        unsafe { self.device.cmd_draw(self.cmd, count, 1, first, 0) };
     }
 
     /// `count` indirect draws read from `buffer`.

@@ -5,7 +5,7 @@
 
 use crate::field::Field;
 use crate::shaders;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule, vec4_vertex_input};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -27,23 +27,19 @@ impl GrassPass {
         color_format: vk::Format,
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
-        let input = vec4_vertex_input::<()>();
         let stages = [
             (St::VERTEX, shaders::GRASS_VS),
             (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
             (St::TESSELLATION_EVALUATION, shaders::GRASS_TES),
             (St::FRAGMENT, shaders::GRASS_FS),
         ];
-        let mut desc = GraphicsDesc::opaque(
+        let mut desc = GraphicsDesc::patches(
             module,
             &stages,
             &field.layout,
-            &input,
             color_format,
             super::DEPTH_FORMAT,
         );
-        desc.vertex_bindings = &[];
-        desc.patch_control_points = 1;
         let filled = Pipeline::graphics(ctx, &desc)?;
         desc.polygon_mode = vk::PolygonMode::LINE;
         let wireframe = Pipeline::graphics(ctx, &desc)?;

@@ -4,7 +4,7 @@
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule, vec4_vertex_input};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -31,17 +31,13 @@ impl ThroughputPass {
             (St::TESSELLATION_EVALUATION, shaders::THROUGHPUT_TES),
             (St::FRAGMENT, shaders::THROUGHPUT_FS),
         ];
-        let input = vec4_vertex_input::<()>();
-        let mut desc = GraphicsDesc::opaque(
+        let desc = GraphicsDesc::patches(
             module,
             &stages,
             &field.layout,
-            &input,
             color_format,
             super::DEPTH_FORMAT,
         );
-        desc.vertex_bindings = &[];
-        desc.patch_control_points = 1;
         Ok(Self {
             pipeline: Pipeline::graphics(ctx, &desc)?,
         })

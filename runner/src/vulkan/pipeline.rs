@@ -256,6 +256,29 @@ impl<'a> GraphicsDesc<'a> {
             premultiplied_blend: false,
         }
     }
+
+    /// An opaque, depth-tested pipeline of one-control-point patches with no vertex
+    /// buffer (the vertex stage works from its index); change fields for the rest.
+    pub fn patches(
+        module: &'a ShaderModule,
+        stages: &'a [(vk::ShaderStageFlags, &'a str)],
+        layout: &'a PipelineLayout,
+        color_format: vk::Format,
+        depth_format: vk::Format,
+    ) -> Self {
+        Self {
+            module,
+            stages,
+            layout,
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            patch_control_points: 1,
+            polygon_mode: vk::PolygonMode::FILL,
+            color_format,
+            depth_format,
+            premultiplied_blend: false,
+        }
+    }
 }
 
 /// Vertex buffer bindings and attributes.

@@ -244,16 +244,10 @@ impl<'a> GraphicsDesc<'a> {
         depth_format: vk::Format,
     ) -> Self {
         Self {
-            module,
-            stages,
-            layout,
             vertex_bindings: &vertex_input.0,
             vertex_attributes: &vertex_input.1,
             patch_control_points: 0,
-            polygon_mode: vk::PolygonMode::FILL,
-            color_format,
-            depth_format,
-            premultiplied_blend: false,
+            ..Self::patches(module, stages, layout, color_format, depth_format)
         }
     }
 

@@ -407,8 +407,22 @@ pub fn parse_floats<const N: usize>(s: &str) -> Result<[f32; N], String> {
     Ok(out)
 }
 
+/// Largest coordinate a point on the command line may have, in scene units.
+pub const COORDINATE_LIMIT: f32 = 1e6;
+
+/// Parses `N` comma-separated coordinates, each within ±[`COORDINATE_LIMIT`].
+pub fn parse_coordinates<const N: usize>(s: &str) -> Result<[f32; N], String> {
+    let values = parse_floats::<N>(s)?;
+    match values.iter().find(|v| v.abs() > COORDINATE_LIMIT) {
+        Some(v) => Err(format!(
+            "coordinate {v} is outside -{COORDINATE_LIMIT}..={COORDINATE_LIMIT}"
+        )),
+        None => Ok(values),
+    }
+}
+
 fn parse_point(s: &str) -> Result<Vec3, String> {
-    parse_floats::<3>(s).map(Vec3::from_array)
+    parse_coordinates::<3>(s).map(Vec3::from_array)
 }
 
 fn parse_density(s: &str) -> Result<f32, String> {

@@ -9,6 +9,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
+            if let Some(advice) = runner::app::advice(&e) {
+                eprintln!("{advice}");
+            }
             ExitCode::FAILURE
         }
     }

@@ -174,6 +174,8 @@ pub struct Renderer {
     color_format: vk::Format,
     slots: Vec<FrameSlot>,
     next: usize,
+    /// Frames begun so far.
+    frames_begun: u64,
     depth: Option<Image>,
     /// The counts of the newest frame whose counters were read back.
     pub counts: Option<CullCounts>,
@@ -235,6 +237,7 @@ impl Renderer {
             color_format,
             slots,
             next: 0,
+            frames_begun: 0,
             depth: None,
             counts: None,
             times: None,
@@ -373,6 +376,9 @@ impl Renderer {
     /// last frame left, and returns it.
     pub fn begin_frame(&mut self) -> Result<usize> {
         let index = self.next;
+        crate::vulkan::fault::check_frame(self.frames_begun)
+            .with_context(|| format!("wait for frame {}", self.frames_begun))?;
+        self.frames_begun += 1;
         self.slots[index].fence.wait()?;
         self.read_back(index)?;
         Ok(index)

@@ -1,28 +1,9 @@
 //! Bad input through the real command line: each case runs the `grass` binary and
 //! must exit non-zero (never a panic) with a message naming the file and the problem.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-/// A scratch folder for this test's files.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("grass-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("create scratch folder");
-    dir
-}
-
-/// CI sets GRASS_REQUIRE_GPU=1: the cases that reach the device must then get there.
-fn gpu_required() -> bool {
-    std::env::var("GRASS_REQUIRE_GPU").is_ok_and(|v| v.trim() == "1")
-}
-
-fn grass(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grass"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("run grass")
-}
+use common::{gpu_required, grass, grass_with, scratch, stderr_of};
 
 /// Renders `scene` (one tiny frame) and returns (exit success, stderr).
 fn render_scene(scene: &str, extra: &[&str]) -> (bool, String) {
@@ -34,11 +15,7 @@ fn render_scene(scene: &str, extra: &[&str]) -> (bool, String) {
     ];
     args.extend_from_slice(extra);
     let o = grass(&args);
-    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(
-        !stderr.contains("panicked"),
-        "grass panicked on {scene}: {stderr}"
-    );
+    let stderr = stderr_of(&args, &o);
     (o.status.success(), stderr)
 }
 
@@ -149,6 +126,72 @@ fn out_of_range_options_are_refused_by_the_parser() {
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
         assert!(stderr.contains("error"), "{args:?}: {stderr}");
+    }
+}
+
+/// Options whose value is free text, checked when it is used (the scene file when it is
+/// read, the output before any work: see `unwritable_outputs_are_refused_before_any_work`).
+const FREE_TEXT: [&str; 2] = ["scene", "out"];
+
+/// Every option of every command that takes a value refuses what no option should
+/// take: not-a-number, infinities, absurd magnitudes, an empty value, a word. The
+/// options are listed by clap itself, so a new option without a range fails here.
+#[test]
+fn every_option_refuses_values_outside_its_range() {
+    use clap::{CommandFactory, Parser};
+    let mut cli = runner::cli::Cli::command();
+    cli.build();
+    let mut commands = vec![(None, cli.clone())];
+    commands.extend(
+        cli.get_subcommands()
+            .map(|c| (Some(c.get_name().to_string()), c.clone())),
+    );
+    let mut checked = 0;
+    for (name, command) in &commands {
+        for arg in command.get_arguments() {
+            let Some(long) = arg.get_long() else { continue };
+            if !arg.get_action().takes_values() || FREE_TEXT.contains(&long) {
+                continue;
+            }
+            for bad in ["nan", "inf", "-inf", "-1e30", "1e30", "1e30,1e30,1e30", "", "grass"] {
+                let flag = format!("--{long}");
+                let argv: Vec<&str> = ["grass"]
+                    .into_iter()
+                    .chain(name.as_deref())
+                    .chain([flag.as_str(), bad])
+                    .collect();
+                let parsed = runner::cli::Cli::try_parse_from(&argv);
+                assert!(parsed.is_err(), "{argv:?} was accepted: {parsed:?}");
+            }
+            checked += 1;
+        }
+    }
+    // Guard against the listing silently finding nothing.
+    assert!(checked > 40, "only {checked} options checked");
+}
+
+#[test]
+fn unwritable_outputs_are_refused_before_any_work() {
+    let dir = scratch("outputs");
+    let missing = dir.join("no-such-folder").join("shot.png");
+    let missing = missing.to_str().unwrap();
+    let folder = dir.join("folder.png");
+    std::fs::create_dir_all(&folder).unwrap();
+    let folder = folder.to_str().unwrap();
+    let csv = dir.join("missing").join("bench.csv");
+    let csv = csv.to_str().unwrap();
+    for (args, expected) in [
+        (vec!["render", "--out", missing], "does not exist"),
+        (vec!["render", "--out", folder], "is a directory"),
+        (vec!["render", "--out", "shot.jpg"], "expected a .png file"),
+        (vec!["bench", "--out", csv], "does not exist"),
+        (vec!["bench", "--out", "bench.txt"], "expected a .csv file"),
+    ] {
+        // No device is needed to refuse them, so the error comes at once and says so.
+        let o = grass_with(&args, &[("VK_DRIVER_FILES", "/nonexistent.json")]);
+        let stderr = stderr_of(&args, &o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
     }
 }
 

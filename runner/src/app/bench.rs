@@ -161,6 +161,7 @@ fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
 
 /// Runs the sweep, prints the table and writes the CSV.
 pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
+    super::check_output(&args.out, &["csv"])?;
     let (file, ctx) = super::open_headless(common)?;
     let counts = counts(common, args, &ctx);
     for &n in &counts {

@@ -29,6 +29,53 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// What to do about an error whose cause is one of the Vulkan results a user can meet
+/// at run time (device lost, out of memory, a GPU that stopped answering).
+pub fn advice(error: &anyhow::Error) -> Option<&'static str> {
+    use ash::vk::Result as R;
+    let result = error.chain().find_map(|c| c.downcast_ref::<ash::vk::Result>())?;
+    Some(match *result {
+        R::ERROR_DEVICE_LOST => {
+            "the GPU device was lost (VK_ERROR_DEVICE_LOST): the driver reset it, it was \
+             removed, or it crashed. Nothing more can be drawn in this run; start grass \
+             again, and if it repeats, try fewer blades (--blades) or another driver"
+        }
+        R::ERROR_OUT_OF_DEVICE_MEMORY => {
+            "the GPU ran out of memory (VK_ERROR_OUT_OF_DEVICE_MEMORY): ask for fewer \
+             blades (--blades, --density) or a smaller image (--width, --height)"
+        }
+        R::ERROR_OUT_OF_HOST_MEMORY => {
+            "the driver ran out of host memory (VK_ERROR_OUT_OF_HOST_MEMORY): ask for fewer \
+             blades (--blades, --density)"
+        }
+        R::TIMEOUT => {
+            "the GPU did not finish a frame within a minute: it is hung or far too \
+             slow for this field; ask for fewer blades (--blades)"
+        }
+        R::ERROR_SURFACE_LOST_KHR => "the window's surface was lost (the window system went away)",
+        _ => return None,
+    })
+}
+
+/// Checks before any work that `path` can be written as a file with one of
+/// `extensions`: a folder that exists, not a folder itself.
+pub fn check_output(path: &std::path::Path, extensions: &[&str]) -> Result<()> {
+    let shown = path.display();
+    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !extensions.iter().any(|e| e.eq_ignore_ascii_case(extension)) {
+        anyhow::bail!("output {shown}: expected a .{} file", extensions.join(" or ."));
+    }
+    if path.is_dir() {
+        anyhow::bail!("output {shown}: is a directory");
+    }
+    match path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(parent) if !parent.is_dir() => {
+            anyhow::bail!("output {shown}: folder {} does not exist", parent.display())
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The scene file (read and checked first, so a bad file fails without a GPU), then a
 /// headless context: how `render` and `bench` start.
 pub fn open_headless(common: &Common) -> Result<(Option<SceneFile>, std::sync::Arc<Context>)> {

@@ -34,6 +34,7 @@ pub struct RenderReport {
 
 /// Renders as `args` asks and writes the PNG.
 pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
+    super::check_output(&args.out, &["png"])?;
     let report = render(common, args)?;
     image::save_buffer(
         &args.out,
@@ -143,9 +144,10 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     camera.distance /= args.zoom;
     camera.yaw = args.yaw.map_or(camera.yaw, f32::to_radians);
     camera.pitch = args.pitch.map_or(camera.pitch, f32::to_radians);
-    let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
-
+    // Made before the renderer, so it is dropped after it: the renderer's drop waits
+    // for the GPU, which may still be drawing into it when a frame fails.
     let offscreen = Offscreen::new(&ctx, args.width, args.height)?;
+    let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
     let target = offscreen.target();
     let aspect = args.width as f32 / args.height as f32;
     let mut clock = SimClock::default();

@@ -295,7 +295,7 @@ fn missing_features(instance: &ash::Instance, physical: vk::PhysicalDevice) -> V
         ("synchronization2", v13.synchronization2),
     ]
     .into_iter()
-    .filter(|(_, have)| *have == vk::FALSE)
+    .filter(|(name, have)| *have == vk::FALSE || super::fault::feature_removed(name))
     .map(|(name, _)| name)
     .collect()
 }

@@ -5,6 +5,7 @@ pub mod buffer;
 pub mod commands;
 pub mod context;
 pub mod descriptors;
+pub mod fault;
 pub mod image;
 pub mod pipeline;
 pub mod query;

@@ -1,0 +1,78 @@
+//! Faults injected on purpose, so tests can drive the paths a real device takes
+//! rarely: `GRASS_FAULT=missing-feature:<name>` makes every device lack that feature,
+//! `GRASS_FAULT=device-lost:<frame>` makes the wait for that frame report
+//! `VK_ERROR_DEVICE_LOST`. Unset (the normal case), nothing changes.
+
+use ash::vk;
+use std::sync::OnceLock;
+
+/// The fault asked for in `GRASS_FAULT`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Fault {
+    /// Every device reports this feature (by its Vulkan name) as missing.
+    MissingFeature(String),
+    /// The device is lost when the renderer waits for this frame (counted from 0).
+    DeviceLost(u64),
+}
+
+impl Fault {
+    /// Parses `missing-feature:<name>` or `device-lost:<frame>`.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s.trim().split_once(':') {
+            Some(("missing-feature", name)) if !name.is_empty() => {
+                Ok(Fault::MissingFeature(name.to_string()))
+            }
+            Some(("device-lost", frame)) => frame
+                .parse()
+                .map(Fault::DeviceLost)
+                .map_err(|_| format!("GRASS_FAULT: \"{frame}\" is not a frame number")),
+            _ => Err(format!(
+                "GRASS_FAULT: \"{s}\" is neither missing-feature:<name> nor device-lost:<frame>"
+            )),
+        }
+    }
+}
+
+/// The fault of this run, read from the environment once; a malformed value is
+/// reported and ignored.
+pub fn injected() -> Option<&'static Fault> {
+    static FAULT: OnceLock<Option<Fault>> = OnceLock::new();
+    FAULT
+        .get_or_init(|| {
+            let value = std::env::var("GRASS_FAULT").ok()?;
+            Fault::parse(&value)
+                .inspect_err(|e| log::warn!("{e}"))
+                .ok()
+        })
+        .as_ref()
+}
+
+/// True when `GRASS_FAULT` takes `feature` away.
+pub fn feature_removed(feature: &str) -> bool {
+    matches!(injected(), Some(Fault::MissingFeature(f)) if f == feature)
+}
+
+/// `Err(ERROR_DEVICE_LOST)` when `GRASS_FAULT` loses the device at `frame`.
+pub fn check_frame(frame: u64) -> Result<(), vk::Result> {
+    match injected() {
+        Some(Fault::DeviceLost(at)) if *at == frame => Err(vk::Result::ERROR_DEVICE_LOST),
+        _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn faults_parse_and_bad_values_are_named() {
+        assert_eq!(
+            Fault::parse("missing-feature:tessellationShader"),
+            Ok(Fault::MissingFeature("tessellationShader".into()))
+        );
+        assert_eq!(Fault::parse("device-lost:12"), Ok(Fault::DeviceLost(12)));
+        assert!(Fault::parse("device-lost:soon").unwrap_err().contains("soon"));
+        assert!(Fault::parse("meteor").unwrap_err().contains("meteor"));
+        assert!(Fault::parse("missing-feature:").is_err());
+    }
+}

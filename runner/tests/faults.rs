@@ -1,0 +1,76 @@
+//! Device trouble through the real command line: no driver, a device without a
+//! feature the renderer needs, a device lost in the middle of a run. Each must end in
+//! a message naming the problem and a non-zero exit, never a panic or a hang.
+//! `GRASS_FAULT` (runner/src/vulkan/fault.rs) stands in for the hardware we cannot
+//! summon in CI.
+
+mod common;
+
+use common::{gpu_required, grass_with, scratch, stderr_of};
+
+/// A tiny headless render of 8 frames, with `env` set.
+fn render(env: &[(&str, &str)]) -> (Option<i32>, String) {
+    let out = scratch("faults").join("shot.png");
+    let out = out.to_str().unwrap().to_string();
+    let args = [
+        "render", "--frames", "8", "--blades", "64", "--width", "32", "--height", "32",
+        "--out", &out,
+    ];
+    let o = grass_with(&args, env);
+    (o.status.code(), stderr_of(&args, &o))
+}
+
+/// True (and the test should stop) when there is no device and none is required.
+fn no_device_here() -> bool {
+    let (code, stderr) = render(&[]);
+    if code == Some(0) {
+        return false;
+    }
+    assert!(!gpu_required(), "a device is required: {stderr}");
+    eprintln!("skipped, no device: {stderr}");
+    true
+}
+
+#[test]
+fn no_driver_is_a_clear_error() {
+    // The loader finds no driver manifest at all.
+    let env = [
+        ("VK_DRIVER_FILES", "/nonexistent/icd.json"),
+        ("VK_ICD_FILENAMES", "/nonexistent/icd.json"),
+    ];
+    let (code, stderr) = render(&env);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("no Vulkan driver found") || stderr.contains("no Vulkan device found"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+}
+
+#[test]
+fn a_missing_feature_is_named() {
+    if no_device_here() {
+        return;
+    }
+    for feature in ["tessellationShader", "vulkanMemoryModelDeviceScope", "fillModeNonSolid"] {
+        let fault = format!("missing-feature:{feature}");
+        let (code, stderr) = render(&[("GRASS_FAULT", &fault)]);
+        assert_eq!(code, Some(1), "{stderr}");
+        assert!(
+            stderr.contains("no usable Vulkan device") && stderr.contains(feature),
+            "{feature}: {stderr}"
+        );
+    }
+}
+
+#[test]
+fn a_lost_device_ends_the_run_with_advice() {
+    if no_device_here() {
+        return;
+    }
+    let (code, stderr) = render(&[("GRASS_FAULT", "device-lost:5")]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("wait for frame 5"), "{stderr}");
+    assert!(stderr.contains("VK_ERROR_DEVICE_LOST"), "{stderr}");
+    assert!(stderr.contains("start grass again"), "{stderr}");
+}

@@ -289,6 +289,9 @@ pub struct ViewArgs {
     /// Quit after this many frames (for scripted runs).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub frames: Option<u64>,
+    /// Resize, minimise and restore the window by script while drawing (for tests).
+    #[arg(long)]
+    pub resize_storm: bool,
 }
 
 impl Default for ViewArgs {
@@ -297,6 +300,7 @@ impl Default for ViewArgs {
             width: 1280,
             height: 720,
             frames: None,
+            resize_storm: false,
         }
     }
 }

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod charts;
 pub mod overlay;
 pub mod render;
+pub mod storm;
 pub mod viewer;
 
 use crate::cli::{Cli, Command, Common};

@@ -4,6 +4,7 @@
 //! second.
 
 use super::overlay::{Overlay, Readings};
+use super::storm::{Gust, Storm};
 use crate::camera::OrbitCamera;
 use crate::cli::{Common, Shape, View, ViewArgs, Wind};
 use crate::collider::{Ball, drop_onto};
@@ -113,6 +114,12 @@ struct Running {
     last_frame: Instant,
     frames: u64,
     recreate: bool,
+    /// The swapchains' pixel format, which the renderer's pipelines are built for.
+    format: vk::Format,
+    /// Swapchains made so far.
+    swapchains: u64,
+    /// The scripted window changes of `--resize-storm`.
+    storm: Option<Storm>,
     window: Window,
 }
 
@@ -138,9 +145,8 @@ impl Running {
             window: Some(&window),
         })?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
-        let size = window.inner_size();
-        let swapchain = Swapchain::new(&ctx, (size.width, size.height), None)?;
-        let mut renderer = Renderer::new(&ctx, &scene, swapchain.format)?;
+        let format = Swapchain::surface_format(&ctx)?.format;
+        let mut renderer = Renderer::new(&ctx, &scene, format)?;
         renderer.enable_overlay()?;
         let overlay = Overlay::new(&window, ctx.device_name());
         log::info!("{CONTROLS}");
@@ -155,7 +161,7 @@ impl Running {
         });
         Ok(Self {
             renderer,
-            swapchain: Some(swapchain),
+            swapchain: None,
             ctx,
             settings,
             common: common.clone(),
@@ -175,28 +181,45 @@ impl Running {
             last_frame: Instant::now(),
             frames: 0,
             recreate: false,
+            format,
+            swapchains: 0,
+            storm: args.resize_storm.then(Storm::default),
             window,
         })
     }
 
+    /// The window's size; 0x0 while minimised (or while the storm says so).
+    fn size(&self) -> PhysicalSize<u32> {
+        if self.storm.as_ref().is_some_and(Storm::hidden) {
+            PhysicalSize::new(0, 0)
+        } else {
+            self.window.inner_size()
+        }
+    }
+
     /// Draws one frame; returns without drawing while minimised.
     fn frame(&mut self) -> Result<()> {
-        let size = self.window.inner_size();
+        let size = self.size();
         if size.width == 0 || size.height == 0 {
             return Ok(());
         }
         if self.recreate || self.swapchain.is_none() {
             self.ctx.wait_idle()?;
             let old = self.swapchain.take();
-            let new = Swapchain::new(&self.ctx, (size.width, size.height), old.as_ref())?;
-            if old.as_ref().is_some_and(|o| o.format != new.format) {
+            let Some(new) = Swapchain::new(&self.ctx, (size.width, size.height), old.as_ref())?
+            else {
+                // The surface is 0x0 for now: try again next frame.
+                return Ok(());
+            };
+            if new.format != self.format {
                 bail!(
                     "the window's surface format changed from {:?} to {:?}",
-                    old.map(|o| o.format),
+                    self.format,
                     new.format
                 );
             }
             self.swapchain = Some(new);
+            self.swapchains += 1;
             self.recreate = false;
         }
         // Simulated time and the ball follow the wall clock.
@@ -303,6 +326,33 @@ impl Running {
                 frames: 0,
             };
         }
+    }
+
+    /// One turn of the event loop under `--resize-storm`: the next scripted change.
+    fn blow(&mut self) {
+        let Some(storm) = self.storm.as_mut() else {
+            return;
+        };
+        let gust = storm.tick();
+        if storm.restored() {
+            self.window.set_minimized(false);
+            log::info!("storm: restored");
+        }
+        let Some(gust) = gust else { return };
+        log::info!("storm: {gust:?}");
+        match gust {
+            Gust::Resize(w, h) => {
+                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+            Gust::Burst(w, h) => {
+                let _ = self.window.request_inner_size(PhysicalSize::new(h, w));
+                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+            Gust::Minimise => self.window.set_minimized(true),
+            Gust::Zero => {}
+        }
+        // Whatever the window system makes of it, the next frame checks the surface.
+        self.recreate = true;
     }
 
     /// Moves the ball along its path, or by the arrow keys (relative to the camera).
@@ -506,12 +556,30 @@ impl ApplicationHandler for Viewer {
         }
     }
 
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            let gusts = state.storm.as_ref().map_or(0, |s| s.gusts);
+            log::info!(
+                "{} frames drawn, {} swapchains made, {gusts} storm gusts",
+                state.frames,
+                state.swapchains
+            );
+        }
+    }
+
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
-        let Some(state) = &self.state else { return };
-        // Minimised: sleep until an event instead of spinning on empty frames.
-        let size = state.window.inner_size();
+        let Some(state) = self.state.as_mut() else {
+            return;
+        };
+        state.blow();
+        let size = state.size();
         if size.width == 0 || size.height == 0 {
-            event_loop.set_control_flow(ControlFlow::Wait);
+            // Minimised: sleep until an event instead of spinning on empty frames (the
+            // storm has no event to wait for, only its next tick).
+            event_loop.set_control_flow(match state.storm {
+                Some(_) => ControlFlow::wait_duration(std::time::Duration::from_millis(16)),
+                None => ControlFlow::Wait,
+            });
         } else {
             event_loop.set_control_flow(ControlFlow::Poll);
             state.window.request_redraw();

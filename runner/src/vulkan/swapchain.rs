@@ -26,16 +26,15 @@ pub struct Swapchain {
 }
 
 impl Swapchain {
-    /// A swapchain of about `size` pixels, replacing `old` if given.
-    pub fn new(ctx: &Arc<Context>, size: (u32, u32), old: Option<&Swapchain>) -> Result<Self> {
+    /// The surface's format: an sRGB one, so the shaders write linear colour.
+    pub fn surface_format(ctx: &Context) -> Result<vk::SurfaceFormatKHR> {
         let surface = ctx.surface.context("swapchain without a surface")?;
-        let sfn = &ctx.surface_fn;
-        let caps = unsafe { sfn.get_physical_device_surface_capabilities(ctx.physical, surface) }
-            .context("query surface capabilities")?;
-        let formats = unsafe { sfn.get_physical_device_surface_formats(ctx.physical, surface) }
-            .context("query surface formats")?;
-        // An sRGB format, so the shaders write linear colour.
-        let format = formats
+        let formats = unsafe {
+            ctx.surface_fn
+                .get_physical_device_surface_formats(ctx.physical, surface)
+        }
+        .context("query surface formats")?;
+        formats
             .iter()
             .find(|f| {
                 matches!(
@@ -45,7 +44,21 @@ impl Swapchain {
             })
             .or(formats.first())
             .copied()
-            .context("surface has no format")?;
+            .context("surface has no format")
+    }
+
+    /// A swapchain of about `size` pixels, replacing `old` if given; `None` while the
+    /// surface is 0x0 (a minimised window), when no swapchain can be made.
+    pub fn new(
+        ctx: &Arc<Context>,
+        size: (u32, u32),
+        old: Option<&Swapchain>,
+    ) -> Result<Option<Self>> {
+        let surface = ctx.surface.context("swapchain without a surface")?;
+        let sfn = &ctx.surface_fn;
+        let caps = unsafe { sfn.get_physical_device_surface_capabilities(ctx.physical, surface) }
+            .context("query surface capabilities")?;
+        let format = Self::surface_format(ctx)?;
         let extent = if caps.current_extent.width != u32::MAX {
             caps.current_extent
         } else {
@@ -58,6 +71,9 @@ impl Swapchain {
                     .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
             }
         };
+        if extent.width == 0 || extent.height == 0 {
+            return Ok(None);
+        }
         let mut count = caps.min_image_count + 1;
         if caps.max_image_count > 0 {
             count = count.min(caps.max_image_count);
@@ -105,7 +121,7 @@ impl Swapchain {
             format.format,
             images.len()
         );
-        Ok(Self {
+        Ok(Some(Self {
             ctx: ctx.clone(),
             fns,
             swapchain,
@@ -114,7 +130,7 @@ impl Swapchain {
             render_finished,
             format: format.format,
             extent,
-        })
+        }))
     }
 
     /// Acquires the next image, signalling `signal` when it is ready. `Ok(None)` means

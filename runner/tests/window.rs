@@ -1,0 +1,112 @@
+//! The viewer in a real window under Xvfb, through a storm of resizes: tiny, huge,
+//! several at once, minimised, 0x0 and back (`--resize-storm`, runner/src/app/storm.rs).
+//! It must draw every frame asked for, with the validation layer silent, and quit on
+//! its own. The test starts its own Xvfb; CI installs it (`xvfb`).
+
+mod common;
+
+use common::gpu_required;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A private X server, killed when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    /// Starts Xvfb on a display no other run uses; `None` where it is not installed.
+    fn start() -> Option<Self> {
+        let number = 200 + std::process::id() % 500;
+        let child = Command::new("Xvfb")
+            .args([&format!(":{number}"), "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .ok()?;
+        let socket = format!("/tmp/.X11-unix/X{number}");
+        let start = Instant::now();
+        while !std::path::Path::new(&socket).exists() {
+            assert!(start.elapsed() < Duration::from_secs(20), "Xvfb did not start");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        Some(Self {
+            child,
+            display: format!(":{number}"),
+        })
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Runs `grass` with `args` on `display`; fails the test if it has not quit by `limit`.
+fn run_viewer(display: &str, args: &[&str], limit: Duration) -> (bool, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_grass"))
+        .args(args)
+        .env("DISPLAY", display)
+        .env("RUST_LOG", "info")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run grass");
+    let stderr = child.stderr.take().expect("stderr");
+    let reader = std::thread::spawn(move || std::io::read_to_string(stderr).unwrap_or_default());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for grass") {
+            break status;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let log = reader.join().unwrap_or_default();
+            panic!("grass {args:?} hung for {limit:?}: {log}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let log = reader.join().unwrap_or_default();
+    assert!(!log.contains("panicked"), "grass {args:?} panicked: {log}");
+    (status.success(), log)
+}
+
+#[test]
+fn the_viewer_draws_through_a_resize_storm() {
+    let Some(x) = Xvfb::start() else {
+        assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
+        eprintln!("skipped: no Xvfb");
+        return;
+    };
+    let args = [
+        "--frames", "150", "--resize-storm", "--validation", "--blades", "256",
+    ];
+    let (ok, log) = run_viewer(&x.display, &args, Duration::from_secs(300));
+    if !ok && !gpu_required() && log.contains("device") {
+        eprintln!("skipped, no device: {log}");
+        return;
+    }
+    assert!(ok, "{log}");
+    assert!(!log.contains("validation:"), "validation messages: {log}");
+    // Every gust of the script came (and more), each changed size made a swapchain,
+    // and the hidden phases came and went.
+    let summary = log
+        .lines()
+        .find(|l| l.contains("frames drawn"))
+        .unwrap_or_else(|| panic!("no summary: {log}"));
+    let number = |word: &str| -> u64 {
+        let before = summary.split(word).next().unwrap_or("");
+        let n = before.split_whitespace().last().unwrap_or("0");
+        n.parse().unwrap_or_else(|_| panic!("{word} in {summary}"))
+    };
+    assert_eq!(number("frames drawn"), 150, "{summary}");
+    let gusts = number("storm gusts");
+    assert!(gusts >= runner::app::storm::SCRIPT.len() as u64, "{summary}");
+    assert!(number("swapchains made") >= 12, "{summary}");
+    for expected in ["storm: Zero", "storm: Minimise", "storm: restored", "swapchain 1x1"] {
+        assert!(log.contains(expected), "no \"{expected}\": {log}");
+    }
+}

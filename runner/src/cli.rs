@@ -31,6 +31,34 @@ pub enum Command {
     /// Time blade counts and culling configurations headless; print a table and
     /// write a CSV.
     Bench(BenchArgs),
+    /// Run many frames headless with the validation layer, cycling every switch, and
+    /// check that host and device memory stay flat and the layer says nothing.
+    Soak(SoakArgs),
+}
+
+/// Options of the soak run.
+#[derive(Args, Debug, Clone)]
+pub struct SoakArgs {
+    /// Frames to run.
+    #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u32).range(100..=100_000_000))]
+    pub frames: u32,
+    /// Frames between memory readings; the image alternates between two sizes at each
+    /// reading, and the switches change four times in between.
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(10..=1_000_000))]
+    pub every: u32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub height: u32,
+    /// Host memory (resident set) the run may gain from its first reading to its last,
+    /// in MiB.
+    #[arg(long, default_value_t = 8.0, value_parser = range(0.0, 1e6))]
+    pub host_slack_mib: f32,
+    /// Run without the validation layer (where it is not installed).
+    #[arg(long)]
+    pub no_validation: bool,
 }
 
 /// Options of the benchmark.

@@ -2,6 +2,7 @@
 //! fixed camera presets, timed per pass by GPU timestamps and per frame on the CPU,
 //! reported as medians and 95th percentiles in a table and a CSV file.
 
+use super::progress::Progress;
 use super::render::{FORMAT, Offscreen};
 use crate::camera::OrbitCamera;
 use crate::cli::{BenchArgs, BenchConfig, CameraPreset, Common};
@@ -13,7 +14,6 @@ use anyhow::{Context as _, Result};
 use glam::Vec3;
 use shared::layout::SimulatePush;
 use shared::simulate::SimClock;
-use std::io::Write;
 use std::time::Instant;
 
 /// Most blades swept by default on a software device (lavapipe draws about half a
@@ -384,39 +384,6 @@ fn measure_references(
         triangles_per_s: patches * most / (ms * 1e-3),
     })
 }
-/// A progress bar on stderr.
-struct Progress {
-    total: usize,
-    start: Instant,
-}
-
-impl Progress {
-    fn new(total: usize) -> Self {
-        Self {
-            total,
-            start: Instant::now(),
-        }
-    }
-
-    fn show(&self, done: usize, what: &str) {
-        let width = 30;
-        let filled = done * width / self.total.max(1);
-        eprint!(
-            "\r[{}{}] {done}/{} {:.0} s, {what}          ",
-            "#".repeat(filled),
-            "-".repeat(width - filled),
-            self.total,
-            self.start.elapsed().as_secs_f64()
-        );
-        let _ = std::io::stderr().flush();
-    }
-
-    fn done(&self, total: usize) {
-        self.show(total, "done");
-        eprintln!();
-    }
-}
-
 /// Bytes the simulate-and-cull pass moves for `blades` blades of which `drawn` survive:
 /// each blade and its collision strength read and written (2 × 68 bytes), each
 /// survivor's index written (4 bytes).

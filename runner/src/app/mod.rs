@@ -3,7 +3,9 @@
 pub mod bench;
 pub mod charts;
 pub mod overlay;
+pub mod progress;
 pub mod render;
+pub mod soak;
 pub mod storm;
 pub mod viewer;
 
@@ -25,6 +27,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&cli.common, &args).map(|_| ()),
         Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),
+        Some(Command::Soak(args)) => soak::run(&cli.common, &args).map(|_| ()),
         Some(Command::View(args)) => viewer::run(&cli.common, &args),
         None => viewer::run(&cli.common, &cli.view),
     }

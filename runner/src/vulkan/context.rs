@@ -71,7 +71,14 @@ pub struct Context {
     /// Memory allocator; dropped before the device.
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
     debug: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
-    validation_errors: Box<AtomicU32>,
+    validation: Box<ValidationCounts>,
+}
+
+/// What the validation layer has said: errors, and every message (warnings too).
+#[derive(Default)]
+struct ValidationCounts {
+    errors: AtomicU32,
+    messages: AtomicU32,
 }
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -82,7 +89,7 @@ impl Context {
     pub fn new(options: ContextOptions) -> Result<Arc<Self>> {
         let entry =
             unsafe { ash::Entry::load() }.map_err(|e| DeviceError::NoVulkan(e.to_string()))?;
-        let validation_errors = Box::new(AtomicU32::new(0));
+        let validation = Box::new(ValidationCounts::default());
 
         let mut layers = Vec::new();
         let mut extensions = options.surface_extensions.to_vec();
@@ -128,7 +135,7 @@ impl Context {
                         | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
                 )
                 .pfn_user_callback(Some(debug_callback))
-                .user_data(&*validation_errors as *const AtomicU32 as *mut c_void);
+                .user_data(&*validation as *const ValidationCounts as *mut c_void);
             let messenger = unsafe { utils.create_debug_utils_messenger(&info, None)? };
             Some((utils, messenger))
         } else {
@@ -183,7 +190,7 @@ impl Context {
             surface_fn,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             debug,
-            validation_errors,
+            validation,
         };
         log::info!(
             "device: {} ({:?}), Vulkan {}.{}.{}",
@@ -211,7 +218,21 @@ impl Context {
 
     /// Validation errors reported so far (0 when validation is off).
     pub fn validation_errors(&self) -> u32 {
-        self.validation_errors.load(Ordering::SeqCst)
+        self.validation.errors.load(Ordering::SeqCst)
+    }
+
+    /// Validation messages of any severity (errors and warnings) so far.
+    pub fn validation_messages(&self) -> u32 {
+        self.validation.messages.load(Ordering::SeqCst)
+    }
+
+    /// Device memory this run holds through the allocator: (bytes in live
+    /// allocations, bytes of the memory blocks they live in).
+    pub fn device_memory(&self) -> (u64, u64) {
+        self.allocator.lock().map_or((0, 0), |a| {
+            let report = a.generate_report();
+            (report.total_allocated_bytes, report.total_capacity_bytes)
+        })
     }
 
     /// Memory for a resource with `requirements` in `location` (`linear` for buffers).
@@ -403,9 +424,13 @@ unsafe extern "system" fn debug_callback(
         .and_then(|d| unsafe { d.message_as_c_str() })
         .map(|m| m.to_string_lossy().into_owned())
         .unwrap_or_default();
+    let counts = unsafe { (user as *const ValidationCounts).as_ref() };
+    if let Some(counts) = counts {
+        counts.messages.fetch_add(1, Ordering::SeqCst);
+    }
     if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
-        if let Some(counter) = unsafe { (user as *const AtomicU32).as_ref() } {
-            counter.fetch_add(1, Ordering::SeqCst);
+        if let Some(counts) = counts {
+            counts.errors.fetch_add(1, Ordering::SeqCst);
         }
         log::error!("validation: {message}");
     } else {

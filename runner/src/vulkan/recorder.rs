@@ -3,13 +3,17 @@
 
 use super::image::subresource_range;
 use ash::vk;
+use std::cell::Cell;
 
 /// A command buffer being recorded on a device.
-#[derive(Copy, Clone)]
+#[derive(Clone)]
 pub struct Recorder<'a> {
     device: &'a ash::Device,
     /// The command buffer.
     pub cmd: vk::CommandBuffer,
+    /// The (layout, set) bound for graphics and for compute, so that passes sharing
+    /// them bind them once per command buffer.
+    bound: Cell<[Option<(vk::PipelineLayout, vk::DescriptorSet)>; 2]>,
 }
 
 /// (stages, accesses) of one side of a dependency.
@@ -18,7 +22,11 @@ pub type Scope = (vk::PipelineStageFlags2, vk::AccessFlags2);
 impl<'a> Recorder<'a> {
     /// Records into `cmd`, which must be in the recording state.
     pub fn new(device: &'a ash::Device, cmd: vk::CommandBuffer) -> Self {
-        Self { device, cmd }
+        Self {
+            device,
+            cmd,
+            bound: Cell::new([None; 2]),
+        }
     }
 
     /// A global memory dependency: `src` before `dst`.
@@ -132,8 +140,18 @@ impl<'a> Recorder<'a> {
         unsafe {
             self.device
                 .cmd_bind_pipeline(self.cmd, bind_point, pipeline);
-            self.device
-                .cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, &[set], &[]);
+        }
+        // Binding the same set again is redundant; lavapipe (Mesa 22.3) also holds
+        // host memory for every bind until the device goes (README, "Reliability").
+        let point = usize::from(bind_point == vk::PipelineBindPoint::COMPUTE);
+        let mut bound = self.bound.get();
+        if bound[point] != Some((layout, set)) {
+            unsafe {
+                self.device
+                    .cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, &[set], &[]);
+            }
+            bound[point] = Some((layout, set));
+            self.bound.set(bound);
         }
     }
 

@@ -1,0 +1,248 @@
+//! `grass soak`: thousands of frames headless with the validation layer on, every
+//! switch cycled (culling tests, LOD, view, wind, blade shape, frame times from 0.1 ms
+//! to 2 s, two image sizes), a ball circling through the grass; it reads host and
+//! device memory as it goes and fails unless both stay flat and the layer says nothing.
+
+use super::progress::Progress;
+use super::render::{FORMAT, Offscreen};
+use crate::cli::{Common, Shape, SoakArgs, View, Wind};
+use crate::collider::{Ball, drop_onto};
+use crate::renderer::{FrameInput, Renderer};
+use crate::scene::Settings;
+use anyhow::{Result, bail};
+use glam::{Vec2, Vec3Swizzles};
+use shared::layout::SimulatePush;
+use shared::simulate::SimClock;
+
+/// Phases (changes of the switches) between two memory readings.
+pub const PHASES_PER_READING: u32 = 4;
+
+/// Frame times the phases cycle through, in seconds: a normal frame, a very fast one,
+/// a slow one and one at the simulation's two-second cap.
+pub const FRAME_TIMES: [f64; 4] = [1.0 / 60.0, 1e-4, 0.25, 2.0];
+
+/// Bytes the live device allocations may differ by between readings at the same
+/// image size: the allocator counts alignment padding, which depends on where each
+/// allocation lands (the H100 run differs by 672 bytes).
+pub const DEVICE_SLACK: u64 = 64 * 1024;
+
+/// One memory reading.
+#[derive(Copy, Clone, Debug)]
+pub struct Reading {
+    /// Frames done.
+    pub frame: u32,
+    /// Image size in use.
+    pub size: (u32, u32),
+    /// Host memory resident, bytes (`None` where /proc is not there).
+    pub host: Option<u64>,
+    /// Device memory in live allocations, bytes.
+    pub device: u64,
+    /// Device memory in the allocator's blocks, bytes.
+    pub device_blocks: u64,
+    /// Validation messages so far.
+    pub messages: u32,
+}
+
+/// What the soak found.
+#[derive(Clone, Debug)]
+pub struct SoakReport {
+    /// The readings, one per `--every` frames.
+    pub readings: Vec<Reading>,
+    /// Seconds the run took.
+    pub seconds: f64,
+    /// Validation was on.
+    pub validation: bool,
+}
+
+impl SoakReport {
+    /// Host memory gained from the first reading to the last, bytes (may be negative).
+    pub fn host_growth(&self) -> i64 {
+        match (self.readings.first(), self.readings.last()) {
+            (Some(Reading { host: Some(a), .. }), Some(Reading { host: Some(b), .. })) => {
+                *b as i64 - *a as i64
+            }
+            _ => 0,
+        }
+    }
+
+    /// Readings whose device memory differs from the first reading at the same size:
+    /// other memory blocks, or live allocations more than [`DEVICE_SLACK`] apart.
+    pub fn device_changes(&self) -> Vec<(Reading, Reading)> {
+        let mut changes = Vec::new();
+        for (i, r) in self.readings.iter().enumerate() {
+            let first = self.readings[..i].iter().find(|f| f.size == r.size);
+            let changed = |f: &&Reading| {
+                f.device_blocks != r.device_blocks || f.device.abs_diff(r.device) > DEVICE_SLACK
+            };
+            if let Some(f) = first.filter(changed) {
+                changes.push((*f, *r));
+            }
+        }
+        changes
+    }
+}
+
+/// Runs the soak; an error if memory grew or the validation layer spoke.
+pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
+    let report = soak(common, args)?;
+    let messages = report.readings.last().map_or(0, |r| r.messages);
+    let growth = report.host_growth();
+    let changes = report.device_changes();
+    let mib = |b: f64| b / (1024.0 * 1024.0);
+    println!(
+        "soak: {} frames in {:.0} s; host memory {:+.1} MiB from the first reading to the \
+         last; device memory {}; {}",
+        args.frames,
+        report.seconds,
+        mib(growth as f64),
+        if changes.is_empty() {
+            "the same at every reading of the same size".to_string()
+        } else {
+            format!("changed {} times", changes.len())
+        },
+        if report.validation {
+            format!("{messages} validation messages")
+        } else {
+            "validation off".to_string()
+        }
+    );
+    if messages > 0 {
+        bail!("the validation layer reported {messages} messages (see the log)");
+    }
+    if mib(growth as f64) > f64::from(args.host_slack_mib) {
+        bail!(
+            "host memory grew by {:.1} MiB, more than --host-slack-mib {}",
+            mib(growth as f64),
+            args.host_slack_mib
+        );
+    }
+    if let Some((a, b)) = changes.first() {
+        bail!(
+            "device memory changed between frame {} ({} bytes) and frame {} ({} bytes)",
+            a.frame,
+            a.device,
+            b.frame,
+            b.device
+        );
+    }
+    Ok(report)
+}
+
+/// The switches of phase `phase`: every subset of the culling tests in turn, LOD on
+/// and off, each view, wind and shape.
+pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
+    let mut s = *base;
+    let p = phase as usize;
+    s.cull = phase % (shared::cull::ALL + 1);
+    s.lod = phase % 2 == 0;
+    s.view = View::ALL[p % View::ALL.len()].id();
+    s.env.wind_kind = Wind::ALL[p % Wind::ALL.len()].kind();
+    s.shape = Shape::ALL[(p / 2) % Shape::ALL.len()].id();
+    s
+}
+
+fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
+    let mut common = common.clone();
+    common.validation = !args.no_validation;
+    let (file, ctx) = super::open_headless(&common)?;
+    let (scene, base) = super::prepare(&common, &ctx, file)?;
+    let sizes = [
+        (args.width, args.height),
+        ((args.width * 3 / 4).max(16), (args.height / 2).max(16)),
+    ];
+    // Made before the renderer, so it is dropped after it (see `render`).
+    let mut offscreen = Offscreen::new(&ctx, sizes[0].0, sizes[0].1)?;
+    let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
+    let mut camera = scene.camera();
+    let mut clock = SimClock::default();
+    let circle = camera.distance * 0.2;
+    let progress = Progress::new(args.frames as usize);
+    let mut readings = Vec::new();
+    let mut settings = base;
+    let phase_frames = (args.every / PHASES_PER_READING).max(1);
+    for frame in 0..args.frames {
+        let block = frame / args.every;
+        let size = sizes[block as usize % 2];
+        if offscreen.color.extent.width != size.0 || offscreen.color.extent.height != size.1 {
+            renderer.finish()?;
+            offscreen = Offscreen::new(&ctx, size.0, size.1)?;
+        }
+        let phase = frame / phase_frames;
+        if frame % phase_frames == 0 {
+            settings = phase_settings(&base, phase);
+        }
+        let dt = FRAME_TIMES[phase as usize % FRAME_TIMES.len()];
+        let (first_step, steps) = clock.advance(dt);
+        camera.yaw += 0.003;
+        let angle = clock.time() * 0.7;
+        let around = camera.target.xz() + Vec2::from_angle(angle) * circle;
+        let balls: Vec<_> = drop_onto(&scene.solid, around)
+            .map(|contact| Ball {
+                contact,
+                radius: common.collider_radius,
+            })
+            .iter()
+            .map(Ball::sphere)
+            .collect();
+        let slot = renderer.begin_frame()?;
+        let uniforms = settings.uniforms(&camera, size, &scene, &balls);
+        renderer.render(
+            slot,
+            FrameInput {
+                target: offscreen.target(),
+                uniforms,
+                push: SimulatePush { first_step, steps },
+                wait: None,
+                signal: None,
+                capture: None,
+                overlay: None,
+            },
+        )?;
+        if (frame + 1) % args.every == 0 || frame + 1 == args.frames {
+            renderer.finish()?;
+            let (device, device_blocks) = ctx.device_memory();
+            let reading = Reading {
+                frame: frame + 1,
+                size,
+                host: host_resident(),
+                device,
+                device_blocks,
+                messages: ctx.validation_messages(),
+            };
+            log::info!("{}", describe(&reading));
+            readings.push(reading);
+            progress.show(frame as usize + 1, "running");
+        }
+    }
+    renderer.finish()?;
+    progress.done(args.frames as usize);
+    Ok(SoakReport {
+        readings,
+        seconds: progress.seconds(),
+        validation: common.validation,
+    })
+}
+
+/// "frame N, WxH: host X MiB, device Y MiB in Z MiB of blocks, M validation messages".
+pub fn describe(r: &Reading) -> String {
+    let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
+    format!(
+        "frame {}, {}x{}: host {}, device {:.2} MiB in {:.2} MiB of blocks, {} validation messages",
+        r.frame,
+        r.size.0,
+        r.size.1,
+        r.host
+            .map_or("unknown".to_string(), |h| format!("{:.1} MiB", mib(h))),
+        mib(r.device),
+        mib(r.device_blocks),
+        r.messages
+    )
+}
+
+/// This process's resident host memory, from /proc/self/status (Linux).
+pub fn host_resident() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}

@@ -111,6 +111,9 @@ pub struct Field {
     pub layout: PipelineLayout,
 }
 
+/// Device memory per blade: the blade, its collision strength and its index.
+pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64 + 4 + 4;
+
 impl Field {
     /// Fails with a message naming the limit when `count` blades cannot fit this
     /// device's buffers; checked before any blade is generated.
@@ -126,6 +129,18 @@ impl Field {
                  maxStorageBufferRange ({} bytes, {} blades); ask for fewer with --blades or --density",
                 limits.max_storage_buffer_range,
                 limits.max_storage_buffer_range / size_of::<Blade>() as u32
+            );
+        }
+        // The blades, their strengths and their indices on the device; the host keeps
+        // a copy of the blades while uploading them.
+        let device_bytes = count * DEVICE_BYTES_PER_BLADE;
+        let heap = ctx.largest_device_heap();
+        if device_bytes > heap / 2 {
+            bail!(
+                "{count} blades need {} MiB of device memory, more than half of this device's \
+                 largest device-local heap ({} MiB); ask for fewer with --blades or --density",
+                device_bytes >> 20,
+                heap >> 20
             );
         }
         let chunk_count = count.div_ceil(u64::from(blades_per_chunk()));

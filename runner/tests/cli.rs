@@ -153,7 +153,16 @@ fn every_option_refuses_values_outside_its_range() {
             if !arg.get_action().takes_values() || FREE_TEXT.contains(&long) {
                 continue;
             }
-            for bad in ["nan", "inf", "-inf", "-1e30", "1e30", "1e30,1e30,1e30", "", "grass"] {
+            for bad in [
+                "nan",
+                "inf",
+                "-inf",
+                "-1e30",
+                "1e30",
+                "1e30,1e30,1e30",
+                "",
+                "grass",
+            ] {
                 let flag = format!("--{long}");
                 let argv: Vec<&str> = ["grass"]
                     .into_iter()

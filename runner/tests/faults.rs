@@ -13,8 +13,8 @@ fn render(env: &[(&str, &str)]) -> (Option<i32>, String) {
     let out = scratch("faults").join("shot.png");
     let out = out.to_str().unwrap().to_string();
     let args = [
-        "render", "--frames", "8", "--blades", "64", "--width", "32", "--height", "32",
-        "--out", &out,
+        "render", "--frames", "8", "--blades", "64", "--width", "32", "--height", "32", "--out",
+        &out,
     ];
     let o = grass_with(&args, env);
     (o.status.code(), stderr_of(&args, &o))
@@ -52,7 +52,11 @@ fn a_missing_feature_is_named() {
     if no_device_here() {
         return;
     }
-    for feature in ["tessellationShader", "vulkanMemoryModelDeviceScope", "fillModeNonSolid"] {
+    for feature in [
+        "tessellationShader",
+        "vulkanMemoryModelDeviceScope",
+        "fillModeNonSolid",
+    ] {
         let fault = format!("missing-feature:{feature}");
         let (code, stderr) = render(&[("GRASS_FAULT", &fault)]);
         assert_eq!(code, Some(1), "{stderr}");

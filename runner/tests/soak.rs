@@ -10,8 +10,19 @@ use common::{gpu_required, grass, stderr_of};
 #[test]
 fn a_short_soak_is_silent_and_flat() {
     let args = [
-        "soak", "--frames", "240", "--every", "48", "--blades", "256", "--width", "64",
-        "--height", "64", "--host-slack-mib", "2000",
+        "soak",
+        "--frames",
+        "240",
+        "--every",
+        "48",
+        "--blades",
+        "256",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--host-slack-mib",
+        "2000",
     ];
     let o = grass(&args);
     let stderr = stderr_of(&args, &o);

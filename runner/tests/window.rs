@@ -20,7 +20,14 @@ impl Xvfb {
     fn start() -> Option<Self> {
         let number = 200 + std::process::id() % 500;
         let child = Command::new("Xvfb")
-            .args([&format!(":{number}"), "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+            .args([
+                &format!(":{number}"),
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
@@ -28,7 +35,10 @@ impl Xvfb {
         let socket = format!("/tmp/.X11-unix/X{number}");
         let start = Instant::now();
         while !std::path::Path::new(&socket).exists() {
-            assert!(start.elapsed() < Duration::from_secs(20), "Xvfb did not start");
+            assert!(
+                start.elapsed() < Duration::from_secs(20),
+                "Xvfb did not start"
+            );
             std::thread::sleep(Duration::from_millis(50));
         }
         Some(Self {
@@ -82,7 +92,12 @@ fn the_viewer_draws_through_a_resize_storm() {
         return;
     };
     let args = [
-        "--frames", "150", "--resize-storm", "--validation", "--blades", "256",
+        "--frames",
+        "150",
+        "--resize-storm",
+        "--validation",
+        "--blades",
+        "256",
     ];
     let (ok, log) = run_viewer(&x.display, &args, Duration::from_secs(300));
     if !ok && !gpu_required() && log.contains("device") {
@@ -104,9 +119,17 @@ fn the_viewer_draws_through_a_resize_storm() {
     };
     assert_eq!(number("frames drawn"), 150, "{summary}");
     let gusts = number("storm gusts");
-    assert!(gusts >= runner::app::storm::SCRIPT.len() as u64, "{summary}");
+    assert!(
+        gusts >= runner::app::storm::SCRIPT.len() as u64,
+        "{summary}"
+    );
     assert!(number("swapchains made") >= 12, "{summary}");
-    for expected in ["storm: Zero", "storm: Minimise", "storm: restored", "swapchain 1x1"] {
+    for expected in [
+        "storm: Zero",
+        "storm: Minimise",
+        "storm: restored",
+        "swapchain 1x1",
+    ] {
         assert!(log.contains(expected), "no \"{expected}\": {log}");
     }
 }

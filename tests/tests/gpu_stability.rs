@@ -41,7 +41,10 @@ fn check(blades: &[Blade], what: &str) -> f32 {
             up.dot(b.tip() - v0) >= -GROUND_TOLERANCE,
             "{what}: blade {i} below its ground: {b:?}"
         );
-        assert!(up.dot(b.guide() - v0) > 0.0, "{what}: blade {i} v1 under v0: {b:?}");
+        assert!(
+            up.dot(b.guide() - v0) > 0.0,
+            "{what}: blade {i} v1 under v0: {b:?}"
+        );
         let error = (bezier_length(v0, b.guide(), b.tip(), 64) - h).abs() / h;
         assert!(
             error <= LENGTH_TOLERANCE_FOLDED,
@@ -92,12 +95,15 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
             settings.env.stiffness_scale = stiffness;
             let mut renderer = Renderer::new(&ctx, &scene, FORMAT).expect("renderer");
             for frame in 0..FRAMES {
-                let uniforms = settings.uniforms(&camera, (256, 256), &scene, &balls(frame, half, radius));
+                let uniforms =
+                    settings.uniforms(&camera, (256, 256), &scene, &balls(frame, half, radius));
                 let push = SimulatePush {
                     first_step: frame * MAX_STEPS_PER_FRAME,
                     steps: MAX_STEPS_PER_FRAME,
                 };
-                renderer.compute_frame(&uniforms, push).expect("compute frame");
+                renderer
+                    .compute_frame(&uniforms, push)
+                    .expect("compute frame");
             }
             let blades: Vec<Blade> = renderer
                 .download(&renderer.field.blades, BLADES as usize)
@@ -107,7 +113,10 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                 .zip(&scene.blades)
                 .filter(|(a, b)| (a.tip() - b.tip()).length() > 1e-3)
                 .count();
-            assert!(moved > BLADES as usize / 2, "{what}: only {moved} blades moved");
+            assert!(
+                moved > BLADES as usize / 2,
+                "{what}: only {moved} blades moved"
+            );
             let worst = check(&blades, what);
             eprintln!(
                 "{what}: {} steps, every blade valid, worst bent length error {worst:.4}",

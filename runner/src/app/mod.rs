@@ -37,7 +37,9 @@ pub fn run(cli: Cli) -> Result<()> {
 /// at run time (device lost, out of memory, a GPU that stopped answering).
 pub fn advice(error: &anyhow::Error) -> Option<&'static str> {
     use ash::vk::Result as R;
-    let result = error.chain().find_map(|c| c.downcast_ref::<ash::vk::Result>())?;
+    let result = error
+        .chain()
+        .find_map(|c| c.downcast_ref::<ash::vk::Result>())?;
     Some(match *result {
         R::ERROR_DEVICE_LOST => {
             "the GPU device was lost (VK_ERROR_DEVICE_LOST): the driver reset it, it was \
@@ -67,7 +69,10 @@ pub fn check_output(path: &std::path::Path, extensions: &[&str]) -> Result<()> {
     let shown = path.display();
     let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if !extensions.iter().any(|e| e.eq_ignore_ascii_case(extension)) {
-        anyhow::bail!("output {shown}: expected a .{} file", extensions.join(" or ."));
+        anyhow::bail!(
+            "output {shown}: expected a .{} file",
+            extensions.join(" or .")
+        );
     }
     if path.is_dir() {
         anyhow::bail!("output {shown}: is a directory");

@@ -134,7 +134,7 @@ pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     let mut s = *base;
     let p = phase as usize;
     s.cull = phase % (shared::cull::ALL + 1);
-    s.lod = phase % 2 == 0;
+    s.lod = phase.is_multiple_of(2);
     s.view = View::ALL[p % View::ALL.len()].id();
     s.env.wind_kind = Wind::ALL[p % Wind::ALL.len()].kind();
     s.shape = Shape::ALL[(p / 2) % Shape::ALL.len()].id();

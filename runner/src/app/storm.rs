@@ -50,7 +50,7 @@ impl Storm {
     /// Advances one tick; returns the gust to apply now, if any.
     pub fn tick(&mut self) -> Option<Gust> {
         self.tick += 1;
-        if self.hidden() || self.tick % TICKS_PER_GUST != 0 {
+        if self.hidden() || !self.tick.is_multiple_of(TICKS_PER_GUST) {
             return None;
         }
         let gust = SCRIPT[(self.gusts % SCRIPT.len() as u64) as usize];

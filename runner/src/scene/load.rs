@@ -6,6 +6,14 @@
 //! naming the file and the problem, never a panic.
 //!
 //! Rules, in the order they apply:
+//! - a file may have at most [`MAX_VERTICES`] vertices and [`MAX_TRIANGLES`] triangles,
+//!   a glTF mesh counting once for every node that draws it; glTF counts are taken from
+//!   the accessors before anything is read, so an absurd count costs nothing;
+//! - a glTF buffer in a file of its own must be a regular file at least its
+//!   `byteLength` long (only that much is read: no devices, no pipes);
+//! - an OBJ face index must be within the file: a negative (relative) one can reach back
+//!   no further than the first `v`, `vt` or `vn` line, a positive one can be no larger
+//!   than the file's line count;
 //! - every vertex position must be finite (after the node transforms, too);
 //! - every index must name a vertex;
 //! - a triangle is *degenerate* and skipped (counted in [`LoadedMesh::degenerate`]) when
@@ -21,10 +29,18 @@
 
 use glam::{Mat3, Mat4, Vec3};
 use gltf::accessor::{DataType, Dimensions};
+use gltf::json::{self, validation::Checked};
 use gltf::mesh::{Mode, Semantic};
 use shared::mesh::SurfaceMesh;
 use std::io;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Most vertices a scene file may have (glTF: its POSITION accessors' counts, once per
+/// node drawing each mesh; OBJ: its distinct vertices).
+pub const MAX_VERTICES: usize = 1 << 22;
+
+/// Most triangles a scene file may have (counted as [`MAX_VERTICES`] is).
+pub const MAX_TRIANGLES: usize = 1 << 22;
 
 /// A scene file's surfaces.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -150,6 +166,19 @@ pub enum SceneError {
         /// The triangle's index in that mesh.
         triangle: usize,
     },
+    /// More vertices or triangles than a scene may have ([`MAX_VERTICES`],
+    /// [`MAX_TRIANGLES`]).
+    #[error("scene {scene}: {count} {what}, more than the {limit} a scene may have")]
+    TooMany {
+        /// The path (or name) of the scene.
+        scene: String,
+        /// "vertices" or "triangles".
+        what: &'static str,
+        /// How many the file has (instances counted), as far as it was counted.
+        count: u64,
+        /// The limit.
+        limit: usize,
+    },
     /// Anything else wrong with the file's structure or data.
     #[error("scene {scene}: {part}: {problem}")]
     Malformed {
@@ -234,6 +263,8 @@ struct Builder {
     loaded: LoadedMesh,
     /// Triangles met, kept or not.
     triangles: usize,
+    /// Vertices met (as parts give them).
+    vertices: usize,
 }
 
 impl Builder {
@@ -242,7 +273,26 @@ impl Builder {
             scene: scene.to_owned(),
             loaded: LoadedMesh::default(),
             triangles: 0,
+            vertices: 0,
         }
+    }
+
+    /// Refuses more than [`MAX_VERTICES`] or [`MAX_TRIANGLES`].
+    fn check_limits(&self, vertices: u64, triangles: u64) -> Result<(), SceneError> {
+        for (what, count, limit) in [
+            ("vertices", vertices, MAX_VERTICES),
+            ("triangles", triangles, MAX_TRIANGLES),
+        ] {
+            if count > limit as u64 {
+                return Err(SceneError::TooMany {
+                    scene: self.scene.clone(),
+                    what,
+                    count,
+                    limit,
+                });
+            }
+        }
+        Ok(())
     }
 
     fn malformed(&self, part: &str, problem: impl Into<String>) -> SceneError {
@@ -275,19 +325,13 @@ impl Builder {
             bare,
         } = part;
         self.check_finite(&label, &positions)?;
-        // Each triangle adds at most three vertices; indices must stay within u32.
-        let most = positions
-            .len()
-            .saturating_add(triangles.len().saturating_mul(3));
-        let target = if bare {
-            &self.loaded.bare
-        } else {
-            &self.loaded.surface
-        };
-        if most.saturating_add(target.positions.len()) > u32::MAX as usize {
-            return Err(self.malformed(&label, "too many vertices (more than 2³² in all)"));
-        }
-        self.triangles += triangles.len();
+        // Within the limits, the mesh's indices stay far within u32: each triangle adds
+        // at most three vertices to the file's own.
+        let vertices = self.vertices.saturating_add(positions.len());
+        let met = self.triangles.saturating_add(triangles.len());
+        self.check_limits(vertices as u64, met as u64)?;
+        self.vertices = vertices;
+        self.triangles = met;
 
         // File normals, one per vertex, or none at all.
         let normals: Option<Vec<Option<Vec3>>> = match normals {
@@ -405,32 +449,26 @@ fn load_gltf(bytes: &[u8], scene: &str, base: Option<&Path>) -> Result<LoadedMes
         }
     }
     let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice(bytes).map_err(|e| not_gltf(e.to_string()))?;
-    let buffers_error = |message: String| SceneError::GltfBuffers {
-        scene: scene.to_owned(),
-        message,
-    };
-    // The importer unwraps the percent-decoding of relative URIs.
-    for buffer in document.buffers() {
-        if let gltf::buffer::Source::Uri(uri) = buffer.source()
-            && !uri.contains(':')
-            && !percent_decodes_to_utf8(uri)
-        {
-            return Err(buffers_error(format!(
-                "buffer {}: URI `{uri}` is not UTF-8 once percent-decoded",
-                buffer.index()
-            )));
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| not_gltf(e.to_string()))?;
+    // The validator indexes the accessors with each POSITION attribute unchecked.
+    let json = document.into_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = Checked::Valid(json::mesh::Semantic::Positions);
+            if let Some(accessor) = primitive.attributes.get(&position)
+                && accessor.value() >= json.accessors.len()
+            {
+                return Err(not_gltf(format!(
+                    "invalid glTF: meshes[{m}].primitives[{p}].attributes[\"POSITION\"]: \
+                     accessor {} does not exist ({} accessors)",
+                    accessor.value(),
+                    json.accessors.len()
+                )));
+            }
         }
     }
-    // Buffers only: images (textures) are not needed for the surfaces.
-    let buffers = gltf::import_buffers(&document, base, blob).map_err(|e| {
-        buffers_error(match e {
-            gltf::Error::ExternalReferenceInSliceImport => {
-                "an external buffer cannot be resolved for a scene loaded from memory".into()
-            }
-            e => e.to_string(),
-        })
-    })?;
+    let document = gltf::Document::from_json(json).map_err(|e| not_gltf(e.to_string()))?;
+    let buffers = read_buffers(&document, scene, base, blob)?;
     let buffers: Vec<&[u8]> = buffers.iter().map(|b| &b[..]).collect();
 
     let mut builder = Builder::new(scene);
@@ -455,45 +493,153 @@ fn load_gltf(bytes: &[u8], scene: &str, base: Option<&Path>) -> Result<LoadedMes
         .rev()
         .map(|n| (n, Mat4::IDENTITY))
         .collect();
+    let mut drawn: Vec<(gltf::Node, Mat4)> = Vec::new();
     while let Some((node, parent)) = stack.pop() {
-        let node_label = match node.name() {
-            Some(name) => format!("node `{name}`"),
-            None => format!("node {}", node.index()),
-        };
         if std::mem::replace(&mut seen[node.index()], true) {
             return Err(builder.malformed(
-                &node_label,
+                &node_label(&node),
                 "is reached twice in the node hierarchy (glTF requires a tree)",
             ));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if let Some(mesh) = node.mesh() {
-            for primitive in mesh.primitives() {
-                // Points, lines, strips and fans: not surfaces the grass grows on.
-                if primitive.mode() != Mode::Triangles {
-                    continue;
-                }
-                let label = format!(
-                    "{node_label}, {}, primitive {}",
-                    match mesh.name() {
-                        Some(name) => format!("mesh `{name}`"),
-                        None => format!("mesh {}", mesh.index()),
-                    },
-                    primitive.index()
-                );
-                let part = read_primitive(&builder, &primitive, &buffers, world, label)?;
-                builder.add(part)?;
-            }
-        }
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((child, world));
+        }
+        if node.mesh().is_some() {
+            drawn.push((node, world));
+        }
+    }
+    // The sizes first, from the accessors' counts: a mesh drawn by many nodes, or an
+    // accessor with no buffer view (zeros, then its sparse values), costs nothing to
+    // declare, so nothing is read before they are known to be within the limits.
+    let (mut vertices, mut triangles) = (0u64, 0u64);
+    for (node, _) in &drawn {
+        for primitive in node.mesh().iter().flat_map(|m| m.primitives()) {
+            if primitive.mode() == Mode::Triangles {
+                let count = |a: Option<gltf::Accessor>| a.map(|a| a.count() as u64);
+                let positions = count(primitive.get(&Semantic::Positions)).unwrap_or(0);
+                let corners = count(primitive.indices()).unwrap_or(positions);
+                vertices = vertices.saturating_add(positions);
+                triangles = triangles.saturating_add(corners / 3);
+            }
+        }
+    }
+    builder.check_limits(vertices, triangles)?;
+    for (node, world) in drawn {
+        let Some(mesh) = node.mesh() else { continue };
+        for primitive in mesh.primitives() {
+            // Points, lines, strips and fans: not surfaces the grass grows on.
+            if primitive.mode() != Mode::Triangles {
+                continue;
+            }
+            let label = format!(
+                "{}, {}, primitive {}",
+                node_label(&node),
+                match mesh.name() {
+                    Some(name) => format!("mesh `{name}`"),
+                    None => format!("mesh {}", mesh.index()),
+                },
+                primitive.index()
+            );
+            let part = read_primitive(&builder, &primitive, &buffers, world, label)?;
+            builder.add(part)?;
         }
     }
     builder.finish()
 }
 
-/// True when `uri`, percent-decoded the way the glTF importer does it, is UTF-8.
-fn percent_decodes_to_utf8(uri: &str) -> bool {
+/// Names a node in messages: by name, else by index.
+fn node_label(node: &gltf::Node) -> String {
+    match node.name() {
+        Some(name) => format!("node `{name}`"),
+        None => format!("node {}", node.index()),
+    }
+}
+
+/// The bytes of every buffer of `document`: the GLB binary chunk, a base64 data URI, or
+/// a file (relative to `base`; `None`: an error) that must be a regular file at least
+/// the buffer's `byteLength` long, of which only those bytes are read. (The glTF
+/// crate's importer reads any path to its end: `/dev/zero` never ends.)
+fn read_buffers(
+    document: &gltf::Document,
+    scene: &str,
+    base: Option<&Path>,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, SceneError> {
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let error = |message: String| SceneError::GltfBuffers {
+            scene: scene.to_owned(),
+            message: format!("buffer {}: {message}", buffer.index()),
+        };
+        let length = buffer.length();
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob
+                .take()
+                .ok_or_else(|| error("the GLB has no binary chunk for it".into()))?,
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                gltf::buffer::Data::from_source_and_blob(buffer.source(), None, &mut None)
+                    .map_err(|e| error(e.to_string()))?
+                    .0
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let path = match uri.strip_prefix("file://").or(uri.strip_prefix("file:")) {
+                    Some(path) => PathBuf::from(path),
+                    None if uri.contains(':') => {
+                        return Err(error(format!("URI `{uri}` has an unsupported scheme")));
+                    }
+                    None => match percent_decode(uri) {
+                        Some(path) => PathBuf::from(path),
+                        None => {
+                            return Err(error(format!(
+                                "URI `{uri}` is not UTF-8 once percent-decoded"
+                            )));
+                        }
+                    },
+                };
+                let Some(base) = base else {
+                    return Err(error(
+                        "an external buffer cannot be resolved for a scene loaded from memory"
+                            .into(),
+                    ));
+                };
+                read_external(&base.join(path), length).map_err(error)?
+            }
+        };
+        if data.len() < length {
+            return Err(error(format!(
+                "{} bytes, less than its byteLength of {length}",
+                data.len()
+            )));
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// The first `length` bytes of the regular file at `path`.
+fn read_external(path: &Path, length: usize) -> Result<Vec<u8>, String> {
+    use std::io::Read as _;
+    let shown = path.display();
+    let size = match std::fs::metadata(path) {
+        Ok(meta) if meta.is_file() => meta.len(),
+        Ok(_) => return Err(format!("{shown} is not a regular file")),
+        Err(e) => return Err(format!("cannot read {shown}: {e}")),
+    };
+    if size < length as u64 {
+        return Err(format!(
+            "{shown} has {size} bytes, less than the buffer's byteLength of {length}"
+        ));
+    }
+    let mut data = Vec::with_capacity(length);
+    std::fs::File::open(path)
+        .and_then(|file| file.take(length as u64).read_to_end(&mut data))
+        .map_err(|e| format!("cannot read {shown}: {e}"))?;
+    Ok(data)
+}
+
+/// `uri` percent-decoded the way the glTF importer does it, if that is UTF-8.
+fn percent_decode(uri: &str) -> Option<String> {
     let bytes = uri.as_bytes();
     let mut decoded = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -510,7 +656,7 @@ fn percent_decodes_to_utf8(uri: &str) -> bool {
             }
         }
     }
-    String::from_utf8(decoded).is_ok()
+    String::from_utf8(decoded).ok()
 }
 
 /// One triangle primitive in world space: positions (checked finite before they are
@@ -544,6 +690,16 @@ fn read_primitive(
     builder.check_finite(&label, &positions)?;
 
     let normals = match primitive.get(&Semantic::Normals) {
+        // Not read: `Builder::add` would drop them (and they could be any size).
+        Some(accessor) if accessor.count() != positions.len() => {
+            log::warn!(
+                "scene {}: {label}: {} normals for {} vertices, using face normals",
+                builder.scene,
+                accessor.count(),
+                positions.len()
+            );
+            None
+        }
         Some(accessor) => {
             check_accessor(
                 &accessor,
@@ -675,14 +831,45 @@ fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneError> {
     // tobj resolves `usemtl` names only through a material library. Only the names
     // matter here, so hand it one made of the file's own `usemtl` names, whatever
     // .mtl the file asks for: a missing or partial .mtl then changes nothing.
-    let mut names: Vec<&str> = Vec::new();
-    for line in text.lines() {
-        if line.split_whitespace().next() == Some("usemtl") {
-            // Cut the way tobj cuts it, so the names match.
-            let name = line.split_once(' ').unwrap_or_default().1.trim();
-            if !name.is_empty() && !names.contains(&name) {
-                names.push(name);
+    // On the way, face indices are checked the way tobj cannot: it resolves them with
+    // unchecked arithmetic (a panic in debug builds, for `f 1//-5` or `f 1/-3` with a
+    // vt line, or `f 1//9223372036854775807`).
+    let lines = text.lines().count();
+    let mut names: std::collections::BTreeSet<&str> = Default::default();
+    // `v`, `vt` and `vn` lines so far: how far back a negative index may reach.
+    let mut before = [0usize; 3];
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("usemtl") => {
+                // Cut the way tobj cuts it, so the names match.
+                let name = line.split_once(' ').unwrap_or_default().1.trim();
+                if !name.is_empty() {
+                    names.insert(name);
+                }
             }
+            Some("v") => before[0] += 1,
+            Some("vt") => before[1] += 1,
+            Some("vn") => before[2] += 1,
+            Some("f" | "l") => {
+                for word in words {
+                    for (kind, index) in word.split('/').enumerate() {
+                        // Anything else is tobj's to refuse.
+                        let (Some(&before), Ok(index)) = (before.get(kind), index.parse::<isize>())
+                        else {
+                            continue;
+                        };
+                        let limit = if index < 0 { before } else { lines };
+                        if index.unsigned_abs() > limit {
+                            return Err(not_obj(format!(
+                                "line {}: index `{word}` is out of range",
+                                number + 1
+                            )));
+                        }
+                    }
+                }
+            }
+            _ => {}
         }
     }
     let library: String = names.iter().map(|n| format!("newmtl {n}\n")).collect();
@@ -693,8 +880,15 @@ fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneError> {
         ignore_points: true,
         ignore_lines: true,
     };
+    // tobj appends every library it is handed to the last: only the first `mtllib`
+    // (the one above) gets the names, or n `mtllib` lines would make n copies of them.
+    let handed = std::cell::Cell::new(false);
     let (models, materials) = tobj::load_obj_buf(&mut source.as_bytes(), &options, |_| {
-        tobj::load_mtl_buf(&mut library.as_bytes())
+        if handed.replace(true) {
+            Ok(Default::default())
+        } else {
+            tobj::load_mtl_buf(&mut library.as_bytes())
+        }
     })
     .map_err(|e| not_obj(e.to_string()))?;
     let materials = materials.unwrap_or_default();
@@ -1113,9 +1307,49 @@ mod tests {
     }
 
     #[test]
+    fn gltf_position_naming_no_accessor_is_not_gltf() {
+        // The glTF crate's validator indexed the accessors with it, and panicked.
+        let json = r#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
+        let error = load_gltf_slice(json.as_bytes(), "t").unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "scene t: not a glTF file: invalid glTF: meshes[0].primitives[0].attributes\
+             [\"POSITION\"]: accessor 0 does not exist (0 accessors)"
+        );
+    }
+
+    #[test]
+    fn obj_indices_out_of_reach_are_refused_before_tobj() {
+        // tobj overflowed on these (a panic in debug builds).
+        for (face, line) in [
+            ("vn 0 1 0\nf 1//-5 2 3", 5),
+            ("vn 0 1 0\nf 1//9223372036854775807 2 3", 5),
+            ("vt 0 0\nf 1/-3 2 3", 5),
+            ("f 1 2 -4", 4),
+            ("f 1 2 9223372036854775807", 4),
+        ] {
+            let (file, result) = load_obj_text(&format!("v 0 0 0\nv 0 0 1\nv 1 0 0\n{face}\n"));
+            let word = face
+                .lines()
+                .last()
+                .unwrap()
+                .split_whitespace()
+                .find(|w| w.len() > 2);
+            let word = word.unwrap_or("-4");
+            assert_eq!(
+                problem(&file, result.unwrap_err()),
+                format!("not an OBJ file: line {line}: index `{word}` is out of range"),
+            );
+        }
+        // Still fine: relative indices within reach.
+        let (_file, result) = load_obj_text("v 0 0 0\nv 0 0 1\nv 1 0 0\nf -3 -2 -1\n");
+        assert_eq!(result.unwrap().surface.triangles.len(), 1);
+    }
+
+    #[test]
     fn percent_decoding_check() {
-        assert!(percent_decodes_to_utf8("a%20b.bin"));
-        assert!(percent_decodes_to_utf8("100%.bin"));
-        assert!(!percent_decodes_to_utf8("%ff.bin"));
+        assert_eq!(percent_decode("a%20b.bin").as_deref(), Some("a b.bin"));
+        assert_eq!(percent_decode("100%.bin").as_deref(), Some("100%.bin"));
+        assert_eq!(percent_decode("%ff.bin"), None);
     }
 }

@@ -259,6 +259,20 @@ impl Context {
             .with_context(|| format!("allocate {} bytes for {name}", requirements.size))
     }
 
+    /// Size of the largest device-local memory heap, bytes.
+    pub fn largest_device_heap(&self) -> u64 {
+        let memory = unsafe {
+            self.instance
+                .get_physical_device_memory_properties(self.physical)
+        };
+        memory.memory_heaps[..memory.memory_heap_count as usize]
+            .iter()
+            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0)
+    }
+
     /// Waits until the device is idle (before destroying what it may still use).
     pub fn wait_idle(&self) -> Result<()> {
         unsafe { self.device.device_wait_idle() }.context("wait for device idle")

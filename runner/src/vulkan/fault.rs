@@ -40,9 +40,7 @@ pub fn injected() -> Option<&'static Fault> {
     FAULT
         .get_or_init(|| {
             let value = std::env::var("GRASS_FAULT").ok()?;
-            Fault::parse(&value)
-                .inspect_err(|e| log::warn!("{e}"))
-                .ok()
+            Fault::parse(&value).inspect_err(|e| log::warn!("{e}")).ok()
         })
         .as_ref()
 }
@@ -71,7 +69,11 @@ mod tests {
             Ok(Fault::MissingFeature("tessellationShader".into()))
         );
         assert_eq!(Fault::parse("device-lost:12"), Ok(Fault::DeviceLost(12)));
-        assert!(Fault::parse("device-lost:soon").unwrap_err().contains("soon"));
+        assert!(
+            Fault::parse("device-lost:soon")
+                .unwrap_err()
+                .contains("soon")
+        );
         assert!(Fault::parse("meteor").unwrap_err().contains("meteor"));
         assert!(Fault::parse("missing-feature:").is_err());
     }

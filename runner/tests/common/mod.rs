@@ -35,6 +35,9 @@ pub fn grass(args: &[&str]) -> Output {
 /// The run's standard error, checked to hold no panic.
 pub fn stderr_of(args: &[&str], output: &Output) -> String {
     let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "grass {args:?} panicked: {stderr}");
+    assert!(
+        !stderr.contains("panicked"),
+        "grass {args:?} panicked: {stderr}"
+    );
     stderr
 }

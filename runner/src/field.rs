@@ -15,7 +15,8 @@ use shared::layout::{
 use shared::lod::blades_per_chunk;
 use std::sync::Arc;
 
-/// Stages that read the uniform block.
+/// Stages that read the frame's uniform block (a storage buffer: see
+/// `shared::layout::BINDING_UNIFORMS`).
 const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::COMPUTE.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
@@ -43,7 +44,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 pub const BINDINGS: [BindingSpec; 8] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
-        ty: vk::DescriptorType::UNIFORM_BUFFER,
+        ty: vk::DescriptorType::STORAGE_BUFFER,
         stages: UNIFORM_STAGES,
     },
     // The grass draw's tessellation stages read the blades through their index.
@@ -194,7 +195,7 @@ impl Field {
         let uniforms = device_buffer(
             "uniforms",
             size_of::<FrameUniforms>() as u64,
-            U::UNIFORM_BUFFER | U::TRANSFER_DST,
+            U::STORAGE_BUFFER | U::TRANSFER_DST,
         )?;
 
         // A placeholder until a frame sizes it: no occlusion test without a target.

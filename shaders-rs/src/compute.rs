@@ -28,7 +28,7 @@ pub fn simulate_cull(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(local_invocation_index)] local: u32,
     #[spirv(num_workgroups)] workgroups: UVec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(push_constant)] push: &SimulatePush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [u32],
@@ -108,7 +108,7 @@ pub fn simulate_cull(
 #[spirv(compute(threads(8, 8)))]
 pub fn build_hiz(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(push_constant)] push: &HiZPush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &mut [f32],
 ) {

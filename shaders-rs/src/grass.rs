@@ -31,7 +31,7 @@ pub fn grass_vs(
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn grass_tcs(
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
     in_blade: [u32; 1],
     out_blade: &mut [u32; 1],
@@ -55,7 +55,7 @@ pub fn grass_tcs(
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn grass_tes(
     #[spirv(tess_coord)] coord: Vec3,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
     in_blade: [u32; 1],
     in_level: [f32; 1],
@@ -82,7 +82,7 @@ pub fn grass_fs(
     world: Vec3,
     uv: Vec2,
     level: f32,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     out_color: &mut Vec4,
 ) {
     let n = normal.normalize_or_zero();

@@ -12,7 +12,7 @@ use spirv_std::spirv;
 pub fn ground_vs(
     position: Vec4,
     normal: Vec4,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(push_constant)] push: &SurfacePush,
     #[spirv(position)] out_position: &mut Vec4,
     out_world: &mut Vec3,
@@ -33,7 +33,7 @@ pub fn ground_fs(
     world: Vec3,
     normal: Vec3,
     #[spirv(flat)] material: u32,
-    #[spirv(uniform, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     out_color: &mut Vec4,
 ) {
     let n = normal.normalize_or_zero();

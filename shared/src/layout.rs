@@ -25,7 +25,10 @@ pub fn flat_index(global_id: UVec3, workgroups: UVec3, workgroup_size: u32) -> u
 
 /// Descriptor set of every pipeline (each pipeline has exactly one).
 pub const SET: u32 = 0;
-/// Binding of [`FrameUniforms`] (uniform buffer), in every pipeline.
+/// Binding of [`FrameUniforms`], in every pipeline: a read-only storage buffer rather
+/// than a uniform buffer, because lavapipe (Mesa 22.3) keeps host memory for every
+/// new set of uniform values its shaders see (about 0.7 MB a frame), and the frame's
+/// values change every frame. The layout is the same in both (vec4-aligned fields).
 pub const BINDING_UNIFORMS: u32 = 0;
 /// Binding of the blade buffer (storage): simulated in place by the compute pass,
 /// read by the grass draw's tessellation stages.

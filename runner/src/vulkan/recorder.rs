@@ -141,8 +141,8 @@ impl<'a> Recorder<'a> {
             self.device
                 .cmd_bind_pipeline(self.cmd, bind_point, pipeline);
         }
-        // Binding the same set again is redundant; lavapipe (Mesa 22.3) also holds
-        // host memory for every bind until the device goes (README, "Reliability").
+        // Binding the same set again is redundant (and costs lavapipe host memory
+        // while the frame block was a uniform buffer: README, "Reliability").
         let point = usize::from(bind_point == vk::PipelineBindPoint::COMPUTE);
         let mut bound = self.bound.get();
         if bound[point] != Some((layout, set)) {

@@ -67,6 +67,21 @@ pub struct FrameInput<'a> {
     pub overlay: Option<OverlayFrame<'a>>,
 }
 
+impl FrameInput<'_> {
+    /// A headless frame: no semaphores, no capture, no overlay.
+    pub fn headless(target: Target, uniforms: FrameUniforms, push: SimulatePush) -> Self {
+        Self {
+            target,
+            uniforms,
+            push,
+            wait: None,
+            signal: None,
+            capture: None,
+            overlay: None,
+        }
+    }
+}
+
 /// How the compute pass sorted the blades of one frame: drawn, or removed by the
 /// first test that failed. Every blade lands in exactly one count.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]

@@ -271,16 +271,11 @@ fn measure(
         }
         last = now;
         let (first_step, steps) = clock.advance(1.0 / 60.0);
-        let input = FrameInput {
-            target: offscreen.target(),
-            uniforms,
-            push: SimulatePush { first_step, steps },
-            wait: None,
-            signal: None,
-            capture: None,
-            overlay: None,
-        };
-        renderer.render(slot, input)?;
+        let push = SimulatePush { first_step, steps };
+        renderer.render(
+            slot,
+            FrameInput::headless(offscreen.target(), uniforms, push),
+        )?;
     }
     renderer.finish()?;
     let triangles = (!triangles.is_empty()).then(|| Spread::of(&triangles).median);
@@ -308,17 +303,13 @@ fn still(
     uniforms: shared::layout::FrameUniforms,
 ) -> Result<Vec<u8>> {
     let slot = renderer.begin_frame()?;
+    let still = SimulatePush {
+        first_step: 0,
+        steps: 0,
+    };
     let input = FrameInput {
-        target: offscreen.target(),
-        uniforms,
-        push: SimulatePush {
-            first_step: 0,
-            steps: 0,
-        },
-        wait: None,
-        signal: None,
         capture: Some(&offscreen.capture),
-        overlay: None,
+        ..FrameInput::headless(offscreen.target(), uniforms, still)
     };
     renderer.render(slot, input)?;
     renderer.finish()?;

@@ -168,18 +168,11 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         });
         let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
         let uniforms = settings.uniforms(&camera, (args.width, args.height), &scene, &balls);
-        renderer.render(
-            slot,
-            FrameInput {
-                target,
-                uniforms,
-                push,
-                wait: None,
-                signal: None,
-                capture: last.then_some(&offscreen.capture),
-                overlay: None,
-            },
-        )?;
+        let input = FrameInput {
+            capture: last.then_some(&offscreen.capture),
+            ..FrameInput::headless(target, uniforms, push)
+        };
+        renderer.render(slot, input)?;
         if args.frames >= 100 && (frame + 1) % progress_every == 0 {
             log::info!("frame {}/{}", frame + 1, args.frames);
         }

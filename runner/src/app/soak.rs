@@ -186,17 +186,10 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
             .collect();
         let slot = renderer.begin_frame()?;
         let uniforms = settings.uniforms(&camera, size, &scene, &balls);
+        let push = SimulatePush { first_step, steps };
         renderer.render(
             slot,
-            FrameInput {
-                target: offscreen.target(),
-                uniforms,
-                push: SimulatePush { first_step, steps },
-                wait: None,
-                signal: None,
-                capture: None,
-                overlay: None,
-            },
+            FrameInput::headless(offscreen.target(), uniforms, push),
         )?;
         if (frame + 1) % args.every == 0 || frame + 1 == args.frames {
             renderer.finish()?;

@@ -19,6 +19,11 @@ fn main() {
 }
 
 fn build() -> Result<(), Box<dyn std::error::Error>> {
+    // Clones that share one target directory (as `.ci/run` does) share this script's
+    // output: cargo keys it by package, not by path, and the shader sources it watches
+    // are those of the clone that built last. Running again when cargo is started from
+    // another directory keeps one clone from using another's shaders.
+    println!("cargo::rerun-if-env-changed=PWD");
     let crate_dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR")?);
     let shaders = crate_dir.join("../shaders-rs");
     let mut builder = SpirvBuilder::new(&shaders, "spirv-unknown-vulkan1.2")

@@ -18,6 +18,11 @@ pub struct Ball {
 }
 
 impl Ball {
+    /// A ball of `radius` dropped onto `mesh` above (x, z) (see [`drop_onto`]).
+    pub fn dropped(mesh: &SurfaceMesh, xz: Vec2, radius: f32) -> Option<Self> {
+        drop_onto(mesh, xz).map(|contact| Self { contact, radius })
+    }
+
     /// The sphere collider: centre (xyz) and radius (w).
     pub fn sphere(&self) -> Vec4 {
         (self.contact.position + self.contact.normal * self.radius * SINK).extend(self.radius)

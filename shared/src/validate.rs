@@ -34,6 +34,19 @@ pub fn restore_length(v0: Vec3, v1: Vec3, v2: Vec3, height: f32) -> (Vec3, Vec3)
     (v1_new, v2_new)
 }
 
+/// A blade whose tip is at least this fraction of its height h from its root counts as
+/// bent; closer, the curve folds back on itself.
+pub const BENT_REACH: f32 = 0.7;
+
+/// Relative error |L − h|/h of the arc length L a validated bent blade may have. The
+/// paper's estimate (2·L0 + L1)/3 is not the arc length: the worst bent shape, a tip
+/// pushed straight down its own axis to 0.758·h, is 7.3 % long.
+pub const LENGTH_TOLERANCE_BENT: f32 = 0.08;
+
+/// Relative length error of any validated blade: a tip pushed straight down onto its
+/// root folds the curve to 1.5·h (a limit of the paper's method, kept as such).
+pub const LENGTH_TOLERANCE_FOLDED: f32 = 0.5;
+
 /// All three steps, in the paper's order, on a blade whose `v2` the forces moved.
 pub fn validate(blade: &Blade) -> Blade {
     let (v0, up, h) = (blade.root(), blade.up_dir(), blade.height());
@@ -101,12 +114,8 @@ mod tests {
         assert!(close(v1, Vec3::Y, 1e-6) && close(v2, Vec3::Y * 2.0, 1e-6));
     }
 
-    /// The paper's estimate (2·L0 + L1)/3 is not the exact arc length. For a blade
-    /// that is bent but not folded back on itself (tip at least 0.7·h from the root)
-    /// the length stays within 8 % of h (worst seen on this grid: 7.3 %); a tip pushed straight down onto the root folds the curve and the estimate
-    /// drifts up to 50 % (a limit of the paper's method, kept as such).
-    const LENGTH_TOLERANCE_BENT: f32 = 0.08;
-    const LENGTH_TOLERANCE_FOLDED: f32 = 0.5;
+    // The bounds are `LENGTH_TOLERANCE_BENT` and `LENGTH_TOLERANCE_FOLDED` (worst
+    // seen on this grid: 7.3 % bent).
 
     #[test]
     fn validation_keeps_blades_above_ground_with_v1_above_v0_and_length_near_h() {
@@ -125,7 +134,7 @@ mod tests {
                     let len = bezier_length(v0, b.guide(), b.tip(), 64);
                     let error = (len - b.height()).abs() / b.height();
                     worst_any = worst_any.max(error);
-                    if (b.tip() - v0).length() >= 0.7 * b.height() {
+                    if (b.tip() - v0).length() >= BENT_REACH * b.height() {
                         worst_bent = worst_bent.max(error);
                     }
                 }

@@ -35,7 +35,9 @@ use shared::simulate::{
     BladeState, Environment, MAX_STEPS_PER_FRAME, STEP_SECONDS, STEPS_PER_SECOND, SimClock,
     simulate,
 };
-use shared::validate::{bezier_length, validate};
+use shared::validate::{
+    BENT_REACH, LENGTH_TOLERANCE_BENT, LENGTH_TOLERANCE_FOLDED, bezier_length, validate,
+};
 use shared::{generate, wind};
 
 /// The runner's default wind strength (`--wind-strength`).
@@ -55,23 +57,19 @@ const MAX_SPEED: f32 = 1000.0;
 /// Frame times, seconds.
 const FRAME: (f64, f64) = (1e-4, 2.0);
 
-/// Relative error |L − h|/h of the arc length L allowed for a blade whose tip is at
-/// least [`BENT_REACH`]·h from its root. The paper's estimate L ≈ (2·L0 + L1)/3 is not
-/// the arc length; after validation a blade's shape depends only on where the tip was
-/// before it, and over all such shapes (`tolerances_bound_every_validated_shape`) the
-/// worst error with the tip that far out is 7.3 %, for a tip pushed straight down its
-/// own axis to 0.758·h. This is `LENGTH_TOLERANCE_BENT` of the validation tests.
-const LENGTH_TOLERANCE_BENT: f32 = 0.08;
-/// Tip distance from the root, as a fraction of h, above which a blade counts as
-/// bent rather than folded.
-const BENT_REACH: f32 = 0.7;
-/// Relative length error allowed for any blade: `LENGTH_TOLERANCE_FOLDED` of the
-/// validation tests plus f32 rounding. A tip pushed straight down its axis to a·h
+// Bent blades (tip at least `BENT_REACH`·h out) keep their length within
+// `LENGTH_TOLERANCE_BENT` (shared::validate). After validation a blade's shape depends
+// only on where the tip was before it, and over all such shapes
+// (`tolerances_bound_every_validated_shape`) the worst error with the tip that far out
+// is 7.3 %, for a tip pushed straight down its own axis to 0.758·h.
+
+/// Relative length error allowed for any blade: `LENGTH_TOLERANCE_FOLDED` of
+/// shared::validate plus f32 rounding. A tip pushed straight down its axis to a·h
 /// (0 ≤ a ≤ 1; a ball on top of a blade does that) folds the curve back on itself:
 /// v1 = v0 + h·up, L0 = a·h, L1 = (2 − a)·h, so validation scales by
 /// r = 3/(2 + a) and the curve, which goes up to its apex and back down, has length
 /// h·3(2 − 2a + a²)/(4 − a²): 1.5·h at a = 0 (tip on the root), the supremum.
-const LENGTH_TOLERANCE_FOLDED: f32 = 0.5 + 1e-3;
+const LENGTH_TOLERANCE_ANY: f32 = LENGTH_TOLERANCE_FOLDED + 1e-3;
 /// Chords for the reference arc length (as in the validation tests).
 const SEGMENTS: u32 = 64;
 
@@ -135,7 +133,7 @@ fn violation((b, strength): BladeState, start: &Blade, reach: f32) -> Option<Str
     if bent && error >= LENGTH_TOLERANCE_BENT {
         return Some(format!("bent blade, length error {error}: {b:?}"));
     }
-    if error > LENGTH_TOLERANCE_FOLDED {
+    if error > LENGTH_TOLERANCE_ANY {
         return Some(format!("length error {error}: {b:?}"));
     }
     None

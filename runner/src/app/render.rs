@@ -1,7 +1,7 @@
 //! Headless rendering: an offscreen colour image, N frames at 1/60 s, a PNG of the last.
 
 use crate::cli::{Common, RenderArgs};
-use crate::collider::{Ball, drop_onto};
+use crate::collider::Ball;
 use crate::renderer::{CullCounts, FrameInput, PassTimes, Renderer, Target};
 use crate::vulkan::{Buffer, Context, Image};
 use anyhow::{Context as _, Result, bail};
@@ -160,11 +160,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         // The ball's place at this frame's time along its path.
         let ball = common.collider_path.as_ref().and_then(|path| {
             let travelled = common.collider_speed * clock.time();
-            let contact = drop_onto(&scene.solid, path.at(travelled))?;
-            Some(Ball {
-                contact,
-                radius: common.collider_radius,
-            })
+            Ball::dropped(&scene.solid, path.at(travelled), common.collider_radius)
         });
         let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
         let uniforms = settings.uniforms(&camera, (args.width, args.height), &scene, &balls);

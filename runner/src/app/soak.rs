@@ -6,7 +6,7 @@
 use super::progress::Progress;
 use super::render::{FORMAT, Offscreen};
 use crate::cli::{Common, Shape, SoakArgs, View, Wind};
-use crate::collider::{Ball, drop_onto};
+use crate::collider::Ball;
 use crate::renderer::{FrameInput, Renderer};
 use crate::scene::Settings;
 use anyhow::{Result, bail};
@@ -176,11 +176,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
         camera.yaw += 0.003;
         let angle = clock.time() * 0.7;
         let around = camera.target.xz() + Vec2::from_angle(angle) * circle;
-        let balls: Vec<_> = drop_onto(&scene.solid, around)
-            .map(|contact| Ball {
-                contact,
-                radius: common.collider_radius,
-            })
+        let balls: Vec<_> = Ball::dropped(&scene.solid, around, common.collider_radius)
             .iter()
             .map(Ball::sphere)
             .collect();

@@ -155,10 +155,7 @@ impl Running {
             .collider_path
             .as_ref()
             .map_or(scene.camera().target.xz(), |p| p.at(0.0));
-        let ball = drop_onto(&scene.solid, start).map(|contact| Ball {
-            contact,
-            radius: common.collider_radius,
-        });
+        let ball = Ball::dropped(&scene.solid, start, common.collider_radius);
         Ok(Self {
             renderer,
             swapchain: None,

@@ -2,6 +2,7 @@
 
 use glam::camera::rh;
 use glam::{Mat4, Vec3};
+use shared::settings::Viewpoint;
 
 /// A camera orbiting `target`.
 #[derive(Copy, Clone, Debug)]
@@ -19,6 +20,18 @@ pub struct OrbitCamera {
 }
 
 impl OrbitCamera {
+    /// What the shaders need of this camera on a target of `extent` (width, height
+    /// in pixels).
+    pub fn viewpoint(&self, extent: (u32, u32)) -> Viewpoint {
+        let aspect = extent.0 as f32 / extent.1.max(1) as f32;
+        Viewpoint {
+            view_proj: self.view_proj(aspect),
+            position: self.eye(),
+            fov_y: self.fov_y,
+            height: extent.1,
+        }
+    }
+
     /// A view of a square field of side `side` from beyond its edge, looking over it.
     pub fn framing(side: f32) -> Self {
         Self {

@@ -1,9 +1,12 @@
 //! Command line: the viewer by default, `render` for a headless image.
 
 use crate::collider::ColliderPath;
+use crate::parse::{parse_coordinates, range};
 use crate::scene::{BladeCount, SceneKind};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
+use shared::cull;
+use shared::settings::{BladeShape, CullTests, View, WindField};
 use std::path::PathBuf;
 
 /// Real-time grass after Jahrmann & Wimmer (I3D 2017): Rust shaders, Vulkan through ash.
@@ -127,19 +130,18 @@ impl BenchConfig {
         BenchConfig::CullsLodOcclusion,
     ];
 
-    /// (enabled tests, a mask of `shared::cull::*`; LOD on).
-    pub fn switches(self) -> (u32, bool) {
-        use shared::cull::*;
-        let culls = ORIENTATION | FRUSTUM | DISTANCE;
+    /// (enabled tests, LOD on).
+    pub fn switches(self) -> (CullTests, bool) {
+        let only = |mask| CullTests::from_mask(mask);
         match self {
-            BenchConfig::None => (0, false),
-            BenchConfig::Orientation => (ORIENTATION, false),
-            BenchConfig::Frustum => (FRUSTUM, false),
-            BenchConfig::Distance => (DISTANCE, false),
-            BenchConfig::Occlusion => (OCCLUSION, false),
-            BenchConfig::Culls => (culls, false),
-            BenchConfig::CullsLod => (culls, true),
-            BenchConfig::CullsLodOcclusion => (ALL, true),
+            BenchConfig::None => (CullTests::NONE, false),
+            BenchConfig::Orientation => (only(cull::ORIENTATION), false),
+            BenchConfig::Frustum => (only(cull::FRUSTUM), false),
+            BenchConfig::Distance => (only(cull::DISTANCE), false),
+            BenchConfig::Occlusion => (only(cull::OCCLUSION), false),
+            BenchConfig::Culls => (CullTests::PAPER, false),
+            BenchConfig::CullsLod => (CullTests::PAPER, true),
+            BenchConfig::CullsLodOcclusion => (CullTests::ALL, true),
         }
     }
 }
@@ -168,8 +170,8 @@ pub struct Common {
     #[arg(long, global = true, default_value = "plane")]
     pub scene: String,
     /// Wind field.
-    #[arg(long, global = true, value_enum, default_value_t = Wind::Breeze)]
-    pub wind: Wind,
+    #[arg(long, global = true, value_enum, default_value_t = WindField::Breeze)]
+    pub wind: WindField,
     /// Wind strength (acceleration at full alignment).
     #[arg(long, global = true, default_value_t = 7.0, value_parser = range(0.0, 100.0))]
     pub wind_strength: f32,
@@ -181,8 +183,8 @@ pub struct Common {
     #[arg(long, global = true, allow_hyphen_values = true, value_parser = parse_point)]
     pub gravity_centre: Option<Vec3>,
     /// Blade shape.
-    #[arg(long, global = true, value_enum, default_value_t = Shape::Quadratic)]
-    pub shape: Shape,
+    #[arg(long, global = true, value_enum, default_value_t = BladeShape::Quadratic)]
+    pub shape: BladeShape,
     /// Where the triangle-tip shape starts narrowing, 0 (root) to 1 (tip).
     #[arg(long, global = true, default_value_t = 0.5, value_parser = range(0.0, 1.0))]
     pub tip_start: f32,
@@ -264,43 +266,13 @@ pub struct CullArgs {
 }
 
 impl CullArgs {
-    /// The enabled tests, a mask of `shared::cull::*`.
-    pub fn mask(&self) -> u32 {
-        use shared::cull::*;
-        let off = [
-            (self.no_cull_orientation, ORIENTATION),
-            (self.no_cull_frustum, FRUSTUM),
-            (self.no_cull_distance, DISTANCE),
-            (self.no_cull_occlusion, OCCLUSION),
-        ];
-        off.iter()
-            .filter(|(no, _)| *no)
-            .fold(ALL, |mask, (_, bit)| mask & !bit)
-    }
-}
-
-/// How the grass is drawn (`shared::layout::VIEW_*`).
-#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
-pub enum View {
-    /// Lit blades.
-    Shaded,
-    /// Blades coloured by tessellation level: blue (1) through green to red (9).
-    Lod,
-    /// The tessellated triangles' edges.
-    Wireframe,
-}
-
-impl View {
-    /// Every view, in the order the viewer's key cycles them.
-    pub const ALL: [View; 3] = [View::Shaded, View::Lod, View::Wireframe];
-
-    /// The `shared::layout::VIEW_*` constant.
-    pub fn id(self) -> u32 {
-        use shared::layout::*;
-        match self {
-            View::Shaded => VIEW_SHADED,
-            View::Lod => VIEW_LOD,
-            View::Wireframe => VIEW_WIREFRAME,
+    /// The enabled tests.
+    pub fn tests(&self) -> CullTests {
+        CullTests {
+            orientation: !self.no_cull_orientation,
+            frustum: !self.no_cull_frustum,
+            distance: !self.no_cull_distance,
+            occlusion: !self.no_cull_occlusion,
         }
     }
 }
@@ -359,118 +331,12 @@ pub struct RenderArgs {
     pub pitch: Option<f32>,
 }
 
-/// The wind fields (`shared::wind`).
-#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
-pub enum Wind {
-    /// No wind.
-    Calm,
-    /// A steady breeze with travelling waves.
-    Breeze,
-    /// Gust fronts crossing the field over a light breeze.
-    Gusts,
-    /// A wandering whirlwind.
-    Vortex,
-}
-
-impl Wind {
-    /// Every field, in the order the viewer's key cycles them.
-    pub const ALL: [Wind; 4] = [Wind::Calm, Wind::Breeze, Wind::Gusts, Wind::Vortex];
-
-    /// The `shared::wind::WIND_*` constant.
-    pub fn kind(self) -> u32 {
-        use shared::wind::*;
-        match self {
-            Wind::Calm => WIND_CALM,
-            Wind::Breeze => WIND_BREEZE,
-            Wind::Gusts => WIND_GUSTS,
-            Wind::Vortex => WIND_VORTEX,
-        }
-    }
-}
-
-/// The blade shapes (`shared::shape`).
-#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
-pub enum Shape {
-    /// Full width to the tip.
-    Quad,
-    /// Narrowing linearly to the tip.
-    Triangle,
-    /// Narrowing along a parabola.
-    Quadratic,
-    /// Full width up to `--tip-start`, then a triangle.
-    TriangleTip,
-}
-
-impl Shape {
-    /// Every shape, in the order the viewer's key cycles them.
-    pub const ALL: [Shape; 4] = [
-        Shape::Quad,
-        Shape::Triangle,
-        Shape::Quadratic,
-        Shape::TriangleTip,
-    ];
-
-    /// The `shared::shape::SHAPE_*` constant.
-    pub fn id(self) -> u32 {
-        use shared::shape::*;
-        match self {
-            Shape::Quad => SHAPE_QUAD,
-            Shape::Triangle => SHAPE_TRIANGLE,
-            Shape::Quadratic => SHAPE_QUADRATIC,
-            Shape::TriangleTip => SHAPE_TRIANGLE_TIP,
-        }
-    }
-}
-
-/// Parses `N` comma-separated finite numbers.
-pub fn parse_floats<const N: usize>(s: &str) -> Result<[f32; N], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != N {
-        return Err(format!("expected {N} comma-separated numbers, got \"{s}\""));
-    }
-    let mut out = [0.0; N];
-    for (o, p) in out.iter_mut().zip(parts) {
-        *o = p
-            .parse::<f32>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("\"{p}\" is not a finite number"))?;
-    }
-    Ok(out)
-}
-
-/// Largest coordinate a point on the command line may have, in scene units.
-pub const COORDINATE_LIMIT: f32 = 1e6;
-
-/// Parses `N` comma-separated coordinates, each within ±[`COORDINATE_LIMIT`].
-pub fn parse_coordinates<const N: usize>(s: &str) -> Result<[f32; N], String> {
-    let values = parse_floats::<N>(s)?;
-    match values.iter().find(|v| v.abs() > COORDINATE_LIMIT) {
-        Some(v) => Err(format!(
-            "coordinate {v} is outside -{COORDINATE_LIMIT}..={COORDINATE_LIMIT}"
-        )),
-        None => Ok(values),
-    }
-}
-
 fn parse_point(s: &str) -> Result<Vec3, String> {
     parse_coordinates::<3>(s).map(Vec3::from_array)
 }
 
 fn parse_density(s: &str) -> Result<f32, String> {
     range(1e-3, 1e6)(s)
-}
-
-/// A parser of one finite number in `lo..=hi`.
-fn range(lo: f32, hi: f32) -> impl Fn(&str) -> Result<f32, String> + Clone {
-    move |s| {
-        let [v] = parse_floats::<1>(s)?;
-        if (lo..=hi).contains(&v) {
-            Ok(v)
-        } else {
-            Err(format!("{v} is outside {lo}..={hi}"))
-        }
-    }
 }
 
 impl Common {

@@ -62,7 +62,7 @@ impl ColliderPath {
             .split(|c: char| c.is_whitespace() || c == ';')
             .filter(|p| !p.is_empty())
             .map(|p| {
-                let xz = crate::cli::parse_coordinates::<2>(p)?;
+                let xz = crate::parse::parse_coordinates::<2>(p)?;
                 Ok(Vec2::new(xz[0], xz[1]))
             })
             .collect::<Result<Vec<_>, String>>()?;

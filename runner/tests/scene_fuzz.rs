@@ -451,7 +451,7 @@ fn check(case: &Case, current: &Current) -> Result<(), TestCaseError> {
                     .take(70)
                     .collect()
             }
-            Err(e) => format!("{e:?}")
+            Err(e) => format!("{:?}", e.kind)
                 .split([' ', '{'])
                 .next()
                 .unwrap_or("")

@@ -43,14 +43,14 @@ pub fn simulate_cull(
     workgroup_memory_barrier_with_group_sync();
 
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
-    let in_field = index < frame.blade_count();
+    let in_field = index < frame.grass.blades;
     let mut outcome = KEPT;
     let mut place = 0;
     if in_field {
         let i = index as usize;
         let (blade, strength) = simulate(
             (blades[i], strengths[i]),
-            &frame.environment(),
+            &frame.forces,
             &frame.colliders,
             push.first_step,
             push.steps,
@@ -60,9 +60,9 @@ pub fn simulate_cull(
         outcome = cull_outcome(
             &blade,
             index,
-            frame.camera_pos(),
-            frame.view_proj,
-            &frame.cull_params(),
+            frame.camera.position,
+            frame.camera.view_proj,
+            &frame.cull,
             pyramid,
             &frame.hiz,
         );

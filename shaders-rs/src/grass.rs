@@ -41,9 +41,17 @@ pub fn grass_tcs(
 ) {
     out_blade[0] = in_blade[0];
     let blade = &blades[in_blade[0] as usize];
-    let distance = (blade.v0.xyz() - frame.camera_pos()).length();
-    let lod = frame.lod;
-    let level = screen_level(blade.height(), distance, lod.x, lod.y, lod.z, lod.w);
+    let distance = (blade.v0.xyz() - frame.camera.position).length();
+    let lod = &frame.lod;
+    let focal = frame.camera.focal_pixels;
+    let level = screen_level(
+        blade.height(),
+        distance,
+        focal,
+        lod.pixels_per_segment,
+        lod.most,
+        lod.fewest,
+    );
     out_level[0] = level;
     let (o, i) = tess_levels(level);
     *outer = o;
@@ -66,8 +74,9 @@ pub fn grass_tes(
     out_level: &mut f32,
 ) {
     let blade = &blades[in_blade[0] as usize];
-    let p = surface_point(blade, coord.x, coord.y, frame.flags.y, frame.blade_shape.x);
-    *out_position = frame.view_proj * p.position.extend(1.0);
+    let grass = &frame.grass;
+    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;
     *out_uv = coord.truncate();
@@ -86,6 +95,6 @@ pub fn grass_fs(
     out_color: &mut Vec4,
 ) {
     let n = normal.normalize_or_zero();
-    let (camera, light) = (frame.camera_pos(), frame.light);
-    *out_color = blade_colour(frame.modes.y, n, world, camera, light, uv.y, level).extend(1.0);
+    let (view, camera) = (frame.grass.view, frame.camera.position);
+    *out_color = blade_colour(view, n, world, camera, frame.light, uv.y, level).extend(1.0);
 }

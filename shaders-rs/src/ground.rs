@@ -20,7 +20,7 @@ pub fn ground_vs(
     #[spirv(flat)] out_material: &mut u32,
 ) {
     let world = push.model * position.xyz().extend(1.0);
-    *out_position = frame.view_proj * world;
+    *out_position = frame.camera.view_proj * world;
     *out_world = world.xyz();
     // Models are rotations, translations and uniform scales: no inverse transpose.
     *out_normal = (push.model * normal.xyz().extend(0.0)).xyz();

@@ -3,12 +3,12 @@
 
 use divan::{Bencher, black_box};
 use shared::Blade;
+use shared::collide::MAX_COLLIDERS;
 use shared::cull::{self, CullParams, cull_outcome};
 use shared::generate::{side_for, square_field};
 use shared::glam::camera::rh;
 use shared::glam::{Mat4, Vec3, Vec4};
 use shared::hiz::{self, HiZLayout};
-use shared::layout::MAX_COLLIDERS;
 use shared::lod::{focal_pixels, screen_level};
 use shared::shape::{SHAPE_QUADRATIC, surface_point};
 use shared::simulate::{Environment, simulate};

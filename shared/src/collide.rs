@@ -2,8 +2,10 @@
 //! collision strength η that keeps trampled grass down for a while.
 
 use crate::Blade;
-use crate::layout::MAX_COLLIDERS;
 use spirv_std::glam::{Vec3, Vec4};
+
+/// Most sphere colliders per frame.
+pub const MAX_COLLIDERS: usize = 16;
 
 /// Penetration of point `p` into the sphere (centre xyz, radius w):
 /// d(p) = min(|c − p| − ρ, 0)·normalize(c − p). Zero outside; inside, the

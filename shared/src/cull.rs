@@ -7,8 +7,9 @@ use spirv_std::glam::{Mat4, Vec3, Vec4};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
-/// Thresholds of the tests, as the uniform buffer carries them.
-#[derive(Copy, Clone, Debug)]
+/// Thresholds of the tests, as the frame block carries them.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CullParams {
     /// Orientation: cull when |dir_view · t1| exceeds this (paper: 0.9).
     pub orientation_threshold: f32,

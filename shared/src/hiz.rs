@@ -7,7 +7,7 @@
 //! same functions build it (host tests) and read it (compute pass and host tests).
 
 use crate::Blade;
-use spirv_std::glam::{Mat4, UVec4, Vec2, Vec3, Vec3Swizzles, Vec4Swizzles};
+use spirv_std::glam::{Mat4, Vec2, Vec3, Vec3Swizzles, Vec4Swizzles};
 
 /// Most levels of a pyramid: level 15 of a 65,536-pixel-wide screen is 2 pixels wide.
 pub const MAX_LEVELS: u32 = 16;
@@ -25,10 +25,16 @@ pub const MARGIN_PIXELS: f32 = 1.0;
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct HiZLayout {
-    /// Width and height of level 0 (the screen, in pixels), number of levels (z).
-    pub size: UVec4,
-    /// Offset in floats of level k: component k % 4 of element k / 4.
-    pub offsets: [UVec4; 4],
+    /// Width of level 0 (the screen), in pixels.
+    pub width: u32,
+    /// Height of level 0, in pixels.
+    pub height: u32,
+    /// Number of levels; 0 when there is no pyramid.
+    pub levels: u32,
+    /// Floats in the whole pyramid.
+    pub len: u32,
+    /// Offset in floats of each level.
+    pub offsets: [u32; MAX_LEVELS as usize],
 }
 
 /// Size of `level` of a `width` × `height` pyramid: ⌈width / 2^level⌉ × ⌈height / 2^level⌉,
@@ -48,7 +54,7 @@ impl HiZLayout {
         let mut offset = 0;
         let mut level = 0;
         while level < MAX_LEVELS {
-            layout.offsets[(level / 4) as usize][(level % 4) as usize] = offset;
+            layout.offsets[level as usize] = offset;
             let (w, h) = level_size(width, height, level);
             offset += w * h;
             level += 1;
@@ -56,24 +62,27 @@ impl HiZLayout {
                 break;
             }
         }
-        layout.size = UVec4::new(width, height, level, offset);
+        layout.width = width;
+        layout.height = height;
+        layout.levels = level;
+        layout.len = offset;
         layout
     }
     /// Screen width in pixels.
     pub fn width(&self) -> u32 {
-        self.size.x
+        self.width
     }
     /// Screen height in pixels.
     pub fn height(&self) -> u32 {
-        self.size.y
+        self.height
     }
     /// Number of levels; 0 when there is no pyramid.
     pub fn levels(&self) -> u32 {
-        self.size.z
+        self.levels
     }
     /// Floats in the whole pyramid.
     pub fn len(&self) -> u32 {
-        self.size.w
+        self.len
     }
     /// True when there is no pyramid.
     pub fn is_empty(&self) -> bool {
@@ -81,13 +90,7 @@ impl HiZLayout {
     }
     /// Offset in floats of `level`.
     pub fn offset(&self, level: u32) -> u32 {
-        let v = self.offsets[(level / 4) as usize];
-        match level % 4 {
-            0 => v.x,
-            1 => v.y,
-            2 => v.z,
-            _ => v.w,
-        }
+        self.offsets[level as usize]
     }
 }
 

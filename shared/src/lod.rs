@@ -20,6 +20,19 @@ pub const MAX_SEGMENTS: u32 = 9;
 /// by measurement (docs/performance-notes.md).
 pub const PIXELS_PER_SEGMENT: f32 = 16.0;
 
+/// The level-of-detail thresholds, as the frame block carries them (the focal length
+/// comes with the camera).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LodParams {
+    /// Screen pixels per segment along a blade.
+    pub pixels_per_segment: f32,
+    /// Most segments (near the camera).
+    pub most: f32,
+    /// Fewest segments (far away); equal to `most` with LOD off.
+    pub fewest: f32,
+}
+
 /// Focal length in pixels of a perspective projection with vertical field of view
 /// `fov_y` (radians) on a target `height` pixels tall: an object of size s at
 /// distance d covers s · focal / d pixels.

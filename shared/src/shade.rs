@@ -1,6 +1,6 @@
 //! Shading of the fragment stages: Lambert plus ambient, blades lit on both faces.
 
-use spirv_std::glam::{Vec2, Vec3, Vec4};
+use spirv_std::glam::{Vec2, Vec3};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -9,16 +9,25 @@ pub const BLADE_BASE: Vec3 = Vec3::new(0.02, 0.10, 0.01);
 /// Blade colour at the tip (linear RGB).
 pub const BLADE_TIP: Vec3 = Vec3::new(0.30, 0.55, 0.08);
 
-/// Lambert with ambient: albedo·(ambient + (1 − ambient)·max(n·l, 0)); `light` is
-/// the direction towards the light (xyz) and the ambient term (w).
-pub fn lambert(albedo: Vec3, normal: Vec3, light: Vec4) -> Vec3 {
-    let diffuse = normal.dot(light.truncate()).max(0.0);
-    albedo * (light.w + (1.0 - light.w) * diffuse)
+/// The sun: one directional light and an ambient term.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Light {
+    /// Unit direction towards the light.
+    pub direction: Vec3,
+    /// Ambient share of the light, 0 to 1.
+    pub ambient: f32,
+}
+
+/// Lambert with ambient: albedo·(ambient + (1 − ambient)·max(n·l, 0)).
+pub fn lambert(albedo: Vec3, normal: Vec3, light: Light) -> Vec3 {
+    let diffuse = normal.dot(light.direction).max(0.0);
+    albedo * (light.ambient + (1.0 - light.ambient) * diffuse)
 }
 
 /// A blade fragment at height `v` (0 root, 1 tip): the base-to-tip gradient, lit with
 /// the normal flipped towards the viewer so both faces of the thin blade are lit.
-pub fn shade_blade(normal: Vec3, position: Vec3, camera: Vec3, light: Vec4, v: f32) -> Vec3 {
+pub fn shade_blade(normal: Vec3, position: Vec3, camera: Vec3, light: Light, v: f32) -> Vec3 {
     let n = if normal.dot(camera - position) < 0.0 {
         -normal
     } else {
@@ -47,7 +56,7 @@ pub fn blade_colour(
     normal: Vec3,
     position: Vec3,
     camera: Vec3,
-    light: Vec4,
+    light: Light,
     v: f32,
     level: f32,
 ) -> Vec3 {
@@ -160,14 +169,20 @@ mod tests {
 
     #[test]
     fn lambert_hand_worked() {
-        let light = Vec3::Y.extend(0.2);
+        let light = Light {
+            direction: Vec3::Y,
+            ambient: 0.2,
+        };
         assert_eq!(lambert(Vec3::ONE, Vec3::Y, light), Vec3::ONE);
         assert_eq!(lambert(Vec3::ONE, -Vec3::Y, light), Vec3::splat(0.2));
     }
 
     #[test]
     fn both_faces_are_lit() {
-        let light = Vec3::Z.extend(0.1);
+        let light = Light {
+            direction: Vec3::Z,
+            ambient: 0.1,
+        };
         let cam = Vec3::new(0.0, 0.0, 5.0);
         let front = shade_blade(Vec3::Z, Vec3::ZERO, cam, light, 0.5);
         let back = shade_blade(-Vec3::Z, Vec3::ZERO, cam, light, 0.5);

@@ -1,6 +1,6 @@
 //! One simulation step: forces on `v2`, an explicit Euler step, then validation.
 
-use crate::layout::MAX_COLLIDERS;
+use crate::collide::MAX_COLLIDERS;
 use crate::{Blade, collide, forces, validate, wind};
 use spirv_std::glam::Vec4;
 
@@ -16,17 +16,20 @@ pub const STEPS_PER_SECOND: u32 = 120;
 /// that loses the excess time instead of stalling the GPU for ever longer.
 pub const MAX_STEPS_PER_FRAME: u32 = 240;
 
-/// The forces' environment, as the uniform buffer carries it.
-#[derive(Copy, Clone, Debug)]
+/// The forces' environment, as the frame block carries it: the paper's 4-vectors D
+/// (gravity direction and acceleration) and C (gravity centre and acceleration), the
+/// wind, and the scalars of the step.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Environment {
     /// Gravity direction D (xyz) and acceleration (w).
     pub gravity: Vec4,
     /// Gravity centre C (xyz) and its acceleration (w).
     pub gravity_centre: Vec4,
-    /// Blend t between D (0) and C (1).
-    pub centre_blend: f32,
     /// Wind direction (xyz) and strength (w).
     pub wind: Vec4,
+    /// Blend t between D (0) and C (1).
+    pub centre_blend: f32,
     /// Wind field, one of `wind::WIND_*`.
     pub wind_kind: u32,
     /// Linear decay of the collision strength, per second.
@@ -35,6 +38,8 @@ pub struct Environment {
     pub stiffness_scale: f32,
     /// Sphere colliders in use (the first of the collider array).
     pub colliders: u32,
+    /// Pads the block to 16 bytes.
+    pub padding: [u32; 3],
 }
 
 impl Default for Environment {
@@ -49,6 +54,7 @@ impl Default for Environment {
             strength_decay: 0.0,
             stiffness_scale: 1.0,
             colliders: 0,
+            padding: [0; 3],
         }
     }
 }

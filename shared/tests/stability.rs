@@ -28,9 +28,9 @@
 
 use proptest::prelude::*;
 use shared::Blade;
+use shared::collide::MAX_COLLIDERS;
 use shared::collide::MAX_STRENGTH;
 use shared::glam::{Vec3, Vec4};
-use shared::layout::MAX_COLLIDERS;
 use shared::simulate::{
     BladeState, Environment, MAX_STEPS_PER_FRAME, STEP_SECONDS, STEPS_PER_SECOND, SimClock,
     simulate,
@@ -235,6 +235,7 @@ fn environment() -> impl Strategy<Value = Environment> {
                 strength_decay: decay,
                 stiffness_scale: stiffness,
                 colliders,
+                padding: [0; 3],
             },
         )
 }
@@ -468,6 +469,7 @@ fn corners() -> Vec<(Environment, BladeState)> {
                             strength_decay: decay,
                             stiffness_scale: stiffness,
                             colliders: MAX_COLLIDERS as u32,
+                            padding: [0; 3],
                         };
                         out.extend(blades.iter().map(|b| (env, (*b, 0.0))));
                     }

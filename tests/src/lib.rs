@@ -4,11 +4,7 @@ use runner::vulkan::{Context, ContextOptions};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// True when GRASS_REQUIRE_GPU=1: tests that need a Vulkan device then fail instead
-/// of skipping (CI sets it).
-pub fn gpu_required() -> bool {
-    std::env::var("GRASS_REQUIRE_GPU").is_ok_and(|v| v.trim() == "1")
-}
+pub use runner::vulkan::gpu_required;
 
 /// Runs `test` with a Vulkan context, or skips it (printing why) when there is no
 /// usable device, unless GRASS_REQUIRE_GPU=1, where that is a failure.

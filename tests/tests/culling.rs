@@ -2,14 +2,12 @@
 //! occlusion culling that removes blades without changing the picture, and reference
 //! images of the LOD and wireframe views.
 
-use ash::vk;
-use runner::app::render::FORMAT;
-use runner::renderer::{CullCounts, FrameInput, Renderer, Target};
-use runner::scene::{BladeCount, Scene, SceneKind, Settings};
-use runner::vulkan::Image;
+use runner::app::driver::FrameDriver;
+use runner::app::headless::{FORMAT, Offscreen};
+use runner::renderer::{CullCounts, Renderer};
+use runner::scene::{BladeCount, Scene, SceneKind};
 use shared::cull::{self, cull_outcome};
 use shared::hiz;
-use shared::layout::SimulatePush;
 use std::collections::HashSet;
 use tests::{
     check_reference, device_available, difference, render_image, save_failure, with_device,
@@ -161,46 +159,21 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
         |ctx| {
             let kind = SceneKind::Walls;
             let scene = Scene::build(&kind, None, BladeCount::Total(8192), 3, |_| Ok(())).unwrap();
-            let settings = Settings::for_scene(&scene);
+            let settings = scene.settings();
             let mut camera = scene.camera();
             camera.pitch = 8f32.to_radians();
             camera.distance /= 1.4;
-            let extent = vk::Extent2D {
-                width: 256,
-                height: 160,
-            };
-            let color = Image::new(
-                &ctx,
-                "test target",
-                extent,
-                FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT,
-                vk::ImageAspectFlags::COLOR,
-            )
-            .unwrap();
-            let mut renderer = Renderer::new(&ctx, &scene, FORMAT).unwrap();
-            let mut uniforms =
-                settings.uniforms(&camera, (extent.width, extent.height), &scene, &[]);
-            // No simulation step: the GPU culls the blades exactly as the host holds them.
-            let slot = renderer.begin_frame().unwrap();
-            let target = Target {
-                image: color.image,
-                view: color.view,
-                extent,
-                final_layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            };
-            let input = FrameInput {
-                target,
-                uniforms,
-                push: SimulatePush::default(),
-                wait: None,
-                signal: None,
-                capture: None,
-                overlay: None,
-            };
-            renderer.render(slot, input).unwrap();
-            renderer.finish().unwrap();
-            let counts = renderer.counts.expect("counts");
+            let mut target = Offscreen::new(&ctx, 256, 160).unwrap();
+            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+            let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
+            let eye = camera.viewpoint(target.size());
+            let mut uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            // No time, no simulation step: the GPU culls the blades exactly as the host
+            // holds them.
+            driver.run(&mut target, 0.0, |_| uniforms, false).unwrap();
+            driver.finish().unwrap();
+            let counts = driver.readback.counts.expect("counts");
+            let renderer = &driver.renderer;
             uniforms.hiz = renderer.hiz();
             let layout = uniforms.hiz;
             let pyramid: Vec<f32> = renderer
@@ -226,15 +199,22 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             );
 
             // The host's outcome for every blade against the GPU's pyramid.
-            let count = renderer.visible().unwrap() as usize;
+            let count = driver.readback.visible().unwrap() as usize;
             let visible: Vec<u32> = renderer.download(&renderer.field.visible, count).unwrap();
             let gpu_set: HashSet<u32> = visible.into_iter().collect();
-            let (cam, p) = (uniforms.camera_pos(), uniforms.cull_params());
+            let (cam, p) = (uniforms.camera.position, uniforms.cull);
             let mut host_counts = [0u32; 5];
             let mut mismatched = 0;
             for (id, b) in scene.blades.iter().enumerate() {
-                let outcome =
-                    cull_outcome(b, id as u32, cam, uniforms.view_proj, &p, &pyramid, &layout);
+                let outcome = cull_outcome(
+                    b,
+                    id as u32,
+                    cam,
+                    uniforms.camera.view_proj,
+                    &p,
+                    &pyramid,
+                    &layout,
+                );
                 host_counts[outcome as usize] += 1;
                 mismatched +=
                     usize::from((outcome == cull::KEPT) != gpu_set.contains(&(id as u32)));

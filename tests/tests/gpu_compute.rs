@@ -3,15 +3,16 @@
 //! colliders and each wind field on, and the visible set.
 
 use glam::{Vec3, Vec4};
-use runner::app::render::FORMAT;
+use runner::app::driver::FrameDriver;
+use runner::app::headless::FORMAT;
 use runner::camera::OrbitCamera;
 use runner::renderer::Renderer;
-use runner::scene::{Scene, Settings};
+use runner::scene::Scene;
 use shared::Blade;
 use shared::cull;
 use shared::layout::{FrameUniforms, SimulatePush};
+use shared::settings::WindField;
 use shared::simulate::simulate;
-use shared::wind::{WIND_BREEZE, WIND_GUSTS, WIND_VORTEX};
 use std::collections::HashSet;
 use tests::with_device;
 
@@ -50,15 +51,15 @@ const BALLS: [Vec4; 2] = [
 
 /// A camera low over the field's edge, so that every test removes blades; the wind
 /// field `wind_kind`, two balls, and gravity blended towards a centre by `blend`.
-fn setup(wind_kind: u32, blend: f32) -> (Scene, FrameUniforms) {
+fn setup(wind: WindField, blend: f32) -> (Scene, FrameUniforms) {
     let scene = Scene::plane(BLADES, 11);
     let side = 2.0 * scene.bounds.1 / std::f32::consts::SQRT_2;
-    let mut settings = Settings::for_scene(&scene);
-    settings.max_distance = side * 0.9;
-    settings.buckets = 4;
-    settings.env.wind_kind = wind_kind;
-    settings.env.gravity_centre = Vec4::new(0.0, -30.0, 0.0, 9.8);
-    settings.env.centre_blend = blend;
+    let mut settings = scene.settings();
+    settings.cull.max_distance = side * 0.9;
+    settings.cull.buckets = 4;
+    settings.wind.field = wind;
+    settings.gravity.centre = Vec3::new(0.0, -30.0, 0.0);
+    settings.gravity.centre_blend = blend;
     let camera = OrbitCamera {
         target: Vec3::new(0.0, 0.5, 0.0),
         yaw: 0.3,
@@ -66,18 +67,18 @@ fn setup(wind_kind: u32, blend: f32) -> (Scene, FrameUniforms) {
         distance: side * 0.6,
         fov_y: 40f32.to_radians(),
     };
-    let uniforms = settings.uniforms(&camera, (256, 256), &scene, &BALLS);
+    let uniforms = settings.uniforms(&camera.viewpoint((256, 256)), scene.blade_count(), &BALLS);
     (scene, uniforms)
 }
 
 /// True when `b` lies within [`THRESHOLD_EPSILON`] of a decision of an enabled test.
 fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
-    let p = u.cull_params();
-    let cam = u.camera_pos();
+    let p = u.cull;
+    let cam = u.camera.position;
     let eps = THRESHOLD_EPSILON;
     let orientation = (cull::orientation_alignment(b, cam) - p.orientation_threshold).abs() < eps;
     let frustum = [b.root(), b.midpoint(), b.tip()].iter().any(|pt| {
-        let c = u.view_proj * pt.extend(1.0);
+        let c = u.camera.view_proj * pt.extend(1.0);
         cull::clip_margin(c, p.frustum_tolerance).abs() < eps * c.w.abs().max(1.0)
     });
     let dproj = cull::projected_distance(b, cam);
@@ -93,18 +94,17 @@ fn run_both(
     ctx: &std::sync::Arc<runner::vulkan::Context>,
     scene: &Scene,
     uniforms: &FrameUniforms,
-) -> (Renderer, Vec<Blade>, Vec<Blade>) {
-    let mut renderer = Renderer::new(ctx, scene, FORMAT).expect("renderer");
-    let env = uniforms.environment();
+) -> (FrameDriver, Vec<Blade>, Vec<Blade>) {
+    let renderer = Renderer::new(ctx, &scene.meshes(), FORMAT).expect("renderer");
+    let mut driver = FrameDriver::new(ctx, renderer).expect("frame driver");
+    let env = uniforms.forces;
     let mut host: Vec<(Blade, f32)> = scene.blades.iter().map(|b| (*b, 0.0)).collect();
     for frame in 0..FRAMES {
         let push = SimulatePush {
             first_step: frame * STEPS_PER_FRAME,
             steps: STEPS_PER_FRAME,
         };
-        renderer
-            .compute_frame(uniforms, push)
-            .expect("compute frame");
+        driver.compute_frame(uniforms, push).expect("compute frame");
         for state in &mut host {
             *state = simulate(
                 *state,
@@ -115,6 +115,7 @@ fn run_both(
             );
         }
     }
+    let renderer = &driver.renderer;
     let strengths: Vec<f32> = renderer
         .download(&renderer.field.strengths, host.len())
         .unwrap();
@@ -177,7 +178,7 @@ fn run_both(
         .filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05)
         .count();
     assert!(moved > host.len() / 2, "only {moved} blades moved");
-    (renderer, host, gpu)
+    (driver, host, gpu)
 }
 
 #[test]
@@ -185,7 +186,7 @@ fn compute_pass_matches_the_host_in_gusts_and_a_vortex() {
     with_device(
         "compute_pass_matches_the_host_in_gusts_and_a_vortex",
         |ctx| {
-            for (wind, blend) in [(WIND_GUSTS, 0.0), (WIND_VORTEX, 0.5)] {
+            for (wind, blend) in [(WindField::Gusts, 0.0), (WindField::Vortex, 0.5)] {
                 let (scene, uniforms) = setup(wind, blend);
                 run_both(&ctx, &scene, &uniforms);
             }
@@ -198,11 +199,12 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
     with_device(
         "compute_pass_matches_the_host_and_culls_the_same_blades",
         |ctx| {
-            let (scene, uniforms) = setup(WIND_BREEZE, 0.0);
-            let (renderer, host, gpu) = run_both(&ctx, &scene, &uniforms);
+            let (scene, uniforms) = setup(WindField::Breeze, 0.0);
+            let (driver, host, gpu) = run_both(&ctx, &scene, &uniforms);
+            let renderer = &driver.renderer;
 
             // The visible set: the GPU's compacted survivors' indices.
-            let count = renderer.visible().expect("visible count") as usize;
+            let count = driver.readback.visible().expect("visible count") as usize;
             let visible: Vec<u32> = renderer.download(&renderer.field.visible, count).unwrap();
             assert!(
                 visible.iter().all(|&i| i < BLADES),
@@ -210,14 +212,15 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
             );
             let gpu_set: HashSet<u32> = visible.into_iter().collect();
             assert_eq!(gpu_set.len(), count, "a blade was appended twice");
-            let p = uniforms.cull_params();
-            let cam = uniforms.camera_pos();
+            let p = uniforms.cull;
+            let cam = uniforms.camera.position;
             let (mut compared, mut skipped) = (0, 0);
             let mut removed = [0u32; 3];
             for (id, b) in host.iter().enumerate() {
                 let id = id as u32;
                 removed[0] += cull::cull_orientation(b, cam, p.orientation_threshold) as u32;
-                removed[1] += cull::cull_frustum(b, uniforms.view_proj, p.frustum_tolerance) as u32;
+                let view_proj = uniforms.camera.view_proj;
+                removed[1] += cull::cull_frustum(b, view_proj, p.frustum_tolerance) as u32;
                 removed[2] += cull::cull_distance(b, id, cam, p.max_distance, p.buckets) as u32;
                 // A blade that diverged after a ball touched it is compared above.
                 let diverged = (gpu[id as usize].tip() - b.tip()).length() >= POSITION_TOLERANCE;
@@ -226,7 +229,7 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
                     continue;
                 }
                 compared += 1;
-                let host_visible = cull::is_visible(b, id, cam, uniforms.view_proj, &p);
+                let host_visible = cull::is_visible(b, id, cam, view_proj, &p);
                 assert_eq!(
                     gpu_set.contains(&id),
                     host_visible,

@@ -4,14 +4,15 @@
 //! shared/tests/stability.rs, check the same on the shared functions).
 
 use glam::Vec4;
-use runner::app::render::FORMAT;
+use runner::app::driver::FrameDriver;
+use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
-use runner::scene::{Scene, Settings};
+use runner::scene::Scene;
 use shared::Blade;
 use shared::layout::SimulatePush;
+use shared::settings::WindField::{Breeze, Gusts, Vortex};
 use shared::simulate::MAX_STEPS_PER_FRAME;
 use shared::validate::{BENT_REACH, LENGTH_TOLERANCE_BENT, LENGTH_TOLERANCE_FOLDED, bezier_length};
-use shared::wind::{WIND_BREEZE, WIND_GUSTS, WIND_VORTEX};
 use tests::with_device;
 
 const BLADES: u32 = 2048;
@@ -79,31 +80,33 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
         let camera = scene.camera();
         // (what, wind kind, wind ×, gravity ×, stiffness factor, ball radius)
         let cases = [
-            ("wind 100x, vortex", WIND_VORTEX, 100.0, 1.0, 1.0, 1.5),
-            ("gusts 100x, gravity 10x", WIND_GUSTS, 100.0, 10.0, 1.0, 0.5),
-            ("stiffness 100", WIND_BREEZE, 1.0, 1.0, 100.0, 1.5),
-            ("stiffness 0, gravity 10x", WIND_BREEZE, 1.0, 10.0, 0.0, 3.0),
-            ("everything at once", WIND_VORTEX, 100.0, 10.0, 100.0, 8.0),
+            ("wind 100x, vortex", Vortex, 100.0, 1.0, 1.0, 1.5),
+            ("gusts 100x, gravity 10x", Gusts, 100.0, 10.0, 1.0, 0.5),
+            ("stiffness 100", Breeze, 1.0, 1.0, 100.0, 1.5),
+            ("stiffness 0, gravity 10x", Breeze, 1.0, 10.0, 0.0, 3.0),
+            ("everything at once", Vortex, 100.0, 10.0, 100.0, 8.0),
         ];
         for (what, kind, wind, gravity, stiffness, radius) in cases {
-            let mut settings = Settings::for_scene(&scene);
-            settings.env.wind_kind = kind;
-            settings.env.wind.w *= wind;
-            settings.env.gravity.w *= gravity;
-            settings.env.gravity_centre.w *= gravity;
-            settings.env.stiffness_scale = stiffness;
-            let mut renderer = Renderer::new(&ctx, &scene, FORMAT).expect("renderer");
+            let mut settings = scene.settings();
+            settings.wind.field = kind;
+            settings.wind.strength *= wind;
+            settings.gravity.acceleration *= gravity;
+            settings.stiffness = stiffness;
+            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).expect("renderer");
+            let mut driver = FrameDriver::new(&ctx, renderer).expect("frame driver");
+            let eye = camera.viewpoint((256, 256));
             for frame in 0..FRAMES {
-                let uniforms =
-                    settings.uniforms(&camera, (256, 256), &scene, &balls(frame, half, radius));
+                let balls = balls(frame, half, radius);
+                let uniforms = settings.uniforms(&eye, scene.blade_count(), &balls);
                 let push = SimulatePush {
                     first_step: frame * MAX_STEPS_PER_FRAME,
                     steps: MAX_STEPS_PER_FRAME,
                 };
-                renderer
+                driver
                     .compute_frame(&uniforms, push)
                     .expect("compute frame");
             }
+            let renderer = &driver.renderer;
             let blades: Vec<Blade> = renderer
                 .download(&renderer.field.blades, BLADES as usize)
                 .expect("download blades");

@@ -305,3 +305,160 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         assert_eq!(local_size, size, "{name}: threads per workgroup");
     }
 }
+
+/// The type instruction of `id`.
+fn type_def(m: &Module, id: u32) -> &rspirv::dr::Instruction {
+    m.types_global_values
+        .iter()
+        .find(|i| i.result_id == Some(id))
+        .expect("type definition")
+}
+
+/// The members of struct type `ty` with their `Offset` decorations, in order.
+fn members(m: &Module, ty: u32) -> Vec<(u32, u32)> {
+    let def = type_def(m, ty);
+    assert_eq!(def.class.opcode, Op::TypeStruct, "id {ty} is not a struct");
+    def.operands
+        .iter()
+        .enumerate()
+        .map(|(i, o)| {
+            let offset = m
+                .annotations
+                .iter()
+                .find_map(|a| match a.operands.as_slice() {
+                    [
+                        Operand::IdRef(s),
+                        Operand::LiteralBit32(idx),
+                        Operand::Decoration(Decoration::Offset),
+                        Operand::LiteralBit32(off),
+                    ] if *s == ty && *idx as usize == i => Some(*off),
+                    _ => None,
+                })
+                .expect("member offset");
+            (o.unwrap_id_ref(), offset)
+        })
+        .collect()
+}
+
+#[test]
+fn frame_block_layout_matches_the_host_struct() {
+    use shared::cull::CullParams;
+    use shared::hiz::HiZLayout;
+    use shared::layout::{CameraParams, FrameUniforms, GrassParams};
+    use shared::lod::LodParams;
+    use shared::shade::Light;
+    use shared::simulate::Environment;
+    use std::mem::offset_of;
+
+    // Each member of the frame block: its offset, and the offsets of its own members
+    // where it is a struct (none for arrays).
+    let expected: [(&str, usize, Vec<usize>); 8] = [
+        (
+            "camera",
+            offset_of!(FrameUniforms, camera),
+            vec![
+                offset_of!(CameraParams, view_proj),
+                offset_of!(CameraParams, position),
+                offset_of!(CameraParams, focal_pixels),
+            ],
+        ),
+        (
+            "light",
+            offset_of!(FrameUniforms, light),
+            vec![offset_of!(Light, direction), offset_of!(Light, ambient)],
+        ),
+        (
+            "forces",
+            offset_of!(FrameUniforms, forces),
+            vec![
+                offset_of!(Environment, gravity),
+                offset_of!(Environment, gravity_centre),
+                offset_of!(Environment, wind),
+                offset_of!(Environment, centre_blend),
+                offset_of!(Environment, wind_kind),
+                offset_of!(Environment, strength_decay),
+                offset_of!(Environment, stiffness_scale),
+                offset_of!(Environment, colliders),
+                offset_of!(Environment, padding),
+            ],
+        ),
+        ("colliders", offset_of!(FrameUniforms, colliders), vec![]),
+        (
+            "hiz",
+            offset_of!(FrameUniforms, hiz),
+            vec![
+                offset_of!(HiZLayout, width),
+                offset_of!(HiZLayout, height),
+                offset_of!(HiZLayout, levels),
+                offset_of!(HiZLayout, len),
+                offset_of!(HiZLayout, offsets),
+            ],
+        ),
+        (
+            "lod",
+            offset_of!(FrameUniforms, lod),
+            vec![
+                offset_of!(LodParams, pixels_per_segment),
+                offset_of!(LodParams, most),
+                offset_of!(LodParams, fewest),
+            ],
+        ),
+        (
+            "grass",
+            offset_of!(FrameUniforms, grass),
+            vec![
+                offset_of!(GrassParams, blades),
+                offset_of!(GrassParams, shape),
+                offset_of!(GrassParams, tip_start),
+                offset_of!(GrassParams, view),
+            ],
+        ),
+        (
+            "cull",
+            offset_of!(FrameUniforms, cull),
+            vec![
+                offset_of!(CullParams, orientation_threshold),
+                offset_of!(CullParams, frustum_tolerance),
+                offset_of!(CullParams, max_distance),
+                offset_of!(CullParams, buckets),
+                offset_of!(CullParams, enabled),
+            ],
+        ),
+    ];
+
+    let m = module();
+    let (_, interface, _) = &entry_points(&m)[shaders::SIMULATE_CULL];
+    let block = interface
+        .iter()
+        .find(|&&var| {
+            decoration_value(&m, var, Decoration::Binding) == Some(layout::BINDING_UNIFORMS)
+        })
+        .and_then(|&var| pointee(&m, var))
+        .expect("the frame block's variable")
+        .1;
+    // rust-gpu may wrap the block in a struct of one member.
+    let mut ty = block;
+    if let [(inner, 0)] = members(&m, ty)[..]
+        && type_def(&m, inner).class.opcode == Op::TypeStruct
+    {
+        ty = inner;
+    }
+    let top = members(&m, ty);
+    assert_eq!(top.len(), expected.len(), "members of the frame block");
+    for ((member, offset), (name, host, inner)) in top.iter().zip(&expected) {
+        assert_eq!(*offset as usize, *host, "offset of {name}");
+        if inner.is_empty() {
+            continue;
+        }
+        let found: Vec<usize> = members(&m, *member)
+            .iter()
+            .map(|&(_, o)| o as usize)
+            .collect();
+        assert_eq!(&found, inner, "member offsets of {name}");
+    }
+    assert_eq!(
+        size_of::<FrameUniforms>() % 16,
+        0,
+        "the block's size is a whole number of vec4"
+    );
+}

@@ -1,8 +1,12 @@
-//! The application shells: the window viewer and the headless renderer.
+//! The application shells (the window viewer, `render`, `bench`, `soak`) and the frame
+//! driver they share: each says what its frames show, the driver runs them on a
+//! presenter (a window's swapchain) or an offscreen image.
 
 pub mod bench;
-pub mod charts;
+pub mod driver;
+pub mod headless;
 pub mod overlay;
+pub mod presenter;
 pub mod progress;
 pub mod render;
 pub mod soak;
@@ -11,10 +15,10 @@ pub mod viewer;
 
 use crate::cli::{Cli, Command, Common};
 use crate::field::Field;
-use crate::scene::{BladeCount, Scene, SceneFile, Settings};
+use crate::scene::{BladeCount, Scene, SceneFile};
 use crate::vulkan::Context;
 use anyhow::Result;
-use glam::Vec3;
+use shared::settings::Settings;
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -137,40 +141,29 @@ pub fn prepare(
 
 /// The settings the command line asks for, on `scene`.
 pub fn settings(common: &Common, scene: &Scene) -> Settings {
-    let mut settings = Settings::for_scene(scene);
-    settings.env.wind_kind = common.wind.kind();
-    settings.env.wind = wind_vector(common.wind_direction, common.wind_strength);
-    settings.shape = common.shape.id();
-    settings.tip_start = common.tip_start;
-    settings.env.strength_decay = common.trample_decay;
-    settings.env.stiffness_scale = common.stiffness;
-    settings.env.gravity.w = common.gravity;
-    settings.env.gravity_centre.w = common.gravity;
-    let cull = &common.cull;
-    settings.cull = cull.mask();
-    settings.lod = !cull.no_lod;
-    settings.orientation_threshold = cull.orientation_threshold;
-    settings.frustum_tolerance = cull.frustum_tolerance;
-    settings.max_distance = cull.max_distance.unwrap_or(settings.max_distance);
-    settings.buckets = cull.buckets;
-    settings.lod_most = cull.lod_most;
-    settings.lod_fewest = cull.lod_fewest;
-    settings.lod_pixels = cull.lod_pixels;
-    settings.view = cull.view.id();
+    let mut s = scene.settings();
+    s.wind.field = common.wind;
+    s.wind.strength = common.wind_strength;
+    s.wind.direction = common.wind_direction;
+    s.shape = common.shape;
+    s.tip_start = common.tip_start;
+    s.trample_decay = common.trample_decay;
+    s.stiffness = common.stiffness;
+    s.gravity.acceleration = common.gravity;
     if let Some(c) = common.gravity_centre {
-        settings.env.gravity_centre = c.extend(settings.env.gravity.w);
-        settings.env.centre_blend = 1.0;
+        s.gravity.centre = c;
+        s.gravity.centre_blend = 1.0;
     }
-    settings
-}
-
-/// (degrees around the vertical, strength) of a wind made by [`wind_vector`].
-pub fn wind_angles(wind: glam::Vec4) -> (f32, f32) {
-    (wind.z.atan2(wind.x).to_degrees(), wind.w)
-}
-
-/// Wind (direction xyz, strength w) blowing towards `degrees` around the vertical.
-pub fn wind_vector(degrees: f32, strength: f32) -> glam::Vec4 {
-    let (sin, cos) = degrees.to_radians().sin_cos();
-    Vec3::new(cos, 0.0, sin).extend(strength)
+    let cull = &common.cull;
+    s.cull.tests = cull.tests();
+    s.cull.orientation_threshold = cull.orientation_threshold;
+    s.cull.frustum_tolerance = cull.frustum_tolerance;
+    s.cull.max_distance = cull.max_distance.unwrap_or(s.cull.max_distance);
+    s.cull.buckets = cull.buckets;
+    s.lod.on = !cull.no_lod;
+    s.lod.most = cull.lod_most;
+    s.lod.fewest = cull.lod_fewest;
+    s.lod.pixels_per_segment = cull.lod_pixels;
+    s.view = cull.view;
+    s
 }

@@ -1,11 +1,9 @@
 //! The viewer's overlay (egui): frame rate and a frame-time graph, GPU time per pass,
 //! the blade counts of each culling test, and every live setting as a control.
 
-use crate::cli::{Shape, View, Wind};
 use crate::renderer::{CullCounts, PassTimes};
-use crate::scene::Settings;
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
-use shared::cull;
+use shared::settings::{BladeShape, Settings, View, WindField};
 use std::collections::VecDeque;
 use winit::event::WindowEvent;
 use winit::window::Window;
@@ -226,89 +224,62 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
 }
 
 fn culling(ui: &mut egui::Ui, s: &mut Settings) {
+    let c = &mut s.cull;
     ui.horizontal_wrapped(|ui| {
-        for (bit, name) in cull::TESTS.iter().zip(cull::TEST_NAMES) {
-            let mut on = s.cull & bit != 0;
-            if ui.checkbox(&mut on, name).changed() {
-                s.cull ^= bit;
-            }
+        for (name, on) in c.tests.named_mut() {
+            ui.checkbox(on, name);
         }
     });
     ui.add(
-        egui::Slider::new(&mut s.orientation_threshold, 0.0..=1.0).text("orientation threshold"),
+        egui::Slider::new(&mut c.orientation_threshold, 0.0..=1.0).text("orientation threshold"),
     );
-    ui.add(egui::Slider::new(&mut s.frustum_tolerance, 0.0..=2.0).text("frustum tolerance"));
+    ui.add(egui::Slider::new(&mut c.frustum_tolerance, 0.0..=2.0).text("frustum tolerance"));
     ui.add(
-        egui::Slider::new(&mut s.max_distance, 1.0..=1000.0)
+        egui::Slider::new(&mut c.max_distance, 1.0..=1000.0)
             .logarithmic(true)
             .text("max distance"),
     );
-    ui.add(egui::Slider::new(&mut s.buckets, 1..=32).text("distance buckets"));
+    ui.add(egui::Slider::new(&mut c.buckets, 1..=32).text("distance buckets"));
 }
 
 fn detail(ui: &mut egui::Ui, s: &mut Settings) {
-    ui.checkbox(&mut s.lod, "level of detail (L)");
-    ui.add(egui::Slider::new(&mut s.lod_most, 1.0..=shared::lod::MAX_LEVEL).text("level near"));
-    ui.add(egui::Slider::new(&mut s.lod_fewest, 1.0..=shared::lod::MAX_LEVEL).text("level far"));
+    let lod = &mut s.lod;
+    ui.checkbox(&mut lod.on, "level of detail (L)");
+    ui.add(egui::Slider::new(&mut lod.most, 1.0..=shared::lod::MAX_LEVEL).text("level near"));
+    ui.add(egui::Slider::new(&mut lod.fewest, 1.0..=shared::lod::MAX_LEVEL).text("level far"));
     ui.add(
-        egui::Slider::new(&mut s.lod_pixels, 1.0..=200.0)
+        egui::Slider::new(&mut lod.pixels_per_segment, 1.0..=200.0)
             .logarithmic(true)
             .text("pixels per segment"),
     );
     ui.horizontal(|ui| {
         ui.label("view (V)");
         for view in View::ALL {
-            ui.radio_value(&mut s.view, view.id(), format!("{view:?}"));
+            ui.radio_value(&mut s.view, view, format!("{view:?}"));
         }
     });
 }
 
 fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
-    let (mut direction, mut strength) = super::wind_angles(s.env.wind);
+    let wind = &mut s.wind;
     egui::ComboBox::from_label("wind (W)")
-        .selected_text(format!(
-            "{:?}",
-            Wind::ALL
-                .iter()
-                .find(|w| w.kind() == s.env.wind_kind)
-                .copied()
-                .unwrap_or(Wind::Calm)
-        ))
+        .selected_text(format!("{:?}", wind.field))
         .show_ui(ui, |ui| {
-            for w in Wind::ALL {
-                ui.selectable_value(&mut s.env.wind_kind, w.kind(), format!("{w:?}"));
+            for w in WindField::ALL {
+                ui.selectable_value(&mut wind.field, w, format!("{w:?}"));
             }
         });
-    let strength_changed = ui
-        .add(egui::Slider::new(&mut strength, 0.0..=30.0).text("wind strength"))
-        .changed();
-    let direction_changed = ui
-        .add(egui::Slider::new(&mut direction, -180.0..=180.0).text("wind direction °"))
-        .changed();
-    if strength_changed || direction_changed {
-        s.env.wind = super::wind_vector(direction, strength);
-    }
-    ui.add(egui::Slider::new(&mut s.env.stiffness_scale, 0.0..=4.0).text("stiffness ×"));
-    if ui
-        .add(egui::Slider::new(&mut s.env.gravity.w, 0.0..=30.0).text("gravity"))
-        .changed()
-    {
-        s.env.gravity_centre.w = s.env.gravity.w;
-    }
+    ui.add(egui::Slider::new(&mut wind.strength, 0.0..=30.0).text("wind strength"));
+    ui.add(egui::Slider::new(&mut wind.direction, -180.0..=180.0).text("wind direction °"));
+    ui.add(egui::Slider::new(&mut s.stiffness, 0.0..=4.0).text("stiffness ×"));
+    ui.add(egui::Slider::new(&mut s.gravity.acceleration, 0.0..=30.0).text("gravity"));
 
     ui.separator();
     egui::ComboBox::from_label("blade shape (S)")
-        .selected_text(format!(
-            "{:?}",
-            Shape::ALL
-                .iter()
-                .find(|w| w.id() == s.shape)
-                .copied()
-                .unwrap_or(Shape::Quadratic)
-        ))
+        .selected_text(format!("{:?}", s.shape))
         .show_ui(ui, |ui| {
-            for shape in Shape::ALL {
-                ui.selectable_value(&mut s.shape, shape.id(), format!("{shape:?}"));
+            for shape in BladeShape::ALL {
+                ui.selectable_value(&mut s.shape, shape, format!("{shape:?}"));
             }
         });
     ui.add(egui::Slider::new(&mut s.tip_start, 0.0..=1.0).text("tip start"));

@@ -3,16 +3,15 @@
 //! to 2 s, two image sizes), a ball circling through the grass; it reads host and
 //! device memory as it goes and fails unless both stay flat and the layer says nothing.
 
+use super::driver::{Frame, FrameDriver};
+use super::headless::{FORMAT, Offscreen};
 use super::progress::Progress;
-use super::render::{FORMAT, Offscreen};
-use crate::cli::{Common, Shape, SoakArgs, View, Wind};
+use crate::cli::{Common, SoakArgs};
 use crate::collider::Ball;
-use crate::renderer::{FrameInput, Renderer};
-use crate::scene::Settings;
+use crate::renderer::Renderer;
 use anyhow::{Result, bail};
 use glam::{Vec2, Vec3Swizzles};
-use shared::layout::SimulatePush;
-use shared::simulate::SimClock;
+use shared::settings::{BladeShape, CullTests, Settings, View, WindField};
 
 /// Phases (changes of the switches) between two memory readings.
 pub const PHASES_PER_READING: u32 = 4;
@@ -133,11 +132,11 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
 pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     let mut s = *base;
     let p = phase as usize;
-    s.cull = phase % (shared::cull::ALL + 1);
-    s.lod = phase.is_multiple_of(2);
-    s.view = View::ALL[p % View::ALL.len()].id();
-    s.env.wind_kind = Wind::ALL[p % Wind::ALL.len()].kind();
-    s.shape = Shape::ALL[(p / 2) % Shape::ALL.len()].id();
+    s.cull.tests = CullTests::from_mask(phase % (shared::cull::ALL + 1));
+    s.lod.on = phase.is_multiple_of(2);
+    s.view = View::ALL[p % View::ALL.len()];
+    s.wind.field = WindField::ALL[p % WindField::ALL.len()];
+    s.shape = BladeShape::ALL[(p / 2) % BladeShape::ALL.len()];
     s
 }
 
@@ -150,11 +149,10 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
         (args.width, args.height),
         ((args.width * 3 / 4).max(16), (args.height / 2).max(16)),
     ];
-    // Made before the renderer, so it is dropped after it (see `render`).
+    // Made before the driver, so it is dropped after it (see `render`).
     let mut offscreen = Offscreen::new(&ctx, sizes[0].0, sizes[0].1)?;
-    let mut renderer = Renderer::new(&ctx, &scene, FORMAT)?;
+    let mut driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
     let mut camera = scene.camera();
-    let mut clock = SimClock::default();
     let circle = camera.distance * 0.2;
     let progress = Progress::new(args.frames as usize);
     let mut readings = Vec::new();
@@ -163,8 +161,8 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     for frame in 0..args.frames {
         let block = frame / args.every;
         let size = sizes[block as usize % 2];
-        if offscreen.color.extent.width != size.0 || offscreen.color.extent.height != size.1 {
-            renderer.finish()?;
+        if offscreen.size() != size {
+            driver.finish()?;
             offscreen = Offscreen::new(&ctx, size.0, size.1)?;
         }
         let phase = frame / phase_frames;
@@ -172,23 +170,19 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
             settings = phase_settings(&base, phase);
         }
         let dt = FRAME_TIMES[phase as usize % FRAME_TIMES.len()];
-        let (first_step, steps) = clock.advance(dt);
         camera.yaw += 0.003;
-        let angle = clock.time() * 0.7;
-        let around = camera.target.xz() + Vec2::from_angle(angle) * circle;
-        let balls: Vec<_> = Ball::dropped(&scene.solid, around, common.collider_radius)
-            .iter()
-            .map(Ball::sphere)
-            .collect();
-        let slot = renderer.begin_frame()?;
-        let uniforms = settings.uniforms(&camera, size, &scene, &balls);
-        let push = SimulatePush { first_step, steps };
-        renderer.render(
-            slot,
-            FrameInput::headless(offscreen.target(), uniforms, push),
-        )?;
+        let uniforms = |f: &Frame| {
+            let angle = f.time * 0.7;
+            let around = camera.target.xz() + Vec2::from_angle(angle) * circle;
+            let balls: Vec<_> = Ball::dropped(&scene.solid, around, common.collider_radius)
+                .iter()
+                .map(Ball::sphere)
+                .collect();
+            settings.uniforms(&camera.viewpoint(size), scene.blade_count(), &balls)
+        };
+        driver.run(&mut offscreen, dt, uniforms, false)?;
         if (frame + 1) % args.every == 0 || frame + 1 == args.frames {
-            renderer.finish()?;
+            driver.finish()?;
             let (device, device_blocks) = ctx.device_memory();
             let reading = Reading {
                 frame: frame + 1,
@@ -203,7 +197,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
             progress.show(frame as usize + 1, "running");
         }
     }
-    renderer.finish()?;
+    driver.finish()?;
     progress.done(args.frames as usize);
     Ok(SoakReport {
         readings,

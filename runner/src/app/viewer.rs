@@ -3,21 +3,20 @@
 //! swapchain recreated on resize, frame rate and blade counts in the title once a
 //! second.
 
+use super::driver::{FRAMES_IN_FLIGHT, FrameDriver, FrameSpec};
 use super::overlay::{Overlay, Readings};
+use super::presenter::Presenter;
 use super::storm::{Gust, Storm};
 use crate::camera::OrbitCamera;
-use crate::cli::{Common, Shape, View, ViewArgs, Wind};
+use crate::cli::{Common, ViewArgs};
 use crate::collider::{Ball, drop_onto};
 use crate::passes::overlay::OverlayFrame;
-use crate::renderer::{FrameInput, Renderer, Target};
-use crate::scene::{Scene, SceneFile, Settings};
-use crate::vulkan::swapchain::Swapchain;
+use crate::renderer::Renderer;
+use crate::scene::{Scene, SceneFile};
 use crate::vulkan::{Context, ContextOptions};
-use anyhow::{Context as _, Result, bail};
-use ash::vk;
+use anyhow::{Context as _, Result};
 use glam::{Vec2, Vec3, Vec3Swizzles};
-use shared::layout::SimulatePush;
-use shared::simulate::SimClock;
+use shared::settings::Settings;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -93,12 +92,11 @@ struct Stats {
     frames: u32,
 }
 
-// Fields drop in order: GPU objects first, the context, then the window its surface
-// belongs to.
+// Fields drop in order: GPU objects first (the last of them ends the context), then
+// the window its surface belongs to.
 struct Running {
-    renderer: Renderer,
-    swapchain: Option<Swapchain>,
-    ctx: std::sync::Arc<Context>,
+    driver: FrameDriver,
+    presenter: Presenter,
     scene: Scene,
     settings: Settings,
     common: Common,
@@ -106,18 +104,12 @@ struct Running {
     ball: Option<Ball>,
     ball_on: bool,
     arrows: Arrows,
-    clock: SimClock,
     mouse: Mouse,
     stats: Stats,
     overlay: Overlay,
     fps: f64,
     last_frame: Instant,
     frames: u64,
-    recreate: bool,
-    /// The swapchains' pixel format, which the renderer's pipelines are built for.
-    format: vk::Format,
-    /// Swapchains made so far.
-    swapchains: u64,
     /// The scripted window changes of `--resize-storm`.
     storm: Option<Storm>,
     window: Window,
@@ -145,9 +137,10 @@ impl Running {
             window: Some(&window),
         })?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
-        let format = Swapchain::surface_format(&ctx)?.format;
-        let mut renderer = Renderer::new(&ctx, &scene, format)?;
-        renderer.enable_overlay()?;
+        let presenter = Presenter::new(&ctx)?;
+        let mut renderer = Renderer::new(&ctx, &scene.meshes(), presenter.format())?;
+        renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
+        let driver = FrameDriver::new(&ctx, renderer)?;
         let overlay = Overlay::new(&window, ctx.device_name());
         log::info!("{CONTROLS}");
         // The ball starts at the path's start, else in front of the camera's target.
@@ -157,9 +150,8 @@ impl Running {
             .map_or(scene.camera().target.xz(), |p| p.at(0.0));
         let ball = Ball::dropped(&scene.solid, start, common.collider_radius);
         Ok(Self {
-            renderer,
-            swapchain: None,
-            ctx,
+            driver,
+            presenter,
             settings,
             common: common.clone(),
             camera: scene.camera(),
@@ -167,7 +159,6 @@ impl Running {
             ball_on: true,
             arrows: Arrows::default(),
             scene,
-            clock: SimClock::default(),
             mouse: Mouse::default(),
             stats: Stats {
                 since: Instant::now(),
@@ -177,9 +168,6 @@ impl Running {
             fps: 0.0,
             last_frame: Instant::now(),
             frames: 0,
-            recreate: false,
-            format,
-            swapchains: 0,
             storm: args.resize_storm.then(Storm::default),
             window,
         })
@@ -197,46 +185,26 @@ impl Running {
     /// Draws one frame; returns without drawing while minimised.
     fn frame(&mut self) -> Result<()> {
         let size = self.size();
-        if size.width == 0 || size.height == 0 {
+        if !self.presenter.prepare((size.width, size.height))? {
             return Ok(());
-        }
-        if self.recreate || self.swapchain.is_none() {
-            self.ctx.wait_idle()?;
-            let old = self.swapchain.take();
-            let Some(new) = Swapchain::new(&self.ctx, (size.width, size.height), old.as_ref())?
-            else {
-                // The surface is 0x0 for now: try again next frame.
-                return Ok(());
-            };
-            if new.format != self.format {
-                bail!(
-                    "the window's surface format changed from {:?} to {:?}",
-                    self.format,
-                    new.format
-                );
-            }
-            self.swapchain = Some(new);
-            self.swapchains += 1;
-            self.recreate = false;
         }
         // Simulated time and the ball follow the wall clock.
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f64();
         self.last_frame = now;
-        let (first_step, steps) = self.clock.advance(dt);
-        self.move_ball(dt as f32);
-        self.overlay.frame_time((dt * 1000.0) as f32);
-        let Some(swapchain) = self.swapchain.as_ref() else {
+        let Some(frame) = self.driver.begin(&mut self.presenter, dt)? else {
             return Ok(());
         };
-        let slot = self.renderer.begin_frame()?;
+        self.move_ball(dt as f32, frame.time);
+        self.overlay.frame_time((dt * 1000.0) as f32);
         // After the read-back, so the overlay shows the newest counts.
+        let readback = &self.driver.readback;
         let readings = Readings {
             fps: self.fps,
-            blades: self.renderer.field.blade_count,
-            counts: self.renderer.counts,
-            times: self.renderer.times,
-            occluders: self.renderer.has_occluders,
+            blades: self.scene.blade_count(),
+            counts: readback.counts,
+            times: readback.times,
+            occluders: self.driver.renderer.has_occluders,
         };
         let painted = self.overlay.run(
             &self.window,
@@ -244,51 +212,25 @@ impl Running {
             &mut self.settings,
             &mut self.ball_on,
         );
-        let available = self.renderer.image_available(slot);
-        let Some((index, suboptimal)) = swapchain.acquire(available)? else {
-            self.recreate = true;
-            return Ok(());
-        };
-        let extent = swapchain.extent;
         let balls: Vec<_> = self
             .ball
             .iter()
             .filter(|_| self.ball_on)
             .map(Ball::sphere)
             .collect();
-        let uniforms = self.settings.uniforms(
-            &self.camera,
-            (extent.width, extent.height),
-            &self.scene,
-            &balls,
-        );
-        let target = Target {
-            image: swapchain.images[index as usize],
-            view: swapchain.views[index as usize],
-            extent,
-            final_layout: vk::ImageLayout::PRESENT_SRC_KHR,
+        let eye = self.camera.viewpoint(frame.extent());
+        let spec = FrameSpec {
+            uniforms: self
+                .settings
+                .uniforms(&eye, self.scene.blade_count(), &balls),
+            overlay: painted.as_ref().map(|p| OverlayFrame {
+                primitives: &p.primitives,
+                textures: &p.textures,
+                pixels_per_point: p.pixels_per_point,
+            }),
+            capture: false,
         };
-        let finished = swapchain.render_finished[index as usize].semaphore;
-        let overlay = painted.as_ref().map(|p| OverlayFrame {
-            primitives: &p.primitives,
-            textures: &p.textures,
-            pixels_per_point: p.pixels_per_point,
-        });
-        self.renderer.render(
-            slot,
-            FrameInput {
-                target,
-                uniforms,
-                push: SimulatePush { first_step, steps },
-                wait: Some(available),
-                signal: Some(finished),
-                capture: None,
-                overlay,
-            },
-        )?;
-        if !swapchain.present(index)? || suboptimal {
-            self.recreate = true;
-        }
+        self.driver.submit(frame, &mut self.presenter, spec)?;
         self.frames += 1;
         self.report();
         Ok(())
@@ -301,21 +243,17 @@ impl Running {
         if elapsed >= 1.0 {
             let fps = f64::from(self.stats.frames) / elapsed;
             self.fps = fps;
-            let visible = self.renderer.visible().unwrap_or(0);
-            let wind = Wind::ALL
-                .iter()
-                .find(|w| w.kind() == self.settings.env.wind_kind);
-            let shape = Shape::ALL.iter().find(|w| w.id() == self.settings.shape);
+            let visible = self.driver.readback.visible().unwrap_or(0);
             let line = format!(
                 "{fps:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
-                self.renderer.field.blade_count,
+                self.scene.blade_count(),
                 self.scene.name,
-                wind.copied().unwrap_or(Wind::Calm),
-                shape.copied().unwrap_or(Shape::Quadratic),
+                self.settings.wind.field,
+                self.settings.shape,
             );
             self.window.set_title(&format!("grass: {line}"));
             log::info!("{line}");
-            if let Some(counts) = self.renderer.counts {
+            if let Some(counts) = self.driver.readback.counts {
                 log::info!("{}", super::render::describe(&counts));
             }
             self.stats = Stats {
@@ -349,11 +287,12 @@ impl Running {
             Gust::Zero => {}
         }
         // Whatever the window system makes of it, the next frame checks the surface.
-        self.recreate = true;
+        self.presenter.recreate = true;
     }
 
-    /// Moves the ball along its path, or by the arrow keys (relative to the camera).
-    fn move_ball(&mut self, dt: f32) {
+    /// Moves the ball along its path (to where it is at simulated time `time`), or by
+    /// the arrow keys (relative to the camera).
+    fn move_ball(&mut self, dt: f32, time: f32) {
         let Some(ball) = self.ball.as_mut() else {
             return;
         };
@@ -370,7 +309,7 @@ impl Running {
                 (right * axis.x + forward * axis.y) * speed,
             );
         } else if let Some(path) = &self.common.collider_path {
-            let travelled = self.common.collider_speed * self.clock.time();
+            let travelled = self.common.collider_speed * time;
             if let Some(contact) = drop_onto(&self.scene.solid, path.at(travelled)) {
                 ball.contact = contact;
             }
@@ -380,9 +319,6 @@ impl Running {
     /// A key press: the live switches.
     fn key(&mut self, key: &Key) {
         let s = &mut self.settings;
-        let wind_index = Wind::ALL.iter().position(|w| w.kind() == s.env.wind_kind);
-        let shape_index = Shape::ALL.iter().position(|w| w.id() == s.shape);
-        let (mut direction, mut strength) = super::wind_angles(s.env.wind);
         match key {
             Key::Named(NamedKey::ArrowLeft) => self.arrows.left = true,
             Key::Named(NamedKey::ArrowRight) => self.arrows.right = true,
@@ -394,32 +330,27 @@ impl Running {
                     log::info!("ball {}", if self.ball_on { "on" } else { "off" });
                 }
                 "w" | "W" => {
-                    let next = Wind::ALL[wind_index.map_or(0, |i| (i + 1) % Wind::ALL.len())];
-                    s.env.wind_kind = next.kind();
-                    log::info!("wind: {next:?}");
+                    s.wind.field = s.wind.field.next();
+                    log::info!("wind: {:?}", s.wind.field);
                 }
                 "s" | "S" => {
-                    let next = Shape::ALL[shape_index.map_or(0, |i| (i + 1) % Shape::ALL.len())];
-                    s.shape = next.id();
-                    log::info!("blade shape: {next:?}");
+                    s.shape = s.shape.next();
+                    log::info!("blade shape: {:?}", s.shape);
                 }
                 "1" | "2" | "3" | "4" => {
                     let test = c.as_str().parse::<usize>().map_or(0, |n| n - 1);
-                    let bit = shared::cull::TESTS[test];
-                    s.cull ^= bit;
-                    let name = shared::cull::TEST_NAMES[test];
-                    let state = if s.cull & bit != 0 { "on" } else { "off" };
-                    log::info!("{name} culling {state}");
+                    if let Some((name, on)) = s.cull.tests.named_mut().into_iter().nth(test) {
+                        *on = !*on;
+                        log::info!("{name} culling {}", if *on { "on" } else { "off" });
+                    }
                 }
                 "l" | "L" => {
-                    s.lod = !s.lod;
-                    log::info!("LOD {}", if s.lod { "on" } else { "off" });
+                    s.lod.on = !s.lod.on;
+                    log::info!("LOD {}", if s.lod.on { "on" } else { "off" });
                 }
                 "v" | "V" => {
-                    let index = View::ALL.iter().position(|v| v.id() == s.view);
-                    let next = View::ALL[index.map_or(0, |i| (i + 1) % View::ALL.len())];
-                    s.view = next.id();
-                    log::info!("view: {next:?}");
+                    s.view = s.view.next();
+                    log::info!("view: {:?}", s.view);
                 }
                 "o" | "O" => {
                     self.overlay.visible = !self.overlay.visible;
@@ -429,14 +360,18 @@ impl Running {
                     );
                 }
                 "[" | "]" | "," | "." => {
+                    let wind = &mut s.wind;
                     match c.as_str() {
-                        "[" => strength = (strength - 1.0).max(0.0),
-                        "]" => strength = (strength + 1.0).min(100.0),
-                        "," => direction -= 15.0,
-                        _ => direction += 15.0,
+                        "[" => wind.strength = (wind.strength - 1.0).max(0.0),
+                        "]" => wind.strength = (wind.strength + 1.0).min(100.0),
+                        "," => wind.direction -= 15.0,
+                        _ => wind.direction += 15.0,
                     }
-                    s.env.wind = super::wind_vector(direction, strength);
-                    log::info!("wind strength {strength:.0}, direction {direction:.0}°");
+                    log::info!(
+                        "wind strength {:.0}, direction {:.0}°",
+                        wind.strength,
+                        wind.direction
+                    );
                 }
                 _ => {}
             },
@@ -519,7 +454,7 @@ impl ApplicationHandler for Viewer {
             },
             WindowEvent::Focused(false) => state.arrows = Arrows::default(),
             WindowEvent::ModifiersChanged(m) => state.mouse.modifiers = m.state(),
-            WindowEvent::Resized(_) => state.recreate = true,
+            WindowEvent::Resized(_) => state.presenter.recreate = true,
             WindowEvent::MouseInput {
                 state: pressed,
                 button,
@@ -559,7 +494,7 @@ impl ApplicationHandler for Viewer {
             log::info!(
                 "{} frames drawn, {} swapchains made, {gusts} storm gusts",
                 state.frames,
-                state.swapchains
+                state.presenter.swapchains
             );
         }
     }

@@ -1,5 +1,20 @@
-//! The passes of a frame, in order: simulate-and-cull (compute), then ground and grass
-//! (graphics).
+//! The passes of a frame, in the order the renderer records them, with what each reads
+//! and writes:
+//!
+//! 1. [`occlusion`]: draws the scene's surfaces depth-only and reduces the depth to a
+//!    pyramid (reads the surfaces and the camera; writes the depth image and the
+//!    pyramid buffer). Only with the occlusion test and something that can hide grass.
+//! 2. [`simulate`]: simulates, culls and compacts every blade, then writes one draw
+//!    command per chunk (reads the frame block and the pyramid; writes the blades,
+//!    their collision strengths, the visible indices, the counters and the draws).
+//! 3. [`ground`]: the surfaces and the collider ball (reads the surface meshes and
+//!    the frame block; writes colour and depth).
+//! 4. [`grass`]: the visible blades as tessellated patches (reads the visible
+//!    indices, the blades, the draws and the frame block; writes colour and depth).
+//! 5. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
+//!    colour).
+//!
+//! [`throughput`] is no part of a frame: the benchmark's triangle reference.
 
 pub mod grass;
 pub mod ground;

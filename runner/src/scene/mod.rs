@@ -1,18 +1,17 @@
 //! What is simulated and drawn: the surfaces (built in or loaded from a file), the
-//! blades grown on them, and the settings that fill the frame's uniform block.
+//! blades grown on them, and the default settings they call for.
 
 pub mod builtin;
 pub mod load;
 
 use crate::camera::OrbitCamera;
+use crate::renderer::Meshes;
 use anyhow::{Context as _, Result, bail};
-use glam::{UVec4, Vec3, Vec4};
+use glam::Vec3;
 use shared::Blade;
-use shared::cull;
 use shared::generate::{DENSITY, side_for};
-use shared::layout::{FrameUniforms, MAX_COLLIDERS};
 use shared::mesh::{SurfaceMesh, scatter};
-use shared::simulate::Environment;
+use shared::settings::Settings;
 use std::path::PathBuf;
 
 /// The project's own glTF scene, built into the binary (regenerate with
@@ -71,6 +70,8 @@ pub struct Scene {
     pub bare: SurfaceMesh,
     /// Everything solid, for placing the collider ball.
     pub solid: SurfaceMesh,
+    /// The collider ball's mesh: a unit sphere, placed and sized per frame.
+    pub ball: SurfaceMesh,
     /// Gravity pulls towards this point (the planet's centre), if any.
     pub gravity_centre: Option<Vec3>,
     /// Centre and radius of a sphere around everything, blades included.
@@ -188,6 +189,7 @@ impl Scene {
             surface,
             bare,
             solid,
+            ball: builtin::sphere(Vec3::ZERO, 1.0, 3),
             gravity_centre,
             bounds: (centre, radius),
             degenerate,
@@ -220,136 +222,37 @@ impl Scene {
         camera
     }
 
+    /// What the renderer draws of this scene.
+    pub fn meshes(&self) -> Meshes<'_> {
+        Meshes {
+            blades: &self.blades,
+            surface: &self.surface,
+            bare: &self.bare,
+            ball: &self.ball,
+            has_occluders: self.has_occluders(),
+        }
+    }
+
     /// Blades in the scene.
     pub fn blade_count(&self) -> u32 {
         self.blades.len() as u32
+    }
+
+    /// The default settings on this scene: the distance test's reach from its size,
+    /// gravity towards its centre if it has one.
+    pub fn settings(&self) -> Settings {
+        let mut settings = Settings::default();
+        settings.cull.max_distance = (2.0 * self.bounds.1 * 1.5).max(40.0);
+        if let Some(centre) = self.gravity_centre {
+            settings.gravity.centre = centre;
+            settings.gravity.centre_blend = 1.0;
+        }
+        settings
     }
 
     /// True when some surface can hide grass: bare rock, or ground that is not one
     /// flat plane. Without occluders the occlusion test's depth pre-pass is skipped.
     pub fn has_occluders(&self) -> bool {
         !self.bare.is_empty() || !is_flat(&self.surface)
-    }
-}
-
-/// The settings of the simulation, culling, LOD and shading.
-#[derive(Copy, Clone, Debug)]
-pub struct Settings {
-    /// Gravity, wind and collision decay (the collider count is set per frame).
-    pub env: Environment,
-    /// Direction towards the light (xyz, unit) and ambient (w).
-    pub light: Vec4,
-    /// Orientation threshold.
-    pub orientation_threshold: f32,
-    /// Frustum tolerance in clip units.
-    pub frustum_tolerance: f32,
-    /// Distance beyond which blades are culled.
-    pub max_distance: f32,
-    /// Distance buckets.
-    pub buckets: u32,
-    /// Enabled cull tests (mask of `shared::cull::*`).
-    pub cull: u32,
-    /// Level of detail on; off, every blade gets `lod_most`.
-    pub lod: bool,
-    /// LOD: screen pixels per segment along a blade.
-    pub lod_pixels: f32,
-    /// Tessellation level along the blade near the camera.
-    pub lod_most: f32,
-    /// Tessellation level far away.
-    pub lod_fewest: f32,
-    /// Grass view (`shared::layout::VIEW_*`).
-    pub view: u32,
-    /// Blade shape (`shared::shape::SHAPE_*`).
-    pub shape: u32,
-    /// Tip start k of the triangle-tip shape.
-    pub tip_start: f32,
-}
-
-impl Settings {
-    /// Defaults for `scene`: distances from its size, gravity towards its centre if
-    /// it has one.
-    pub fn for_scene(scene: &Scene) -> Self {
-        let size = 2.0 * scene.bounds.1;
-        let (centre, blend) = match scene.gravity_centre {
-            Some(c) => (c.extend(9.8), 1.0),
-            None => (Vec4::ZERO, 0.0),
-        };
-        Self {
-            env: Environment {
-                gravity: Vec4::new(0.0, -1.0, 0.0, 9.8),
-                gravity_centre: centre,
-                centre_blend: blend,
-                wind: Vec4::new(1.0, 0.0, 0.35, 7.0),
-                wind_kind: shared::wind::WIND_BREEZE,
-                strength_decay: 0.25,
-                stiffness_scale: 1.0,
-                colliders: 0,
-            },
-            light: Vec3::new(0.4, 0.8, 0.3).normalize().extend(0.35),
-            orientation_threshold: 0.9,
-            frustum_tolerance: 0.5,
-            max_distance: (size * 1.5).max(40.0),
-            buckets: 8,
-            cull: cull::ALL,
-            lod: true,
-            lod_pixels: shared::lod::PIXELS_PER_SEGMENT,
-            lod_most: 7.0,
-            lod_fewest: 1.0,
-            view: shared::layout::VIEW_SHADED,
-            shape: shared::shape::SHAPE_QUADRATIC,
-            tip_start: 0.5,
-        }
-    }
-
-    /// The uniform block of a frame seen by `camera` on a target of `extent` (width,
-    /// height in pixels), with the sphere colliders `balls` (centre xyz, radius w; at
-    /// most `MAX_COLLIDERS`).
-    pub fn uniforms(
-        &self,
-        camera: &OrbitCamera,
-        extent: (u32, u32),
-        scene: &Scene,
-        balls: &[Vec4],
-    ) -> FrameUniforms {
-        let aspect = extent.0 as f32 / extent.1.max(1) as f32;
-        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
-        let used = balls.len().min(MAX_COLLIDERS);
-        colliders[..used].copy_from_slice(&balls[..used]);
-        FrameUniforms {
-            view_proj: camera.view_proj(aspect),
-            camera: camera.eye().extend(1.0),
-            light: self.light,
-            gravity: self.env.gravity,
-            wind: self.env.wind,
-            cull: Vec4::new(
-                self.orientation_threshold,
-                self.frustum_tolerance,
-                self.max_distance,
-                self.buckets as f32,
-            ),
-            lod: Vec4::new(
-                shared::lod::focal_pixels(camera.fov_y, extent.1 as f32),
-                self.lod_pixels,
-                self.lod_most,
-                if self.lod {
-                    self.lod_fewest
-                } else {
-                    self.lod_most
-                },
-            ),
-            blade_shape: Vec4::new(self.tip_start, 0.0, 0.0, 0.0),
-            gravity_centre: self.env.gravity_centre,
-            sim: Vec4::new(
-                self.env.centre_blend,
-                self.env.strength_decay,
-                self.env.stiffness_scale,
-                0.0,
-            ),
-            flags: UVec4::new(self.cull, self.shape, scene.blade_count(), used as u32),
-            modes: UVec4::new(self.env.wind_kind, self.view, 0, 0),
-            // Filled in by the renderer, which knows the target.
-            hiz: Default::default(),
-            colliders,
-        }
     }
 }

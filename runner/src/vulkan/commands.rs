@@ -37,6 +37,43 @@ impl CommandPool {
             .context("allocate command buffers")
     }
 
+    /// Resets `cmd` (one of this pool's) and begins recording it for one submission.
+    pub fn begin(&self, cmd: vk::CommandBuffer) -> Result<Recorder<'_>> {
+        let device = &self.ctx.device;
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        unsafe {
+            device.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+            device.begin_command_buffer(cmd, &begin)?;
+        }
+        Ok(Recorder::new(device, cmd))
+    }
+
+    /// Ends `cmd` and submits it: it waits for `wait` before writing colour, then
+    /// signals `signal` and `fence` (which is reset first).
+    pub fn submit(
+        &self,
+        cmd: vk::CommandBuffer,
+        wait: Option<vk::Semaphore>,
+        signal: Option<vk::Semaphore>,
+        fence: &Fence,
+    ) -> Result<()> {
+        let device = &self.ctx.device;
+        unsafe { device.end_command_buffer(cmd) }.context("record frame")?;
+        let waits: Vec<_> = wait.into_iter().collect();
+        let stages = [vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT];
+        let signals: Vec<_> = signal.into_iter().collect();
+        let cmds = [cmd];
+        let submit = vk::SubmitInfo::default()
+            .wait_semaphores(&waits)
+            .wait_dst_stage_mask(&stages[..waits.len()])
+            .command_buffers(&cmds)
+            .signal_semaphores(&signals);
+        fence.reset()?;
+        unsafe { device.queue_submit(self.ctx.queue, &[submit], fence.fence) }
+            .context("submit frame")
+    }
+
     /// Records `record` into a fresh command buffer, submits it and waits for it.
     pub fn one_shot(&self, record: impl FnOnce(&Recorder)) -> Result<()> {
         let device = &self.ctx.device;

@@ -17,3 +17,9 @@ pub use buffer::Buffer;
 pub use context::{Context, ContextOptions};
 pub use image::Image;
 pub use recorder::Recorder;
+
+/// True when `GRASS_REQUIRE_GPU=1` (as in CI): tests that need a Vulkan device then
+/// fail instead of skipping. The one place every test asks.
+pub fn gpu_required() -> bool {
+    std::env::var("GRASS_REQUIRE_GPU").is_ok_and(|v| v.trim() == "1")
+}

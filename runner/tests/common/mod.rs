@@ -12,10 +12,7 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// CI sets GRASS_REQUIRE_GPU=1: the cases that reach the device must then get there.
-pub fn gpu_required() -> bool {
-    std::env::var("GRASS_REQUIRE_GPU").is_ok_and(|v| v.trim() == "1")
-}
+pub use runner::vulkan::gpu_required;
 
 /// Runs `grass` with `args` and extra environment variables.
 pub fn grass_with(args: &[&str], env: &[(&str, &str)]) -> Output {

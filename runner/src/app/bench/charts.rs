@@ -2,7 +2,7 @@
 //! against blade count per configuration, pass times against blade count, and what
 //! each configuration costs at the largest count.
 
-use super::bench::{Point, Spread};
+use super::stats::{Point, Spread};
 use crate::cli::BenchConfig;
 use anyhow::{Result, anyhow};
 use plotters::prelude::*;

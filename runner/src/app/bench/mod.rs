@@ -1,0 +1,275 @@
+//! `grass bench`: headless sweeps of blade counts and culling configurations from
+//! fixed camera presets, timed per pass by GPU timestamps and per frame on the CPU,
+//! reported as medians and 95th percentiles in a table and a CSV file.
+//!
+//! This module drives the renderer through the sweep; [`stats`] holds the plain data
+//! and arithmetic, [`report`] the table and the CSV file, [`charts`] the PNG charts.
+
+pub mod charts;
+pub mod report;
+pub mod stats;
+
+pub use stats::{Point, References, Spread, compute_bytes, mean_difference};
+
+use super::driver::{FRAMES_IN_FLIGHT, FrameDriver, FrameSpec};
+use super::headless::{FORMAT, Offscreen};
+use super::progress::Progress;
+use crate::camera::OrbitCamera;
+use crate::cli::{BenchArgs, BenchConfig, CameraPreset, Common};
+use crate::field::Field;
+use crate::renderer::{PassTimes, Renderer};
+use crate::scene::{BladeCount, Scene};
+use crate::vulkan::Context;
+use anyhow::{Context as _, Result};
+use glam::Vec3;
+use report::{print_references, print_table, write_csv};
+use shared::layout::FrameUniforms;
+use shared::settings::Settings;
+use shared::simulate::SimClock;
+use std::time::Instant;
+
+/// Most blades swept by default on a software device (lavapipe draws about half a
+/// million triangles a second).
+pub const SOFTWARE_MAX_BLADES: u32 = 1 << 13;
+
+/// The camera of `preset` over `scene`.
+pub fn camera(scene: &Scene, preset: CameraPreset) -> OrbitCamera {
+    let (centre, radius) = scene.bounds;
+    let mut camera = scene.camera();
+    camera.target = centre + Vec3::new(0.0, 0.5, 0.0);
+    match preset {
+        // Just outside the field's edge, about two units up, looking across it.
+        CameraPreset::Edge => {
+            camera.distance = radius * 0.75 + 1.0;
+            camera.pitch = (2.0 / camera.distance).atan();
+        }
+        // High above, the whole field in view.
+        CameraPreset::Overview => {
+            camera.pitch = 55f32.to_radians();
+            camera.distance = radius / (0.5 * camera.fov_y).sin() * 1.05;
+        }
+    }
+    camera
+}
+
+/// The settings of `config`: which tests run and whether LOD does.
+pub fn configure(settings: &mut Settings, config: BenchConfig) {
+    let (tests, lod) = config.switches();
+    settings.cull.tests = tests;
+    settings.lod.on = lod;
+}
+
+/// The blade counts to sweep: as asked, else powers of two from 2^10 to 2^22, up to
+/// what the device's buffers hold (and [`SOFTWARE_MAX_BLADES`] on a software device).
+fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
+    if let Some(n) = common.blades {
+        return vec![n];
+    }
+    if !args.counts.is_empty() {
+        return args.counts.clone();
+    }
+    let cap = if ctx.is_software() {
+        log::info!(
+            "software device {}: sweeping up to {SOFTWARE_MAX_BLADES} blades (--counts to choose)",
+            ctx.device_name()
+        );
+        SOFTWARE_MAX_BLADES
+    } else {
+        u32::MAX
+    };
+    (10..=22)
+        .map(|p| 1u32 << p)
+        .filter(|&n| n <= cap && Field::check_limits(ctx, u64::from(n)).is_ok())
+        .collect()
+}
+
+/// Runs the sweep, prints the table and writes the CSV.
+pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
+    super::check_output(&args.out, &["csv"])?;
+    let (file, ctx) = super::open_headless(common)?;
+    let counts = counts(common, args, &ctx);
+    for &n in &counts {
+        Field::check_limits(&ctx, u64::from(n))?;
+    }
+    let configs = if args.configs.is_empty() {
+        BenchConfig::ALL.to_vec()
+    } else {
+        args.configs.clone()
+    };
+    let total = counts.len() * configs.len();
+    let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
+    let mut points = Vec::new();
+    let mut references = References::default();
+    let (mut view, mut unculled) = (Vec::new(), Vec::new());
+    let progress = Progress::new(total);
+    for &n in &counts {
+        // The file was checked before the device opened; read again for each count.
+        let file = if file.is_some() {
+            common.scene_kind().read()?
+        } else {
+            None
+        };
+        let scene = Scene::build(
+            &common.scene_kind(),
+            file,
+            BladeCount::Total(n),
+            common.seed,
+            |_| Ok(()),
+        )?;
+        let base = super::settings(common, &scene);
+        let camera = camera(&scene, args.camera);
+        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
+        let mut driver = FrameDriver::new(&ctx, renderer)?;
+        let eye = camera.viewpoint(offscreen.size());
+        let uniforms = |config| {
+            let mut settings = base;
+            configure(&mut settings, config);
+            settings.uniforms(&eye, scene.blade_count(), &[])
+        };
+        let first = points.len();
+        for &config in &configs {
+            progress.show(points.len(), &format!("{config:?} at {n} blades"));
+            let frames = (&mut driver, &mut offscreen);
+            let point = measure(frames, uniforms(config), args, config, n)?;
+            points.push(point);
+        }
+        // The blades as the sweep left them, without culling or LOD, then each
+        // configuration in the same state.
+        unculled = still(&mut driver, &mut offscreen, uniforms(BenchConfig::None))?;
+        for point in &mut points[first..] {
+            view = still(&mut driver, &mut offscreen, uniforms(point.config))?;
+            point.difference = mean_difference(&view, &unculled);
+        }
+        if Some(&n) == counts.last() {
+            progress.show(points.len(), "references");
+            references = measure_references(&mut driver.renderer, &offscreen, n)?;
+        }
+    }
+    progress.done(total);
+    let device = ctx.device_name();
+    print_table(&device, args, &points);
+    print_references(counts.last().copied().unwrap_or(0), &references, &points);
+    write_csv(&args.out, &device, common, args, &points, &references)
+        .with_context(|| format!("write {}", args.out.display()))?;
+    log::info!("wrote {}", args.out.display());
+    let title = format!(
+        "{device}, {}x{}, camera {:?}",
+        args.width, args.height, args.camera
+    );
+    let mut written = charts::write(&args.out, &title, &points).context("draw the charts")?;
+    let (w, h) = (args.width, args.height);
+    for (pixels, extension) in [(&view, "view.png"), (&unculled, "unculled.png")] {
+        let path = args.out.with_extension(extension);
+        image::save_buffer(&path, pixels, w, h, image::ColorType::Rgba8)
+            .with_context(|| format!("write {}", path.display()))?;
+        written.push(path);
+    }
+    for path in &written {
+        log::info!("wrote {}", path.display());
+    }
+    Ok(points)
+}
+
+/// Warm-up, then `args.frames` frames of one configuration, each simulating 1/60 s
+/// from a clock started anew.
+fn measure(
+    (driver, offscreen): (&mut FrameDriver, &mut Offscreen),
+    uniforms: FrameUniforms,
+    args: &BenchArgs,
+    config: BenchConfig,
+    blades: u32,
+) -> Result<Point> {
+    driver.clock = SimClock::default();
+    let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
+    let mut triangles = Vec::new();
+    let mut last = Instant::now();
+    let slots = FRAMES_IN_FLIGHT as u32;
+    // Each slot's read-back is of its previous frame: skip those of the warm-up.
+    let frames = args.warmup + args.frames + slots;
+    for frame in 0..frames {
+        let Some(started) = driver.begin(offscreen, 1.0 / 60.0)? else {
+            continue;
+        };
+        let now = Instant::now();
+        if frame >= args.warmup + slots {
+            let r = &driver.readback;
+            cpu.push(now.duration_since(last).as_secs_f64() * 1000.0);
+            times.extend(r.times);
+            drawn.extend(r.counts.map(|c| f64::from(c.drawn)));
+            triangles.extend(r.triangles.map(|t| t as f64));
+        }
+        last = now;
+        driver.submit(started, offscreen, FrameSpec::plain(uniforms))?;
+    }
+    driver.finish()?;
+    let triangles = (!triangles.is_empty()).then(|| Spread::of(&triangles).median);
+    let pass = |f: fn(&PassTimes) -> f64| Spread::of(&times.iter().map(f).collect::<Vec<_>>());
+    Ok(Point {
+        config,
+        blades,
+        drawn: Spread::of(&drawn).median,
+        cpu: Spread::of(&cpu),
+        gpu: pass(|t| t.total),
+        pyramid: pass(|t| t.depth_pyramid),
+        simulate_cull: pass(|t| t.simulate_cull),
+        ground: pass(|t| t.ground),
+        grass: pass(|t| t.grass),
+        triangles,
+        difference: 0.0,
+    })
+}
+
+/// One frame of no time (no simulation step), captured: the picture of `uniforms`
+/// with the blades exactly as they are.
+fn still(
+    driver: &mut FrameDriver,
+    offscreen: &mut Offscreen,
+    uniforms: FrameUniforms,
+) -> Result<Vec<u8>> {
+    driver.run(offscreen, 0.0, |_| uniforms, true)?;
+    driver.finish()?;
+    offscreen.pixels()
+}
+
+/// Tessellation levels the throughput reference is timed at: the fewest and the most
+/// segments a blade gets.
+const REFERENCE_LEVELS: [f32; 2] = [1.0, shared::lod::MAX_LEVEL];
+
+/// The bandwidth and triangle-throughput references over a field of `blades`.
+fn measure_references(
+    renderer: &mut Renderer,
+    offscreen: &Offscreen,
+    blades: u32,
+) -> Result<References> {
+    let repeats = 10;
+    let copy_gbs = renderer.copy_bandwidth(repeats)?;
+    let target = offscreen.target();
+    let mut timed = Vec::new();
+    for level in REFERENCE_LEVELS {
+        let Some((ms, counted)) = renderer.triangle_throughput(&target, blades, level, repeats)?
+        else {
+            return Ok(References {
+                copy_gbs,
+                ..Default::default()
+            });
+        };
+        // Per patch as counted, else as the tessellation rules give it.
+        let triangles = counted.map_or(
+            f64::from(shared::reference::triangles_per_patch(level)),
+            |t| t as f64 / f64::from(blades),
+        );
+        log::info!(
+            "triangle reference at level {level}: {triangles} triangles per patch, {ms:.3} ms"
+        );
+        timed.push((triangles, ms));
+    }
+    let patches = f64::from(blades);
+    let (patch_ms, triangle_ms) = References::fit(patches, timed[0], timed[1]);
+    let (most, ms) = timed[1];
+    Ok(References {
+        copy_gbs,
+        patch_ms,
+        triangle_ms,
+        triangles_per_s: patches * most / (ms * 1e-3),
+    })
+}

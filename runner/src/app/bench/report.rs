@@ -1,0 +1,144 @@
+//! The benchmark's results on stdout (the table and the references) and in the CSV
+//! file.
+
+use super::stats::{Point, References, Spread, compute_gbs};
+use crate::cli::{BenchArgs, Common};
+use anyhow::Result;
+
+/// The compute pass against the copy shader's bandwidth, and the grass draw against
+/// the throughput reference, for every point of the largest count, `blades`.
+pub fn print_references(blades: u32, r: &References, points: &[Point]) {
+    let mut lines = Vec::new();
+    if let Some(copy) = r.copy_gbs {
+        lines.push(format!(
+            "bandwidth reference: the copy shader moves {copy:.0} GB/s over {blades} blades"
+        ));
+    }
+    if r.triangles_per_s > 0.0 {
+        lines.push(format!(
+            "triangle reference: {:.0} M triangles/s at {} segments; {:.2} ns per patch + {:.3} ns per triangle",
+            r.triangles_per_s / 1e6,
+            shared::lod::MAX_SEGMENTS,
+            r.patch_ms * 1e6,
+            r.triangle_ms * 1e6
+        ));
+    }
+    for line in &lines {
+        println!("{line}");
+        log::info!("{line}");
+    }
+    for p in points.iter().filter(|p| p.blades == blades) {
+        let mut line = format!("  {:<20}", format!("{:?}", p.config));
+        if let Some(copy) = r.copy_gbs {
+            let gbs = compute_gbs(p);
+            line += &format!(
+                " simulate+cull {gbs:>6.0} GB/s ({:>5.1} % of the copy)",
+                100.0 * gbs / copy
+            );
+        }
+        if let (Some(triangles), true) = (p.triangles, r.triangles_per_s > 0.0) {
+            let ideal = r.grass_ms(p.drawn, triangles);
+            line += &format!(
+                "; grass {:.1} M triangles, reference {ideal:.3} ms ({:>5.1} % of its speed)",
+                triangles / 1e6,
+                100.0 * ideal / p.grass.median
+            );
+        }
+        println!("{line}");
+    }
+}
+
+/// The table of `points` on stdout, after a line naming the device, the image size,
+/// the camera and the frames per point.
+pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
+    println!(
+        "{device}, {}x{}, camera {:?}, {} frames per point (median, p95 in brackets; \
+         diff: mean difference from no culling and no LOD, 0-255)",
+        args.width, args.height, args.camera, args.frames
+    );
+    println!(
+        "{:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6}",
+        "config",
+        "blades",
+        "drawn",
+        "triangles",
+        "simulate+cull ms",
+        "grass ms",
+        "GPU frame ms",
+        "CPU frame ms",
+        "diff"
+    );
+    let cell = |s: Spread| format!("{:.3} ({:.3})", s.median, s.p95);
+    for p in points {
+        println!(
+            "{:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2}",
+            format!("{:?}", p.config),
+            p.blades,
+            p.drawn,
+            p.triangles.map_or("-".into(), |t| format!("{t:.0}")),
+            cell(p.simulate_cull),
+            cell(p.grass),
+            cell(p.gpu),
+            cell(p.cpu),
+            p.difference
+        );
+    }
+}
+
+/// Writes `points` and the references `r` to the CSV file at `path`, one line per
+/// point, creating its folder if need be.
+pub fn write_csv(
+    path: &std::path::Path,
+    device: &str,
+    common: &Common,
+    args: &BenchArgs,
+    points: &[Point],
+    r: &References,
+) -> Result<()> {
+    let mut out = String::from(
+        "device,scene,camera,width,height,frames,config,blades,drawn,\
+         cpu_ms_median,cpu_ms_p95,gpu_ms_median,gpu_ms_p95,\
+         uploads_pyramid_ms_median,simulate_cull_ms_median,simulate_cull_ms_p95,\
+         ground_ms_median,grass_ms_median,grass_ms_p95,triangles,mean_difference,\
+         simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms\n",
+    );
+    let optional =
+        |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
+    for p in points {
+        let reference_ms = p
+            .triangles
+            .filter(|_| r.triangles_per_s > 0.0)
+            .map(|t| r.grass_ms(p.drawn, t));
+        out += &format!(
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{}\n",
+            common.scene,
+            args.camera,
+            args.width,
+            args.height,
+            args.frames,
+            p.config,
+            p.blades,
+            p.drawn,
+            p.cpu.median,
+            p.cpu.p95,
+            p.gpu.median,
+            p.gpu.p95,
+            p.pyramid.median,
+            p.simulate_cull.median,
+            p.simulate_cull.p95,
+            p.ground.median,
+            p.grass.median,
+            p.grass.p95,
+            optional(p.triangles, 0),
+            p.difference,
+            compute_gbs(p),
+            optional(r.copy_gbs, 0),
+            optional(reference_ms, 4),
+        );
+    }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    std::fs::write(path, out)?;
+    Ok(())
+}

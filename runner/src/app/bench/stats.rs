@@ -1,0 +1,182 @@
+//! The benchmark's plain data and arithmetic: percentiles of samples, the measured
+//! points of the sweep, the device's references and the bandwidth of the compute
+//! pass. No renderer and no printing.
+
+use crate::cli::BenchConfig;
+
+/// The median and 95th percentile of some samples.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct Spread {
+    /// 50th percentile.
+    pub median: f64,
+    /// 95th percentile.
+    pub p95: f64,
+}
+
+impl Spread {
+    /// Nearest-rank percentiles of `samples` (zero when empty).
+    pub fn of(samples: &[f64]) -> Self {
+        let mut sorted: Vec<f64> = samples.iter().copied().filter(|v| v.is_finite()).collect();
+        sorted.sort_by(f64::total_cmp);
+        let rank = |p: f64| {
+            if sorted.is_empty() {
+                0.0
+            } else {
+                let i = ((p * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+                sorted[i - 1]
+            }
+        };
+        Self {
+            median: rank(0.5),
+            p95: rank(0.95),
+        }
+    }
+}
+
+/// One measured point of the sweep.
+#[derive(Clone, Debug)]
+pub struct Point {
+    /// Configuration.
+    pub config: BenchConfig,
+    /// Blades in the field.
+    pub blades: u32,
+    /// Blades drawn (median).
+    pub drawn: f64,
+    /// CPU time between frames.
+    pub cpu: Spread,
+    /// Whole frame on the GPU.
+    pub gpu: Spread,
+    /// Uniform uploads, depth pre-pass and pyramid.
+    pub pyramid: Spread,
+    /// Simulate, cull, compact.
+    pub simulate_cull: Spread,
+    /// Ground.
+    pub ground: Spread,
+    /// Grass.
+    pub grass: Spread,
+    /// Triangles the grass draw generated (median; pipeline statistics, where the
+    /// device has them).
+    pub triangles: Option<f64>,
+    /// Mean difference from the same still frame with no culling and no LOD, in 8-bit
+    /// levels averaged over the pixels' colour channels.
+    pub difference: f64,
+}
+
+/// What this device does at most, measured in the same run with the largest field.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct References {
+    /// The copy shader's bandwidth, GB/s.
+    pub copy_gbs: Option<f64>,
+    /// The throughput reference's cost per patch, ms.
+    pub patch_ms: f64,
+    /// Its cost per triangle, ms.
+    pub triangle_ms: f64,
+    /// Its best triangles per second (at the highest level).
+    pub triangles_per_s: f64,
+}
+
+impl References {
+    /// Per-patch and per-triangle cost from the reference's times `t_low` and `t_high`
+    /// (ms) for `patches` patches of `low` and `high` triangles each:
+    /// t = patches · (patch + triangles · triangle). Neither is below zero (timing
+    /// noise on a software device can make a straight fit say so).
+    pub fn fit(patches: f64, (low, t_low): (f64, f64), (high, t_high): (f64, f64)) -> (f64, f64) {
+        let triangle = ((t_high - t_low) / (patches * (high - low))).max(0.0);
+        let patch = (t_low / patches - low * triangle).max(0.0);
+        (patch, triangle)
+    }
+
+    /// What the reference would take to draw `patches` patches making `triangles`.
+    pub fn grass_ms(&self, patches: f64, triangles: f64) -> f64 {
+        patches * self.patch_ms + triangles * self.triangle_ms
+    }
+}
+
+/// Mean absolute difference of two RGBA8 images of one size, over the pixels' red,
+/// green and blue channels, in 8-bit levels (0 to 255).
+pub fn mean_difference(a: &[u8], b: &[u8]) -> f64 {
+    let (sum, count) = a
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(b.as_chunks::<4>().0)
+        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]) as u64))
+        .fold((0u64, 0u64), |(s, n), d| (s + d, n + 1));
+    if count == 0 {
+        0.0
+    } else {
+        sum as f64 / count as f64
+    }
+}
+
+/// Bytes the simulate-and-cull pass moves for `blades` blades of which `drawn` survive:
+/// each blade and its collision strength read and written (2 × 68 bytes), each
+/// survivor's index written (4 bytes).
+pub fn compute_bytes(blades: u32, drawn: f64) -> f64 {
+    2.0 * 68.0 * f64::from(blades) + 4.0 * drawn
+}
+
+/// The simulate-and-cull pass's bandwidth at point `p`, GB/s.
+pub fn compute_gbs(p: &Point) -> f64 {
+    compute_bytes(p.blades, p.drawn) / (p.simulate_cull.median * 1e-3) / 1e9
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compute_bytes_by_hand() {
+        // 1,000 blades × 136 bytes + 500 survivors × 4 bytes.
+        assert_eq!(compute_bytes(1000, 500.0), 136_000.0 + 2_000.0);
+    }
+
+    #[test]
+    fn mean_difference_by_hand() {
+        let black = [0, 0, 0, 255, 0, 0, 0, 255];
+        // One pixel off by (30, 60, 90), alpha ignored: 180 / 6 channels.
+        let other = [30, 60, 90, 0, 0, 0, 0, 255];
+        assert_eq!(mean_difference(&black, &other), 30.0);
+        assert_eq!(mean_difference(&other, &other), 0.0);
+        assert_eq!(mean_difference(&[], &[]), 0.0);
+    }
+
+    #[test]
+    fn reference_costs_from_two_levels() {
+        // 1,000 patches: 0.01 ms each, plus 0.001 ms per triangle.
+        let t = |triangles: f64| 1000.0 * (0.01 + triangles * 0.001);
+        let (patch, triangle) = References::fit(1000.0, (2.0, t(2.0)), (18.0, t(18.0)));
+        assert!((patch - 0.01).abs() < 1e-12 && (triangle - 0.001).abs() < 1e-12);
+        let r = References {
+            patch_ms: patch,
+            triangle_ms: triangle,
+            ..Default::default()
+        };
+        assert!((r.grass_ms(500.0, 4000.0) - (5.0 + 4.0)).abs() < 1e-9);
+        // Noise that makes the higher level faster is no negative cost.
+        assert_eq!(References::fit(10.0, (2.0, 5.0), (18.0, 4.0)), (0.5, 0.0));
+    }
+
+    #[test]
+    fn percentiles_by_nearest_rank() {
+        let samples: Vec<f64> = (1..=20).map(f64::from).collect();
+        assert_eq!(
+            Spread::of(&samples),
+            Spread {
+                median: 10.0,
+                p95: 19.0
+            }
+        );
+        assert_eq!(
+            Spread::of(&[3.0]),
+            Spread {
+                median: 3.0,
+                p95: 3.0
+            }
+        );
+        assert_eq!(Spread::of(&[]), Spread::default());
+        // Order and non-finite samples do not matter.
+        let shuffled = [5.0, f64::NAN, 1.0, 4.0, 2.0, 3.0];
+        assert_eq!(Spread::of(&shuffled).median, 3.0);
+    }
+}

@@ -1,0 +1,45 @@
+//! What the GPU-against-host tests need of the renderer besides whole frames: the
+//! compute part of a frame alone, and a device buffer copied back to the host.
+
+use super::{FrameQueries, Renderer};
+use crate::vulkan::{Buffer, Recorder};
+use anyhow::Result;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use shared::layout::{FrameUniforms, SimulatePush};
+
+impl Renderer {
+    /// Records only the compute part of a frame (simulate, cull, chunk draws), with
+    /// its counters copied to `queries`. Without a target there is no pyramid: the
+    /// occlusion test keeps every blade.
+    pub fn record_compute_only(
+        &self,
+        rec: &Recorder,
+        queries: &FrameQueries,
+        uniforms: &FrameUniforms,
+        push: SimulatePush,
+    ) {
+        let uniforms = FrameUniforms {
+            hiz: Default::default(),
+            ..*uniforms
+        };
+        self.begin_compute(rec, &uniforms);
+        self.record_compute(rec, queries, push);
+    }
+
+    /// Copies a device buffer into host memory and returns `count` values of `T`.
+    pub fn download<T: bytemuck::Pod>(&self, buffer: &Buffer, count: usize) -> Result<Vec<T>> {
+        let bytes = (count * size_of::<T>()) as u64;
+        let staging = Buffer::new(
+            &self.ctx,
+            "download",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.ctx.wait_idle()?;
+        self.pool
+            .one_shot(|rec| rec.copy_buffer(buffer.buffer, staging.buffer, bytes))?;
+        staging.read(count)
+    }
+}

@@ -1,0 +1,360 @@
+//! One frame, start to end: update the uniforms and reset the counters (transfer);
+//! draw the occluders' depth and reduce it to a pyramid (graphics, compute); simulate,
+//! cull and count (compute); draw ground and grass, then the overlay (graphics). The
+//! renderer records a frame; the frame driver (`app::driver`) owns the slots,
+//! submits and reads each slot's counters and timestamps back.
+
+mod hooks;
+pub mod readback;
+mod references;
+
+pub use readback::{CullCounts, FrameQueries, Mark, PassTimes, Readback};
+
+use crate::field::Field;
+use crate::passes::DEPTH_FORMAT;
+use crate::passes::grass::GrassPass;
+use crate::passes::ground::GroundPass;
+use crate::passes::occlusion::OcclusionPass;
+use crate::passes::overlay::{OverlayFrame, OverlayPass};
+use crate::passes::simulate::SimulatePass;
+use crate::shaders;
+use crate::vulkan::commands::CommandPool;
+use crate::vulkan::pipeline::ShaderModule;
+use crate::vulkan::{Context, Image, Recorder};
+use anyhow::{Context as _, Result};
+use ash::vk;
+use shared::Blade;
+use shared::cull::OCCLUSION;
+use shared::layout::{FrameUniforms, SimulatePush};
+use shared::mesh::SurfaceMesh;
+use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
+use std::sync::Arc;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
+
+/// Sky colour behind the field (linear).
+const SKY: [f32; 4] = [0.42, 0.62, 0.86, 1.0];
+
+/// What a frame renders into.
+#[derive(Copy, Clone)]
+pub struct Target {
+    /// The colour image.
+    pub image: vk::Image,
+    /// Its view.
+    pub view: vk::ImageView,
+    /// Its size.
+    pub extent: vk::Extent2D,
+    /// Layout it must be left in (present, or transfer source for a capture).
+    pub final_layout: vk::ImageLayout,
+}
+
+/// What one frame asks of the renderer.
+pub struct FrameInput<'a> {
+    /// Where it renders.
+    pub target: Target,
+    /// The frame's uniform block (the renderer fills in the depth pyramid's layout).
+    pub uniforms: FrameUniforms,
+    /// The simulation steps to run.
+    pub push: SimulatePush,
+    /// Receives the rendered pixels (target left in TRANSFER_SRC_OPTIMAL).
+    pub capture: Option<vk::Buffer>,
+    /// The overlay to draw over the frame, if any.
+    pub overlay: Option<OverlayFrame<'a>>,
+}
+
+/// What the renderer draws: the blades and the surfaces under them.
+pub struct Meshes<'a> {
+    /// The blades at rest.
+    pub blades: &'a [Blade],
+    /// The ground grass grows on (drawn as soil).
+    pub surface: &'a SurfaceMesh,
+    /// Surfaces without grass (drawn as rock).
+    pub bare: &'a SurfaceMesh,
+    /// The collider ball: a unit sphere, placed and sized per frame.
+    pub ball: &'a SurfaceMesh,
+    /// Some surface can hide grass (else the occlusion pre-pass is skipped).
+    pub has_occluders: bool,
+}
+
+/// The renderer: the field and the passes of one frame.
+pub struct Renderer {
+    ctx: Arc<Context>,
+    /// The field's buffers.
+    pub field: Field,
+    simulate: SimulatePass,
+    ground: GroundPass,
+    grass: GrassPass,
+    occlusion: OcclusionPass,
+    /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
+    pub has_occluders: bool,
+    overlay: Option<OverlayPass>,
+    color_format: vk::Format,
+    depth: Option<Image>,
+    pool: CommandPool,
+    module: ShaderModule,
+}
+
+impl Renderer {
+    /// Uploads the blades and surfaces of `meshes` and builds every pipeline for a
+    /// colour target of `color_format`.
+    pub fn new(ctx: &Arc<Context>, meshes: &Meshes, color_format: vk::Format) -> Result<Self> {
+        let pool = CommandPool::new(ctx)?;
+        let field = Field::new(ctx, &pool, meshes.blades)?;
+        let module = ShaderModule::new(ctx, shaders::SPIRV)?;
+        let simulate = SimulatePass::new(ctx, &module, &field)?;
+        let surfaces = [
+            (meshes.surface, MATERIAL_SOIL),
+            (meshes.bare, MATERIAL_ROCK),
+        ];
+        let ground = GroundPass::new(
+            ctx,
+            &pool,
+            &module,
+            &field,
+            color_format,
+            &surfaces,
+            meshes.ball,
+        )?;
+        let grass = GrassPass::new(ctx, &module, &field, color_format)?;
+        let occlusion = OcclusionPass::new(ctx, &module, &field)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            field,
+            simulate,
+            ground,
+            grass,
+            occlusion,
+            has_occluders: meshes.has_occluders,
+            overlay: None,
+            color_format,
+            depth: None,
+            pool,
+            module,
+        })
+    }
+
+    /// Builds the overlay pipeline for `slots` frames in flight: frames may then
+    /// carry an [`OverlayFrame`].
+    pub fn enable_overlay(&mut self, slots: usize) -> Result<()> {
+        if self.overlay.is_none() {
+            let pass = OverlayPass::new(&self.ctx, &self.module, self.color_format, slots)?;
+            self.overlay = Some(pass);
+        }
+        Ok(())
+    }
+
+    /// The depth pyramid's layout for the current target (empty before the first
+    /// frame).
+    pub fn hiz(&self) -> shared::hiz::HiZLayout {
+        self.occlusion.hiz
+    }
+
+    /// The depth image and the depth pyramid sized for `extent`.
+    fn ensure_depth(&mut self, extent: vk::Extent2D) -> Result<()> {
+        if self.depth.as_ref().is_none_or(|d| d.extent != extent) {
+            // The old depth image may still be in use by a frame in flight.
+            self.ctx.wait_idle()?;
+            self.depth = Some(Image::new(
+                &self.ctx,
+                "depth",
+                extent,
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                vk::ImageAspectFlags::DEPTH,
+            )?);
+            self.occlusion.resize(&self.ctx, &mut self.field, extent)?;
+        }
+        Ok(())
+    }
+
+    /// Records one whole frame into `rec`: uniforms and counters, the depth pyramid,
+    /// simulate and cull, ground, grass and overlay, the capture; its counters,
+    /// timestamps and triangles go to `queries`, its overlay geometry to slot `slot`.
+    pub fn record(
+        &mut self,
+        rec: &Recorder,
+        queries: &FrameQueries,
+        slot: usize,
+        input: &FrameInput,
+    ) -> Result<()> {
+        let target = input.target;
+        self.ensure_depth(target.extent)?;
+        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+            pass.update_textures(&self.pool, frame.textures)?;
+        }
+        let mut uniforms = input.uniforms;
+        // Without the occlusion test, or anything to hide grass, the pyramid is
+        // neither built nor read.
+        let occlusion = uniforms.cull.enabled & OCCLUSION != 0 && self.has_occluders;
+        uniforms.hiz = if occlusion {
+            self.occlusion.hiz
+        } else {
+            Default::default()
+        };
+        let stamps = queries.timestamps.as_ref().map(|t| t.pool);
+        let stamp = |mark: Mark| {
+            if let Some(pool) = stamps {
+                rec.write_timestamp(pool, mark as u32, S::ALL_COMMANDS);
+            }
+        };
+        if let Some(pool) = stamps {
+            rec.reset_queries(pool, 0, Mark::COUNT);
+        }
+        let triangles = queries.triangles.as_ref().map(|t| t.pool);
+        if let Some(pool) = triangles {
+            rec.reset_queries(pool, 0, 1);
+        }
+        stamp(Mark::Start);
+        self.begin_compute(rec, &uniforms);
+        if occlusion {
+            let depth = self.depth.as_ref().context("depth image")?;
+            self.occlusion.record(rec, &self.field, &self.ground, depth);
+        }
+        stamp(Mark::Pyramid);
+        self.record_compute(rec, queries, input.push);
+        stamp(Mark::SimulateCull);
+        self.record_draw(rec, &target, &uniforms, &stamp, triangles);
+        stamp(Mark::Grass);
+        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+            rec.memory_barrier(
+                (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+                (
+                    S::COLOR_ATTACHMENT_OUTPUT,
+                    A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
+                ),
+            );
+            pass.record(rec, slot, target.view, target.extent, frame)?;
+        }
+        stamp(Mark::Overlay);
+        self.finish_target(rec, &target);
+        if let Some(buffer) = input.capture {
+            let color = vk::ImageAspectFlags::COLOR;
+            rec.copy_image_to_buffer(target.image, color, target.extent, buffer);
+            rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+        }
+        Ok(())
+    }
+
+    /// After the frame of `input` was submitted: frees the overlay textures it
+    /// retired.
+    pub fn submitted(&mut self, input: &FrameInput) -> Result<()> {
+        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+            pass.free_textures(frame.textures)?;
+        }
+        Ok(())
+    }
+
+    /// Orders the frame after the previous one, then updates the uniforms and clears
+    /// the counters.
+    fn begin_compute(&self, rec: &Recorder, uniforms: &FrameUniforms) {
+        let field = &self.field;
+        // Everything the previous frame read or wrote is done before this one
+        // overwrites the uniforms, the counters, the pyramid and the blades.
+        rec.memory_barrier(
+            (S::ALL_COMMANDS, A::MEMORY_WRITE),
+            (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+        );
+        rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
+        rec.fill_buffer(field.counters.buffer, 0);
+        rec.memory_barrier(
+            (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
+            (
+                S::COMPUTE_SHADER | S::ALL_GRAPHICS,
+                A::SHADER_READ | A::SHADER_WRITE | A::UNIFORM_READ,
+            ),
+        );
+    }
+
+    /// Simulate, cull and compact, then copy the counters for the read-back.
+    fn record_compute(&self, rec: &Recorder, queries: &FrameQueries, push: SimulatePush) {
+        let field = &self.field;
+        self.simulate.record(rec, field, push);
+        rec.copy_buffer(
+            field.counters.buffer,
+            queries.counters.buffer,
+            field.counters.size,
+        );
+        rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+    }
+
+    /// Ground, then grass, into the target; [`Mark::Ground`] between them, the
+    /// grass's triangles counted into `triangles`.
+    fn record_draw(
+        &self,
+        rec: &Recorder,
+        target: &Target,
+        uniforms: &FrameUniforms,
+        stamp: &dyn Fn(Mark),
+        triangles: Option<vk::QueryPool>,
+    ) {
+        let depth = self
+            .depth
+            .as_ref()
+            .map(|d| (d.image, d.view))
+            .unwrap_or_default();
+        let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+        let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
+        let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        rec.image_barrier(
+            target.image,
+            vk::ImageAspectFlags::COLOR,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
+            color_out,
+        );
+        // After the pre-pass's copy (or the last frame's tests) is done with it.
+        rec.image_barrier(
+            depth.0,
+            vk::ImageAspectFlags::DEPTH,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            (depth_tests | S::COPY, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+            (depth_tests, depth_rw),
+        );
+        rec.begin_rendering(Some((target.view, Some(SKY))), Some(depth.1), target.extent);
+        let used = (uniforms.forces.colliders as usize).min(uniforms.colliders.len());
+        let balls = &uniforms.colliders[..used];
+        self.ground.record(rec, &self.field, balls);
+        stamp(Mark::Ground);
+        if let Some(pool) = triangles {
+            rec.begin_query(pool);
+        }
+        self.grass.record(rec, &self.field, uniforms.grass.view);
+        if let Some(pool) = triangles {
+            rec.end_query(pool);
+        }
+        rec.end_rendering();
+    }
+
+    /// Leaves the target in its final layout.
+    fn finish_target(&self, rec: &Recorder, target: &Target) {
+        let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+        let (dst, dst_access) = if target.final_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
+            (S::COPY, A::TRANSFER_READ)
+        } else {
+            (S::NONE, A::NONE)
+        };
+        rec.image_barrier(
+            target.image,
+            vk::ImageAspectFlags::COLOR,
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                target.final_layout,
+            ),
+            color_out,
+            (dst, dst_access),
+        );
+    }
+}
+
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        let _ = self.ctx.wait_idle();
+    }
+}

@@ -1,0 +1,173 @@
+//! What a frame leaves for the host: the culling counters, the timestamps of each pass
+//! and the triangles the grass draw generated, each in per-slot objects the renderer
+//! writes and the frame driver reads once the slot's fence has signalled.
+
+use crate::vulkan::query::{TimestampPool, TrianglePool};
+use crate::vulkan::{Buffer, Context};
+use anyhow::Result;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use shared::layout::{self, COUNTER_COUNT};
+use std::sync::Arc;
+
+/// The timestamps of a frame, in the order they are written: the start, then the end
+/// of each pass of [`PassTimes`].
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Mark {
+    /// Before anything.
+    Start,
+    /// After the uniform upload, the counter reset and the depth pyramid.
+    Pyramid,
+    /// After simulate, cull and the draw commands.
+    SimulateCull,
+    /// After the ground and the ball.
+    Ground,
+    /// After the grass.
+    Grass,
+    /// After the overlay.
+    Overlay,
+}
+
+impl Mark {
+    /// Timestamps per frame.
+    pub const COUNT: u32 = 6;
+}
+
+/// How the compute pass sorted the blades of one frame: drawn, or removed by the
+/// first test that failed. Every blade lands in exactly one count.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct CullCounts {
+    /// Drawn.
+    pub drawn: u32,
+    /// Removed by the orientation test.
+    pub orientation: u32,
+    /// Removed by the frustum test.
+    pub frustum: u32,
+    /// Removed by the distance test.
+    pub distance: u32,
+    /// Removed by the occlusion test.
+    pub occlusion: u32,
+    /// Blades the pass looked at, counted on the GPU (the field's size).
+    pub examined: u32,
+}
+
+impl CullCounts {
+    fn from_counters(c: &[u32]) -> Self {
+        Self {
+            drawn: c[layout::COUNTER_VISIBLE],
+            orientation: c[layout::COUNTER_ORIENTATION],
+            frustum: c[layout::COUNTER_FRUSTUM],
+            distance: c[layout::COUNTER_DISTANCE],
+            occlusion: c[layout::COUNTER_OCCLUSION],
+            examined: c[layout::COUNTER_EXAMINED],
+        }
+    }
+    /// Blades removed by any test.
+    pub fn removed(&self) -> u32 {
+        self.orientation + self.frustum + self.distance + self.occlusion
+    }
+    /// (test name, blades it removed), in the order the tests run.
+    pub fn by_test(&self) -> [(&'static str, u32); 4] {
+        let removed = [
+            self.orientation,
+            self.frustum,
+            self.distance,
+            self.occlusion,
+        ];
+        std::array::from_fn(|i| (shared::cull::TEST_NAMES[i], removed[i]))
+    }
+}
+
+/// GPU time of each pass of one frame, in milliseconds, from timestamp queries.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    /// Uniform update and counter reset, then the occluder depth pre-pass and the
+    /// pyramid reduction (when they run).
+    pub depth_pyramid: f64,
+    /// Simulate, cull, compact and write the draws.
+    pub simulate_cull: f64,
+    /// Ground and ball.
+    pub ground: f64,
+    /// Grass.
+    pub grass: f64,
+    /// Overlay.
+    pub overlay: f64,
+    /// The whole frame on the GPU.
+    pub total: f64,
+}
+
+impl PassTimes {
+    /// From the milliseconds since [`Mark::Start`] at each later mark.
+    fn from_marks(m: &[f64]) -> Self {
+        let at = |mark: Mark| m[mark as usize - 1];
+        Self {
+            depth_pyramid: at(Mark::Pyramid),
+            simulate_cull: at(Mark::SimulateCull) - at(Mark::Pyramid),
+            ground: at(Mark::Ground) - at(Mark::SimulateCull),
+            grass: at(Mark::Grass) - at(Mark::Ground),
+            overlay: at(Mark::Overlay) - at(Mark::Grass),
+            total: at(Mark::Overlay),
+        }
+    }
+}
+
+/// What the newest frame read back left: its counts, pass times and triangles.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct Readback {
+    /// The culling tests' counts.
+    pub counts: Option<CullCounts>,
+    /// GPU time per pass, where the device has timestamps.
+    pub times: Option<PassTimes>,
+    /// Triangles the grass draw generated (pipeline statistics, where the device has
+    /// them).
+    pub triangles: Option<u64>,
+}
+
+impl Readback {
+    /// Visible (drawn) blades.
+    pub fn visible(&self) -> Option<u32> {
+        self.counts.map(|c| c.drawn)
+    }
+}
+
+/// One frame slot's queries and the host copy of its counters.
+pub struct FrameQueries {
+    /// The counters, copied at the end of the compute pass.
+    pub counters: Buffer,
+    /// One timestamp per [`Mark`], where the device has them.
+    pub timestamps: Option<TimestampPool>,
+    /// The grass draw's triangles, where the device counts them.
+    pub triangles: Option<TrianglePool>,
+}
+
+impl FrameQueries {
+    /// The objects of one slot.
+    pub fn new(ctx: &Arc<Context>) -> Result<Self> {
+        Ok(Self {
+            counters: Buffer::new(
+                ctx,
+                "counter readback",
+                (COUNTER_COUNT * 4) as u64,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?,
+            timestamps: TimestampPool::new(ctx, Mark::COUNT)?,
+            triangles: TrianglePool::new(ctx)?,
+        })
+    }
+
+    /// What the slot's last frame left (call once its fence has signalled).
+    pub fn read(&self) -> Result<Readback> {
+        let counters = self.counters.read::<u32>(COUNTER_COUNT)?;
+        Ok(Readback {
+            counts: Some(CullCounts::from_counters(&counters)),
+            times: self
+                .timestamps
+                .as_ref()
+                .and_then(TimestampPool::read_ms)
+                .map(|m| PassTimes::from_marks(&m)),
+            triangles: self.triangles.as_ref().and_then(TrianglePool::read),
+        })
+    }
+}

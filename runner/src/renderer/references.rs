@@ -1,0 +1,121 @@
+//! The benchmark's references, measured with the renderer's own field and pipelines:
+//! how fast this device copies the blade buffer, and how fast it draws patches
+//! tessellated like a blade (`grass bench`, see the README's Performance section).
+
+use super::{Renderer, SKY, Target};
+use crate::passes::throughput::ThroughputPass;
+use crate::vulkan::query::{TimestampPool, TrianglePool};
+use crate::vulkan::{Buffer, Recorder};
+use anyhow::{Context as _, Result};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use shared::layout;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
+
+impl Renderer {
+    /// Bandwidth reference: GB/s of the copy shader moving every blade (64 bytes read,
+    /// 64 written) into a scratch buffer made for it, the best of `repeats` timed
+    /// dispatches; `None` without timestamps.
+    pub fn copy_bandwidth(&mut self, repeats: u32) -> Result<Option<f64>> {
+        let bytes = u64::from(self.field.blade_count) * size_of::<shared::Blade>() as u64;
+        let scratch = Buffer::new(
+            &self.ctx,
+            "copy reference",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let descriptors = &self.field.descriptors;
+        self.ctx.wait_idle()?;
+        descriptors.write_buffer(layout::BINDING_SCRATCH, storage, scratch.buffer);
+        let best = self.best_time(repeats, |rec| self.simulate.record_copy(rec, &self.field));
+        // Back to the placeholder before the scratch buffer goes.
+        self.ctx.wait_idle()?;
+        descriptors.write_buffer(layout::BINDING_SCRATCH, storage, self.field.visible.buffer);
+        Ok(best?.map(|ms| 2.0 * bytes as f64 / (ms * 1e-3) / 1e9))
+    }
+
+    /// Triangle-throughput reference: milliseconds to draw `patches` trivially shaded
+    /// one-vertex patches at tessellation `level` into `target` (depth tested, on a
+    /// grid of small cells), the best of `repeats`, and the triangles generated
+    /// (pipeline statistics, where the device has them); `None` without timestamps.
+    /// The patches are drawn in chunks of the grass draw's size.
+    pub fn triangle_throughput(
+        &mut self,
+        target: &Target,
+        patches: u32,
+        level: f32,
+        repeats: u32,
+    ) -> Result<Option<(f64, Option<u64>)>> {
+        self.ensure_depth(target.extent)?;
+        let pass = ThroughputPass::new(&self.ctx, &self.module, &self.field, self.color_format)?;
+        let depth = self.depth.as_ref().context("depth image")?;
+        let push = shared::reference::push(level, target.extent.width, target.extent.height);
+        let attachments = (
+            S::COLOR_ATTACHMENT_OUTPUT | S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+            A::COLOR_ATTACHMENT_WRITE | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        );
+        let layouts = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
+        let depth_layouts = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+        );
+        let triangles = TrianglePool::new(&self.ctx)?;
+        let best = self.best_time(repeats, |rec| {
+            let color = vk::ImageAspectFlags::COLOR;
+            rec.image_barrier(target.image, color, layouts, attachments, attachments);
+            let aspect = vk::ImageAspectFlags::DEPTH;
+            rec.image_barrier(depth.image, aspect, depth_layouts, attachments, attachments);
+            if let Some(t) = &triangles {
+                rec.reset_queries(t.pool, 0, 1);
+            }
+            rec.begin_rendering(
+                Some((target.view, Some(SKY))),
+                Some(depth.view),
+                target.extent,
+            );
+            if let Some(t) = &triangles {
+                rec.begin_query(t.pool);
+            }
+            pass.record(rec, &self.field, push, patches, self.field.chunk_size);
+            if let Some(t) = &triangles {
+                rec.end_query(t.pool);
+            }
+            rec.end_rendering();
+        })?;
+        Ok(best.map(|ms| (ms, triangles.as_ref().and_then(TrianglePool::read))))
+    }
+
+    /// The shortest of `repeats` timed runs of `record`, in milliseconds, each after
+    /// the previous one's writes; `None` without timestamps.
+    fn best_time(&self, repeats: u32, record: impl Fn(&Recorder)) -> Result<Option<f64>> {
+        self.ctx.wait_idle()?;
+        let Some(stamps) = TimestampPool::new(&self.ctx, 2 * repeats.max(1))? else {
+            return Ok(None);
+        };
+        self.pool.one_shot(|rec| {
+            rec.reset_queries(stamps.pool, 0, stamps.count);
+            for r in 0..stamps.count / 2 {
+                rec.write_timestamp(stamps.pool, 2 * r, S::ALL_COMMANDS);
+                record(rec);
+                rec.write_timestamp(stamps.pool, 2 * r + 1, S::ALL_COMMANDS);
+                rec.memory_barrier(
+                    (S::ALL_COMMANDS, A::MEMORY_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                );
+            }
+        })?;
+        let ms = stamps.read_all_ms().context("reference timestamps")?;
+        let best = ms
+            .chunks(2)
+            .map(|pair| pair[1] - pair[0])
+            .fold(f64::MAX, f64::min);
+        Ok(Some(best))
+    }
+}

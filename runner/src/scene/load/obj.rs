@@ -1,0 +1,169 @@
+//! The Wavefront OBJ loader: every object, triangulated, its `usemtl` names deciding
+//! what is bare, its face indices checked before tobj resolves them.
+
+use super::LoadedMesh;
+use super::error::{SceneError, SceneErrorKind};
+use super::mesh::{Builder, Part, is_bare_material};
+use glam::Vec3;
+
+/// Name of the material library handed to the OBJ parser (see [`load_obj`]).
+const OBJ_NAMES_LIBRARY: &str = "grass-usemtl-names.mtl";
+
+/// Parses and gathers an OBJ file: every object, triangulated, one index per vertex.
+pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneError> {
+    let not_obj = |message: String| SceneError::new(scene, SceneErrorKind::NotObj { message });
+    let text = std::str::from_utf8(bytes).map_err(|e| not_obj(format!("not UTF-8 text ({e})")))?;
+    // tobj resolves `usemtl` names only through a material library. Only the names
+    // matter here, so hand it one made of the file's own `usemtl` names, whatever
+    // .mtl the file asks for: a missing or partial .mtl then changes nothing.
+    // On the way, face indices are checked the way tobj cannot: it resolves them with
+    // unchecked arithmetic (a panic in debug builds, for `f 1//-5` or `f 1/-3` with a
+    // vt line, or `f 1//9223372036854775807`).
+    let lines = text.lines().count();
+    let mut names: std::collections::BTreeSet<&str> = Default::default();
+    // `v`, `vt` and `vn` lines so far: how far back a negative index may reach.
+    let mut before = [0usize; 3];
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("usemtl") => {
+                // Cut the way tobj cuts it, so the names match.
+                let name = line.split_once(' ').unwrap_or_default().1.trim();
+                if !name.is_empty() {
+                    names.insert(name);
+                }
+            }
+            Some("v") => before[0] += 1,
+            Some("vt") => before[1] += 1,
+            Some("vn") => before[2] += 1,
+            Some("f" | "l") => {
+                for word in words {
+                    for (kind, index) in word.split('/').enumerate() {
+                        // Anything else is tobj's to refuse.
+                        let (Some(&before), Ok(index)) = (before.get(kind), index.parse::<isize>())
+                        else {
+                            continue;
+                        };
+                        let limit = if index < 0 { before } else { lines };
+                        if index.unsigned_abs() > limit {
+                            return Err(not_obj(format!(
+                                "line {}: index `{word}` is out of range",
+                                number + 1
+                            )));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    let library: String = names.iter().map(|n| format!("newmtl {n}\n")).collect();
+    let source = format!("mtllib {OBJ_NAMES_LIBRARY}\n{text}");
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // tobj appends every library it is handed to the last: only the first `mtllib`
+    // (the one above) gets the names, or n `mtllib` lines would make n copies of them.
+    let handed = std::cell::Cell::new(false);
+    let (models, materials) = tobj::load_obj_buf(&mut source.as_bytes(), &options, |_| {
+        if handed.replace(true) {
+            Ok(Default::default())
+        } else {
+            tobj::load_mtl_buf(&mut library.as_bytes())
+        }
+    })
+    .map_err(|e| not_obj(e.to_string()))?;
+    let materials = materials.unwrap_or_default();
+
+    let mut builder = Builder::new(scene);
+    for model in models {
+        let mesh = model.mesh;
+        let bare = mesh
+            .material_id
+            .and_then(|i| materials.get(i))
+            .is_some_and(|m| is_bare_material(&m.name));
+        let vec3s = |v: &[f32]| -> Vec<Vec3> {
+            v.as_chunks::<3>()
+                .0
+                .iter()
+                .map(|&p| Vec3::from_array(p))
+                .collect()
+        };
+        builder.add(Part {
+            label: format!("object `{}`", model.name),
+            positions: vec3s(&mesh.positions),
+            normals: (!mesh.normals.is_empty()).then(|| vec3s(&mesh.normals)),
+            triangles: mesh.indices.as_chunks::<3>().0.to_vec(),
+            bare,
+        })?;
+    }
+    builder.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::load;
+    use super::super::tests::{TempFile, load_obj_text, problem};
+
+    #[test]
+    fn obj_index_out_of_range_is_an_error() {
+        let (file, result) = load_obj_text("v 0 0 0\nv 0 0 1\nv 1 0 0\nf 1 2 7\n");
+        let message = problem(&file, result.unwrap_err());
+        assert!(message.starts_with("not an OBJ file: "), "{message}");
+    }
+
+    #[test]
+    fn binary_obj_is_not_obj() {
+        let file = TempFile::new("binary.obj", &[0xff, 0xfe, 0x00, 0x76]);
+        let message = problem(&file, load(&file.0).unwrap_err());
+        assert!(
+            message.starts_with("not an OBJ file: not UTF-8"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn obj_materials_named_rock_or_bare_are_bare_without_an_mtl() {
+        let (_file, result) = load_obj_text(
+            "mtllib missing.mtl\n\
+             v 0 0 0\nv 0 0 1\nv 1 0 0\nv 5 0 0\nv 5 0 1\nv 6 0 0\n\
+             usemtl Grass\nf 1 2 3\n\
+             usemtl ROCK_granite\nf 4 5 6\n\
+             usemtl bare soil\nf 1 5 6\n",
+        );
+        let loaded = result.unwrap();
+        assert_eq!(loaded.surface.triangles.len(), 1);
+        assert_eq!(loaded.bare.triangles.len(), 2);
+    }
+
+    #[test]
+    fn obj_indices_out_of_reach_are_refused_before_tobj() {
+        // tobj overflowed on these (a panic in debug builds).
+        for (face, line) in [
+            ("vn 0 1 0\nf 1//-5 2 3", 5),
+            ("vn 0 1 0\nf 1//9223372036854775807 2 3", 5),
+            ("vt 0 0\nf 1/-3 2 3", 5),
+            ("f 1 2 -4", 4),
+            ("f 1 2 9223372036854775807", 4),
+        ] {
+            let (file, result) = load_obj_text(&format!("v 0 0 0\nv 0 0 1\nv 1 0 0\n{face}\n"));
+            let word = face
+                .lines()
+                .last()
+                .unwrap()
+                .split_whitespace()
+                .find(|w| w.len() > 2);
+            let word = word.unwrap_or("-4");
+            assert_eq!(
+                problem(&file, result.unwrap_err()),
+                format!("not an OBJ file: line {line}: index `{word}` is out of range"),
+            );
+        }
+        // Still fine: relative indices within reach.
+        let (_file, result) = load_obj_text("v 0 0 0\nv 0 0 1\nv 1 0 0\nf -3 -2 -1\n");
+        assert_eq!(result.unwrap().surface.triangles.len(), 1);
+    }
+}

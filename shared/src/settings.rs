@@ -1,0 +1,431 @@
+//! The user's settings, typed: what the command line parses, the overlay and the keys
+//! edit, and what [`Settings::uniforms`] turns into the frame's GPU block, the one
+//! place where enums and switches become the shaders' numbers.
+
+use crate::collide::MAX_COLLIDERS;
+use crate::cull::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
+use crate::layout::{
+    CameraParams, FrameUniforms, GrassParams, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME,
+};
+use crate::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
+use crate::shade::Light;
+use crate::shape::{SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP};
+use crate::simulate::Environment;
+use crate::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};
+use spirv_std::glam::{Mat4, Vec3, Vec4};
+
+/// The wind fields (`wind::wind_field`).
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[repr(u32)]
+pub enum WindField {
+    /// No wind.
+    Calm = WIND_CALM,
+    /// A steady breeze with travelling waves.
+    #[default]
+    Breeze = WIND_BREEZE,
+    /// Gust fronts crossing the field over a light breeze.
+    Gusts = WIND_GUSTS,
+    /// A wandering whirlwind.
+    Vortex = WIND_VORTEX,
+}
+
+/// The blade shapes of the paper's section 6.1 (`shape::shape_tau`).
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[repr(u32)]
+pub enum BladeShape {
+    /// Full width to the tip.
+    Quad = SHAPE_QUAD,
+    /// Narrowing linearly to the tip.
+    Triangle = SHAPE_TRIANGLE,
+    /// Narrowing along a parabola.
+    #[default]
+    Quadratic = SHAPE_QUADRATIC,
+    /// Full width up to `--tip-start`, then a triangle.
+    TriangleTip = SHAPE_TRIANGLE_TIP,
+}
+
+/// How the grass is drawn.
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[repr(u32)]
+pub enum View {
+    /// Lit blades.
+    #[default]
+    Shaded = VIEW_SHADED,
+    /// Blades coloured by tessellation level: blue (1) through green to red (9).
+    Lod = VIEW_LOD,
+    /// The tessellated triangles' edges.
+    Wireframe = VIEW_WIREFRAME,
+}
+
+/// The value after `current` in `all`, round to the first (what the viewer's keys do).
+fn next_of<T: Copy + PartialEq>(all: &[T], current: T) -> T {
+    let index = all.iter().position(|v| *v == current).map_or(0, |i| i + 1);
+    all[index % all.len()]
+}
+
+impl WindField {
+    /// Every field, in the order the viewer's key cycles them.
+    pub const ALL: [Self; 4] = [Self::Calm, Self::Breeze, Self::Gusts, Self::Vortex];
+    /// The next field in [`Self::ALL`].
+    pub fn next(self) -> Self {
+        next_of(&Self::ALL, self)
+    }
+}
+
+impl BladeShape {
+    /// Every shape, in the order the viewer's key cycles them.
+    pub const ALL: [Self; 4] = [
+        Self::Quad,
+        Self::Triangle,
+        Self::Quadratic,
+        Self::TriangleTip,
+    ];
+    /// The next shape in [`Self::ALL`].
+    pub fn next(self) -> Self {
+        next_of(&Self::ALL, self)
+    }
+}
+
+impl View {
+    /// Every view, in the order the viewer's key cycles them.
+    pub const ALL: [Self; 3] = [Self::Shaded, Self::Lod, Self::Wireframe];
+    /// The next view in [`Self::ALL`].
+    pub fn next(self) -> Self {
+        next_of(&Self::ALL, self)
+    }
+}
+
+/// Which culling tests run (paper section 4.2), in the order they run.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct CullTests {
+    /// Remove blades seen edge-on.
+    pub orientation: bool,
+    /// Remove blades outside the view frustum.
+    pub frustum: bool,
+    /// Thin the field with distance.
+    pub distance: bool,
+    /// Remove blades hidden behind the scene's surfaces (Hi-Z).
+    pub occlusion: bool,
+}
+
+impl Default for CullTests {
+    /// Every test.
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+impl CullTests {
+    /// Every test.
+    pub const ALL: Self = Self {
+        orientation: true,
+        frustum: true,
+        distance: true,
+        occlusion: true,
+    };
+    /// No test.
+    pub const NONE: Self = Self {
+        orientation: false,
+        frustum: false,
+        distance: false,
+        occlusion: false,
+    };
+    /// Orientation, frustum and distance: the paper's three tests without occlusion.
+    pub const PAPER: Self = Self {
+        occlusion: false,
+        ..Self::ALL
+    };
+
+    /// The tests as a mask of `cull::ORIENTATION`, `FRUSTUM`, `DISTANCE`, `OCCLUSION`.
+    pub fn mask(self) -> u32 {
+        let bits = [ORIENTATION, FRUSTUM, DISTANCE, OCCLUSION];
+        self.switches()
+            .iter()
+            .zip(bits)
+            .filter(|(on, _)| **on)
+            .fold(0, |mask, (_, bit)| mask | bit)
+    }
+
+    /// The tests whose bits are set in `mask`.
+    pub fn from_mask(mask: u32) -> Self {
+        Self {
+            orientation: mask & ORIENTATION != 0,
+            frustum: mask & FRUSTUM != 0,
+            distance: mask & DISTANCE != 0,
+            occlusion: mask & OCCLUSION != 0,
+        }
+    }
+
+    /// Each test's switch, in the order they run.
+    pub fn switches(self) -> [bool; 4] {
+        [
+            self.orientation,
+            self.frustum,
+            self.distance,
+            self.occlusion,
+        ]
+    }
+
+    /// (name, switch) of each test, in the order they run, for the overlay and keys.
+    pub fn named_mut(&mut self) -> [(&'static str, &mut bool); 4] {
+        let [o, f, d, c] = TEST_NAMES;
+        [
+            (o, &mut self.orientation),
+            (f, &mut self.frustum),
+            (d, &mut self.distance),
+            (c, &mut self.occlusion),
+        ]
+    }
+}
+
+/// Gravity: straight down, or blended towards a centre (paper eq. 2).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Gravity {
+    /// Acceleration, towards the ground and towards the centre alike.
+    pub acceleration: f32,
+    /// The point gravity pulls towards (a planet's centre).
+    pub centre: Vec3,
+    /// Blend t between straight down (0) and towards `centre` (1).
+    pub centre_blend: f32,
+}
+
+/// The wind.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Wind {
+    /// Which field.
+    pub field: WindField,
+    /// Acceleration at full alignment.
+    pub strength: f32,
+    /// Direction it blows towards, degrees around the vertical (0 = +X, 90 = +Z).
+    pub direction: f32,
+}
+
+impl Wind {
+    /// Unit direction the wind blows towards.
+    pub fn direction_vector(&self) -> Vec3 {
+        let (sin, cos) = self.direction.to_radians().sin_cos();
+        Vec3::new(cos, 0.0, sin)
+    }
+}
+
+/// The culling tests and their thresholds.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Culling {
+    /// Which tests run.
+    pub tests: CullTests,
+    /// Orientation: remove a blade when |view · width direction| exceeds this.
+    pub orientation_threshold: f32,
+    /// Frustum: slack around the view volume, in clip-space units.
+    pub frustum_tolerance: f32,
+    /// Distance: nothing drawn beyond this.
+    pub max_distance: f32,
+    /// Distance: buckets thinning the field between the camera and the maximum.
+    pub buckets: u32,
+}
+
+/// Screen-size level of detail.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Lod {
+    /// On; off, every blade gets `most` segments.
+    pub on: bool,
+    /// Screen pixels per segment along a blade.
+    pub pixels_per_segment: f32,
+    /// Tessellation level along the blade near the camera.
+    pub most: f32,
+    /// Tessellation level far away.
+    pub fewest: f32,
+}
+
+/// Every setting of the simulation, culling, level of detail and shading.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Gravity.
+    pub gravity: Gravity,
+    /// Wind.
+    pub wind: Wind,
+    /// Collision strength lost per second (strength 1 holds a blade down fully).
+    pub trample_decay: f32,
+    /// Factor on every blade's stiffness.
+    pub stiffness: f32,
+    /// The sun.
+    pub light: Light,
+    /// Culling.
+    pub cull: Culling,
+    /// Level of detail.
+    pub lod: Lod,
+    /// How the grass is drawn.
+    pub view: View,
+    /// Blade shape.
+    pub shape: BladeShape,
+    /// Tip start k of the triangle-tip shape, 0 (root) to 1 (tip).
+    pub tip_start: f32,
+}
+
+impl Default for Settings {
+    /// The command line's defaults, on a field small enough that 40 units of view
+    /// distance hold it (scenes set their own).
+    fn default() -> Self {
+        Self {
+            gravity: Gravity {
+                acceleration: 9.8,
+                centre: Vec3::ZERO,
+                centre_blend: 0.0,
+            },
+            wind: Wind {
+                field: WindField::Breeze,
+                strength: 7.0,
+                direction: 19.3,
+            },
+            trample_decay: 0.25,
+            stiffness: 1.0,
+            light: Light {
+                direction: Vec3::new(0.4, 0.8, 0.3).normalize(),
+                ambient: 0.35,
+            },
+            cull: Culling {
+                tests: CullTests::ALL,
+                orientation_threshold: 0.9,
+                frustum_tolerance: 0.5,
+                max_distance: 40.0,
+                buckets: 8,
+            },
+            lod: Lod {
+                on: true,
+                pixels_per_segment: PIXELS_PER_SEGMENT,
+                most: 7.0,
+                fewest: 1.0,
+            },
+            view: View::Shaded,
+            shape: BladeShape::Quadratic,
+            tip_start: 0.5,
+        }
+    }
+}
+
+/// Where a frame is seen from: the camera reduced to what the shaders need.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Viewpoint {
+    /// World to clip space (Vulkan: y down, depth 0..1).
+    pub view_proj: Mat4,
+    /// Camera position.
+    pub position: Vec3,
+    /// Vertical field of view, radians.
+    pub fov_y: f32,
+    /// Height of the target in pixels.
+    pub height: u32,
+}
+
+impl Settings {
+    /// The forces' environment with `colliders` spheres in use: gravity as the paper's
+    /// D (straight down) and C (the centre), both at the one acceleration.
+    pub fn environment(&self, colliders: u32) -> Environment {
+        let g = &self.gravity;
+        Environment {
+            gravity: Vec4::new(0.0, -1.0, 0.0, g.acceleration),
+            gravity_centre: g.centre.extend(g.acceleration),
+            wind: self.wind.direction_vector().extend(self.wind.strength),
+            centre_blend: g.centre_blend,
+            wind_kind: self.wind.field as u32,
+            strength_decay: self.trample_decay,
+            stiffness_scale: self.stiffness,
+            colliders,
+            padding: [0; 3],
+        }
+    }
+
+    /// The frame block of a field of `blades` seen from `eye`, with the sphere
+    /// colliders `balls` (centre xyz, radius w; at most `MAX_COLLIDERS` are used).
+    /// The depth pyramid's layout is left empty for the renderer, which knows the
+    /// target.
+    pub fn uniforms(&self, eye: &Viewpoint, blades: u32, balls: &[Vec4]) -> FrameUniforms {
+        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
+        let used = balls.len().min(MAX_COLLIDERS);
+        colliders[..used].copy_from_slice(&balls[..used]);
+        let cull = &self.cull;
+        let lod = &self.lod;
+        FrameUniforms {
+            camera: CameraParams {
+                view_proj: eye.view_proj,
+                position: eye.position,
+                focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
+            },
+            light: self.light,
+            forces: self.environment(used as u32),
+            colliders,
+            hiz: Default::default(),
+            lod: LodParams {
+                pixels_per_segment: lod.pixels_per_segment,
+                most: lod.most,
+                fewest: if lod.on { lod.fewest } else { lod.most },
+            },
+            grass: GrassParams {
+                blades,
+                shape: self.shape as u32,
+                tip_start: self.tip_start,
+                view: self.view as u32,
+            },
+            cull: CullParams {
+                orientation_threshold: cull.orientation_threshold,
+                frustum_tolerance: cull.frustum_tolerance,
+                max_distance: cull.max_distance,
+                buckets: cull.buckets,
+                enabled: cull.tests.mask(),
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cull_masks_round_trip() {
+        for mask in 0..16 {
+            assert_eq!(CullTests::from_mask(mask).mask(), mask);
+        }
+        assert_eq!(CullTests::ALL.mask(), crate::cull::ALL);
+        assert_eq!(CullTests::PAPER.mask(), ORIENTATION | FRUSTUM | DISTANCE);
+    }
+
+    #[test]
+    fn enums_are_the_shaders_numbers() {
+        assert_eq!(WindField::Vortex as u32, WIND_VORTEX);
+        assert_eq!(BladeShape::TriangleTip as u32, SHAPE_TRIANGLE_TIP);
+        assert_eq!(View::Wireframe as u32, VIEW_WIREFRAME);
+        assert_eq!(View::Wireframe.next(), View::Shaded);
+        assert_eq!(WindField::Calm.next(), WindField::Breeze);
+    }
+
+    #[test]
+    fn the_block_by_hand() {
+        let mut s = Settings::default();
+        s.lod.on = false;
+        s.cull.tests.distance = false;
+        s.gravity.centre = Vec3::new(0.0, -30.0, 0.0);
+        s.wind.direction = 90.0;
+        let eye = Viewpoint {
+            view_proj: Mat4::IDENTITY,
+            position: Vec3::new(1.0, 2.0, 3.0),
+            fov_y: std::f32::consts::FRAC_PI_2,
+            height: 200,
+        };
+        let balls = [Vec4::ONE; MAX_COLLIDERS + 3];
+        let u = s.uniforms(&eye, 1234, &balls);
+        // tan(45°) = 1: the focal length is half the height.
+        assert!((u.camera.focal_pixels - 100.0).abs() < 1e-4);
+        assert_eq!(u.camera.position, eye.position);
+        // LOD off: the fewest segments are the most.
+        assert_eq!((u.lod.most, u.lod.fewest), (7.0, 7.0));
+        assert_eq!(u.cull.enabled, ORIENTATION | FRUSTUM | OCCLUSION);
+        assert_eq!(u.forces.colliders, MAX_COLLIDERS as u32);
+        assert_eq!(u.forces.gravity_centre, Vec4::new(0.0, -30.0, 0.0, 9.8));
+        assert!((u.forces.wind - Vec4::new(0.0, 0.0, 1.0, 7.0)).length() < 1e-6);
+        assert_eq!(u.grass.blades, 1234);
+        assert_eq!(u.grass.shape, SHAPE_QUADRATIC);
+        assert!(u.hiz.is_empty());
+    }
+}

@@ -68,13 +68,6 @@ pub const COUNTER_EXAMINED: usize = 5;
 /// Number of `u32` counters.
 pub const COUNTER_COUNT: usize = 8;
 
-/// Grass view: shaded blades.
-pub const VIEW_SHADED: u32 = 0;
-/// Grass view: blades coloured by tessellation level.
-pub const VIEW_LOD: u32 = 1;
-/// Grass view: shaded wireframe of the tessellated blades.
-pub const VIEW_WIREFRAME: u32 = 2;
-
 /// The camera, as the shaders see it.
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -98,7 +91,7 @@ pub struct GrassParams {
     pub shape: u32,
     /// Tip start k of the triangle-tip shape, 0 (root) to 1 (tip).
     pub tip_start: f32,
-    /// Grass view, one of `VIEW_*`.
+    /// Grass view, one of `shade::VIEW_*`.
     pub view: u32,
 }
 

@@ -4,11 +4,9 @@
 
 use crate::collide::MAX_COLLIDERS;
 use crate::cull::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
-use crate::layout::{
-    CameraParams, FrameUniforms, GrassParams, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME,
-};
+use crate::layout::{CameraParams, FrameUniforms, GrassParams};
 use crate::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
-use crate::shade::Light;
+use crate::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
 use crate::shape::{SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP};
 use crate::simulate::Environment;
 use crate::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};

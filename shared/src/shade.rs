@@ -4,6 +4,13 @@ use spirv_std::glam::{Vec2, Vec3};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
+/// Grass view: shaded blades.
+pub const VIEW_SHADED: u32 = 0;
+/// Grass view: blades coloured by tessellation level.
+pub const VIEW_LOD: u32 = 1;
+/// Grass view: shaded wireframe of the tessellated blades.
+pub const VIEW_WIREFRAME: u32 = 2;
+
 /// Blade colour at the root (linear RGB).
 pub const BLADE_BASE: Vec3 = Vec3::new(0.02, 0.10, 0.01);
 /// Blade colour at the tip (linear RGB).
@@ -50,7 +57,7 @@ pub fn lod_colour(level: f32) -> Vec3 {
     }
 }
 
-/// What the grass fragment stage shows: the shaded blade (see `layout::VIEW_*`).
+/// What the grass fragment stage shows: the shaded blade (see `VIEW_*`).
 pub fn blade_colour(
     view: u32,
     normal: Vec3,
@@ -61,7 +68,7 @@ pub fn blade_colour(
     level: f32,
 ) -> Vec3 {
     let shaded = shade_blade(normal, position, camera, light, v);
-    if view == crate::layout::VIEW_LOD {
+    if view == VIEW_LOD {
         // The level's hue, with the blade's own light and gradient as brightness.
         let brightness = shaded.length() / BLADE_TIP.length();
         lod_colour(level) * (0.35 + 0.65 * brightness.min(1.0))

@@ -9,7 +9,7 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::layout::VIEW_WIREFRAME;
+use shared::shade::VIEW_WIREFRAME;
 use std::sync::Arc;
 
 /// The tessellated grass pipelines.
@@ -47,7 +47,7 @@ impl GrassPass {
     }
 
     /// Records the draw inside the frame's rendering scope, in `view`
-    /// (`layout::VIEW_*`).
+    /// (`shade::VIEW_*`).
     pub fn record(&self, rec: &Recorder, field: &Field, view: u32) {
         let pipeline = if view == VIEW_WIREFRAME {
             &self.wireframe

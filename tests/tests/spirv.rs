@@ -159,17 +159,8 @@ fn pointee(m: &Module, var: u32) -> Option<(StorageClass, u32)> {
 /// Size in bytes of a struct type of 32-bit scalars, vectors, matrices and structs
 /// (what the push-constant blocks are made of), from its member offsets.
 fn struct_size(m: &Module, ty: u32) -> u32 {
-    let def = m
-        .types_global_values
-        .iter()
-        .find(|i| i.result_id == Some(ty))
-        .unwrap();
     let scalar_size = |t: u32| -> u32 {
-        let d = m
-            .types_global_values
-            .iter()
-            .find(|i| i.result_id == Some(t))
-            .unwrap();
+        let d = type_def(m, t);
         match d.class.opcode {
             Op::TypeInt | Op::TypeFloat => 4,
             Op::TypeVector => 4 * d.operands[1].unwrap_literal_bit32(),
@@ -179,25 +170,11 @@ fn struct_size(m: &Module, ty: u32) -> u32 {
             other => panic!("push-constant member of type {other:?}"),
         }
     };
-    let members: Vec<u32> = def.operands.iter().map(|o| o.unwrap_id_ref()).collect();
-    let mut end = 0;
-    for (i, member) in members.iter().enumerate() {
-        let offset = m
-            .annotations
-            .iter()
-            .find_map(|a| match a.operands.as_slice() {
-                [
-                    Operand::IdRef(s),
-                    Operand::LiteralBit32(idx),
-                    Operand::Decoration(Decoration::Offset),
-                    Operand::LiteralBit32(off),
-                ] if *s == ty && *idx as usize == i => Some(*off),
-                _ => None,
-            })
-            .expect("member offset");
-        end = end.max(offset + scalar_size(*member));
-    }
-    end
+    members(m, ty)
+        .iter()
+        .map(|&(member, offset)| offset + scalar_size(member))
+        .max()
+        .unwrap_or(0)
 }
 
 /// The descriptor bindings and push-constant range of the pipeline layout the runner

@@ -86,10 +86,49 @@ impl Arrows {
     }
 }
 
-/// FPS over the last second.
-struct Stats {
-    since: Instant,
-    frames: u32,
+/// The viewer's pace: frames drawn, the frame rate over the last whole second, and
+/// the wall-clock time of the last frame (simulated time follows it).
+struct Pace {
+    /// Frames drawn since the start.
+    frames: u64,
+    /// Frames per second over the last whole second.
+    fps: f64,
+    /// When the last frame began.
+    last_frame: Instant,
+    /// Start of the second being counted, and its frames so far.
+    second: (Instant, u32),
+}
+
+impl Pace {
+    fn new() -> Self {
+        Self {
+            frames: 0,
+            fps: 0.0,
+            last_frame: Instant::now(),
+            second: (Instant::now(), 0),
+        }
+    }
+
+    /// Seconds since the last frame began; this one begins now.
+    fn tick(&mut self) -> f64 {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f64();
+        self.last_frame = now;
+        dt
+    }
+
+    /// Counts a drawn frame; true when a second is complete and `fps` new.
+    fn drawn(&mut self) -> bool {
+        self.frames += 1;
+        self.second.1 += 1;
+        let elapsed = self.second.0.elapsed().as_secs_f64();
+        if elapsed < 1.0 {
+            return false;
+        }
+        self.fps = f64::from(self.second.1) / elapsed;
+        self.second = (Instant::now(), 0);
+        true
+    }
 }
 
 // Fields drop in order: GPU objects first (the last of them ends the context), then
@@ -105,11 +144,8 @@ struct Running {
     ball_on: bool,
     arrows: Arrows,
     mouse: Mouse,
-    stats: Stats,
     overlay: Overlay,
-    fps: f64,
-    last_frame: Instant,
-    frames: u64,
+    pace: Pace,
     /// The scripted window changes of `--resize-storm`.
     storm: Option<Storm>,
     window: Window,
@@ -160,14 +196,8 @@ impl Running {
             arrows: Arrows::default(),
             scene,
             mouse: Mouse::default(),
-            stats: Stats {
-                since: Instant::now(),
-                frames: 0,
-            },
             overlay,
-            fps: 0.0,
-            last_frame: Instant::now(),
-            frames: 0,
+            pace: Pace::new(),
             storm: args.resize_storm.then(Storm::default),
             window,
         })
@@ -189,9 +219,7 @@ impl Running {
             return Ok(());
         }
         // Simulated time and the ball follow the wall clock.
-        let now = Instant::now();
-        let dt = now.duration_since(self.last_frame).as_secs_f64();
-        self.last_frame = now;
+        let dt = self.pace.tick();
         let Some(frame) = self.driver.begin(&mut self.presenter, dt)? else {
             return Ok(());
         };
@@ -200,7 +228,7 @@ impl Running {
         // After the read-back, so the overlay shows the newest counts.
         let readback = &self.driver.readback;
         let readings = Readings {
-            fps: self.fps,
+            fps: self.pace.fps,
             blades: self.scene.blade_count(),
             counts: readback.counts,
             times: readback.times,
@@ -231,35 +259,27 @@ impl Running {
             capture: false,
         };
         self.driver.submit(frame, &mut self.presenter, spec)?;
-        self.frames += 1;
-        self.report();
+        if self.pace.drawn() {
+            self.report();
+        }
         Ok(())
     }
 
     /// Once a second: frame rate and visible blades in the title and the log.
     fn report(&mut self) {
-        self.stats.frames += 1;
-        let elapsed = self.stats.since.elapsed().as_secs_f64();
-        if elapsed >= 1.0 {
-            let fps = f64::from(self.stats.frames) / elapsed;
-            self.fps = fps;
-            let visible = self.driver.readback.visible().unwrap_or(0);
-            let line = format!(
-                "{fps:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
-                self.scene.blade_count(),
-                self.scene.name,
-                self.settings.wind.field,
-                self.settings.shape,
-            );
-            self.window.set_title(&format!("grass: {line}"));
-            log::info!("{line}");
-            if let Some(counts) = self.driver.readback.counts {
-                log::info!("{}", super::render::describe(&counts));
-            }
-            self.stats = Stats {
-                since: Instant::now(),
-                frames: 0,
-            };
+        let visible = self.driver.readback.visible().unwrap_or(0);
+        let line = format!(
+            "{:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
+            self.pace.fps,
+            self.scene.blade_count(),
+            self.scene.name,
+            self.settings.wind.field,
+            self.settings.shape,
+        );
+        self.window.set_title(&format!("grass: {line}"));
+        log::info!("{line}");
+        if let Some(counts) = self.driver.readback.counts {
+            log::info!("{}", super::render::describe(&counts));
         }
     }
 
@@ -480,7 +500,7 @@ impl ApplicationHandler for Viewer {
                 if let Err(e) = state.frame() {
                     self.error = Some(e);
                     event_loop.exit();
-                } else if self.args.frames.is_some_and(|n| state.frames >= n) {
+                } else if self.args.frames.is_some_and(|n| state.pace.frames >= n) {
                     event_loop.exit();
                 }
             }
@@ -493,7 +513,7 @@ impl ApplicationHandler for Viewer {
             let gusts = state.storm.as_ref().map_or(0, |s| s.gusts);
             log::info!(
                 "{} frames drawn, {} swapchains made, {gusts} storm gusts",
-                state.frames,
+                state.pace.frames,
                 state.presenter.swapchains
             );
         }

@@ -41,6 +41,36 @@ fn a_missing_file_is_named() {
 }
 
 #[test]
+fn special_files_are_refused_by_name_at_once() {
+    let dir = scratch("special");
+    let link = |target: &str, name: &str| {
+        let path = dir.join(name);
+        let _ = std::fs::remove_file(&path);
+        std::os::unix::fs::symlink(target, &path).expect("make a link");
+        path.to_str().expect("utf-8 path").to_string()
+    };
+    let started = std::time::Instant::now();
+    fails_with(
+        &link("/dev/zero", "zero.obj"),
+        &["zero.obj: is a character device, not a regular file"],
+    );
+    fails_with(
+        &link("/dev/urandom", "random.glb"),
+        &["random.glb: is a character device, not a regular file"],
+    );
+    let fifo = dir.join("pipe.obj");
+    let _ = std::fs::remove_file(&fifo);
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.expect("run mkfifo").success());
+    fails_with(
+        fifo.to_str().unwrap(),
+        &["pipe.obj: is a named pipe (FIFO), not a regular file"],
+    );
+    // Each used to read for a minute and more (or for ever): now refused unread.
+    assert!(started.elapsed().as_secs() < 20, "{:?}", started.elapsed());
+}
+
+#[test]
 fn a_file_that_is_not_a_mesh_is_refused() {
     let dir = scratch("notmesh");
     let glb = write(

@@ -41,6 +41,26 @@ pub enum SceneErrorKind {
     /// The path names a directory.
     #[error("is a directory, not a scene file")]
     IsDirectory,
+    /// The path names something that is not a regular file, after following links.
+    #[error("is a {what}, not a regular file")]
+    NotRegular {
+        /// What it is: a named pipe, a device, a socket.
+        what: &'static str,
+    },
+    /// The file is larger than a scene file may be.
+    #[error("{bytes} bytes, more than the {limit} a scene file may have")]
+    TooBig {
+        /// Its size.
+        bytes: u64,
+        /// The limit (`file::MAX_FILE_BYTES`).
+        limit: u64,
+    },
+    /// The file grew past the limit while it was read.
+    #[error("grew past {limit} bytes while it was read")]
+    Grew {
+        /// The limit.
+        limit: u64,
+    },
     /// The file exists but could not be read.
     #[error("cannot read the file: {error}")]
     Read {

@@ -202,21 +202,20 @@ fn read_buffers(
 fn read_external(path: &Path, length: usize) -> Result<Vec<u8>, String> {
     use std::io::Read as _;
     let shown = path.display();
-    let size = match std::fs::metadata(path) {
-        Ok(meta) if meta.is_file() => meta.len(),
-        Ok(_) => return Err(format!("{shown} is not a regular file")),
-        Err(e) => return Err(format!("cannot read {shown}: {e}")),
-    };
+    let (file, size) = super::file::open(path).map_err(|kind| match kind {
+        SceneErrorKind::NotRegular { .. } | SceneErrorKind::IsDirectory => {
+            format!("{shown} is not a regular file")
+        }
+        kind => format!("cannot read {shown}: {kind}"),
+    })?;
     if size < length as u64 {
         return Err(format!(
             "{shown} has {size} bytes, less than the buffer's byteLength of {length}"
         ));
     }
-    let mut data = Vec::with_capacity(length);
-    std::fs::File::open(path)
-        .and_then(|file| file.take(length as u64).read_to_end(&mut data))
-        .map_err(|e| format!("cannot read {shown}: {e}"))?;
-    Ok(data)
+    // Only the buffer's bytes: the file may hold more, or grow.
+    super::file::read_capped(file.take(length as u64), length as u64, length as u64)
+        .map_err(|kind| format!("cannot read {shown}: {kind}"))
 }
 
 /// `uri` percent-decoded the way the glTF importer does it, if that is UTF-8.

@@ -6,11 +6,14 @@
 //! naming the file and the problem, never a panic.
 //!
 //! Rules, in the order they apply:
+//! - a scene file must be a regular file (after following links: no pipes, devices,
+//!   sockets or directories) of at most [`MAX_FILE_BYTES`], checked before a byte is
+//!   read, and read once, capped there (`file`);
 //! - a file may have at most [`MAX_VERTICES`] vertices and [`MAX_TRIANGLES`] triangles,
 //!   a glTF mesh counting once for every node that draws it; glTF counts are taken from
 //!   the accessors before anything is read, so an absurd count costs nothing;
-//! - a glTF buffer in a file of its own must be a regular file at least its
-//!   `byteLength` long (only that much is read: no devices, no pipes);
+//! - a glTF buffer in a file of its own must be a regular file too, at least its
+//!   `byteLength` long (only that much is read);
 //! - an OBJ face index must be within the file: a negative (relative) one can reach back
 //!   no further than the first `v`, `vt` or `vn` line, a positive one can be no larger
 //!   than the file's line count;
@@ -27,18 +30,20 @@
 //!   triangles are counter-clockwise seen from the normal side, as
 //!   [`SurfaceMesh`] promises.
 //!
-//! The files: `error` (what can go wrong, and the limits), `mesh` (the builder that
+//! The files: `error` (what can go wrong, and the limits), `file` (opening and
+//! reading a file within its limit), `mesh` (the builder that
 //! checks meshes and gathers them), and the two loaders, `gltf` and `obj`.
 
 mod error;
+mod file;
 mod gltf;
 mod mesh;
 mod obj;
 
 pub use error::{MAX_TRIANGLES, MAX_VERTICES, SceneError, SceneErrorKind};
+pub use file::MAX_FILE_BYTES;
 
 use shared::mesh::SurfaceMesh;
-use std::io;
 use std::path::Path;
 
 /// A scene file's surfaces.
@@ -58,34 +63,26 @@ pub struct LoadedMesh {
 /// (all its objects; material names from `usemtl`, so a missing .mtl is no error).
 pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
     let scene = path.display().to_string();
-    // Ask first, so a missing file says so rather than what a parser makes of it.
-    let kind = match std::fs::metadata(path) {
-        Err(error) if error.kind() == io::ErrorKind::NotFound => Some(SceneErrorKind::NotFound),
-        Err(error) => Some(SceneErrorKind::Read { error }),
-        Ok(meta) if meta.is_dir() => Some(SceneErrorKind::IsDirectory),
-        Ok(_) => None,
-    };
-    if let Some(kind) = kind {
-        return Err(SceneError::new(scene, kind));
-    }
+    let error = |kind| SceneError::new(&scene, kind);
+    // Opened first, so a missing file or a device says so rather than what a parser
+    // makes of it; read only once the type is known.
+    let (file, size) = file::open(path).map_err(error)?;
     let Some(extension) = path.extension() else {
-        return Err(SceneError::new(scene, SceneErrorKind::NoExtension));
+        return Err(error(SceneErrorKind::NoExtension));
     };
-    let extension = extension.to_string_lossy();
-    match extension.to_ascii_lowercase().as_str() {
-        "gltf" | "glb" => {
-            let bytes = read(path, &scene)?;
-            let base = path.parent().unwrap_or(Path::new("."));
-            gltf::load_gltf(&bytes, &scene, Some(base))
-        }
-        "obj" => obj::load_obj(&read(path, &scene)?, &scene),
-        _ => {
-            let extension = extension.into_owned();
-            Err(SceneError::new(
-                scene,
-                SceneErrorKind::Unsupported { extension },
-            ))
-        }
+    let extension = extension.to_string_lossy().to_ascii_lowercase();
+    if !matches!(extension.as_str(), "gltf" | "glb" | "obj") {
+        let extension = path.extension().unwrap_or_default().to_string_lossy();
+        return Err(error(SceneErrorKind::Unsupported {
+            extension: extension.into_owned(),
+        }));
+    }
+    let bytes = file::read_capped(file, size, MAX_FILE_BYTES).map_err(error)?;
+    if extension == "obj" {
+        obj::load_obj(&bytes, &scene)
+    } else {
+        let base = path.parent().unwrap_or(Path::new("."));
+        gltf::load_gltf(&bytes, &scene, Some(base))
     }
 }
 
@@ -93,18 +90,6 @@ pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
 /// in messages. Its buffers must be inside it (GLB binary chunk or data URIs).
 pub fn load_gltf_slice(bytes: &[u8], name: &str) -> Result<LoadedMesh, SceneError> {
     gltf::load_gltf(bytes, name, None)
-}
-
-/// The whole file, with its errors told apart.
-fn read(path: &Path, scene: &str) -> Result<Vec<u8>, SceneError> {
-    std::fs::read(path).map_err(|error| {
-        let kind = match error.kind() {
-            io::ErrorKind::NotFound => SceneErrorKind::NotFound,
-            io::ErrorKind::IsADirectory => SceneErrorKind::IsDirectory,
-            _ => SceneErrorKind::Read { error },
-        };
-        SceneError::new(scene, kind)
-    })
 }
 
 #[cfg(test)]

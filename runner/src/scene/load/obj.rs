@@ -58,7 +58,10 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
         }
     }
     let library: String = names.iter().map(|n| format!("newmtl {n}\n")).collect();
-    let source = format!("mtllib {OBJ_NAMES_LIBRARY}\n{text}");
+    // The library line goes in front of the file's text without copying the text: a
+    // large file is held once.
+    let header = format!("mtllib {OBJ_NAMES_LIBRARY}\n");
+    let mut source = std::io::Read::chain(header.as_bytes(), text.as_bytes());
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -68,7 +71,7 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
     // tobj appends every library it is handed to the last: only the first `mtllib`
     // (the one above) gets the names, or n `mtllib` lines would make n copies of them.
     let handed = std::cell::Cell::new(false);
-    let (models, materials) = tobj::load_obj_buf(&mut source.as_bytes(), &options, |_| {
+    let (models, materials) = tobj::load_obj_buf(&mut source, &options, |_| {
         if handed.replace(true) {
             Ok(Default::default())
         } else {

@@ -1,0 +1,190 @@
+//! Opening a file the loader reads (a scene file, or a glTF buffer of its own): once,
+//! without blocking, a regular file only (after following links), its size checked
+//! against [`MAX_FILE_BYTES`] before a byte is read, and the read capped there, so a
+//! link to `/dev/zero`, a named pipe or a file that grows while it is read can cost
+//! neither unbounded memory nor a hang.
+
+use super::error::SceneErrorKind;
+use std::fs::File;
+use std::io::{self, Read};
+use std::path::Path;
+
+/// Most bytes a scene file may have: a file of the most vertices and triangles a scene
+/// may have ([`MAX_VERTICES`](super::MAX_VERTICES), [`MAX_TRIANGLES`](super::MAX_TRIANGLES)),
+/// written out as OBJ text with a normal per vertex, is about 540 MB.
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+
+/// Opens `path` for reading and returns it with its size, or why it cannot be read:
+/// nothing there, a directory, or anything else that is not a regular file (a named
+/// pipe, a device, a socket), after following symbolic links. A named pipe is opened
+/// without waiting for a writer, then refused.
+pub(super) fn open(path: &Path) -> Result<(File, u64), SceneErrorKind> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|error| match error.kind() {
+        io::ErrorKind::NotFound => SceneErrorKind::NotFound,
+        io::ErrorKind::IsADirectory => SceneErrorKind::IsDirectory,
+        _ => SceneErrorKind::Read { error },
+    })?;
+    let meta = file
+        .metadata()
+        .map_err(|error| SceneErrorKind::Read { error })?;
+    let kind = meta.file_type();
+    if kind.is_dir() {
+        return Err(SceneErrorKind::IsDirectory);
+    }
+    if !kind.is_file() {
+        return Err(SceneErrorKind::NotRegular {
+            what: describe(kind),
+        });
+    }
+    Ok((file, meta.len()))
+}
+
+/// What a file that is neither a regular file nor a directory is.
+fn describe(kind: std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "named pipe (FIFO)";
+        }
+        if kind.is_char_device() {
+            return "character device";
+        }
+        if kind.is_block_device() {
+            return "block device";
+        }
+        if kind.is_socket() {
+            return "socket";
+        }
+    }
+    let _ = kind;
+    "special file"
+}
+
+/// The bytes of `reader`, which said it holds `size` bytes, refused before reading
+/// when `size` is over `limit`, and refused when more than `limit` bytes turn up.
+pub(super) fn read_capped(
+    reader: impl Read,
+    size: u64,
+    limit: u64,
+) -> Result<Vec<u8>, SceneErrorKind> {
+    if size > limit {
+        return Err(SceneErrorKind::TooBig { bytes: size, limit });
+    }
+    let mut data = Vec::with_capacity(size as usize);
+    reader
+        .take(limit + 1)
+        .read_to_end(&mut data)
+        .map_err(|error| SceneErrorKind::Read { error })?;
+    if data.len() as u64 > limit {
+        return Err(SceneErrorKind::Grew { limit });
+    }
+    Ok(data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load::tests::TempFile;
+
+    /// A symbolic link in the temp directory to `target`, removed when dropped.
+    struct Link(std::path::PathBuf);
+
+    impl Link {
+        fn to(target: &str, name: &str) -> Self {
+            let path =
+                std::env::temp_dir().join(format!("grass-link-{}-{name}", std::process::id()));
+            let _ = std::fs::remove_file(&path);
+            std::os::unix::fs::symlink(target, &path).expect("make a link");
+            Self(path)
+        }
+    }
+
+    impl Drop for Link {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_file(&self.0);
+        }
+    }
+
+    /// Why the file at `path` cannot be read whole within [`MAX_FILE_BYTES`].
+    fn problem(path: &Path) -> String {
+        open(path)
+            .and_then(|(file, size)| read_capped(file, size, MAX_FILE_BYTES))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn links_to_devices_are_refused_before_any_read() {
+        let zero = Link::to("/dev/zero", "zero.obj");
+        assert_eq!(
+            problem(&zero.0),
+            "is a character device, not a regular file"
+        );
+        let random = Link::to("/dev/urandom", "random.glb");
+        assert_eq!(
+            problem(&random.0),
+            "is a character device, not a regular file"
+        );
+        let dir = Link::to("/tmp", "dir.obj");
+        assert_eq!(problem(&dir.0), "is a directory, not a scene file");
+        let dangling = Link::to("/nonexistent/grass", "dangling.obj");
+        assert_eq!(problem(&dangling.0), "file not found");
+    }
+
+    #[test]
+    fn a_named_pipe_is_refused_without_waiting_for_a_writer() {
+        let path = std::env::temp_dir().join(format!("grass-fifo-{}.obj", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        let status = std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .expect("run mkfifo");
+        assert!(status.success());
+        let started = std::time::Instant::now();
+        let message = problem(&path);
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(message, "is a named pipe (FIFO), not a regular file");
+        assert!(started.elapsed().as_secs() < 5, "the pipe held the loader");
+    }
+
+    #[test]
+    fn a_file_over_the_limit_is_refused_by_its_size() {
+        // Sparse: the size is there, no byte is written or read.
+        let file = TempFile::new("big.obj", b"");
+        let handle = std::fs::OpenOptions::new()
+            .write(true)
+            .open(&file.0)
+            .unwrap();
+        handle.set_len(MAX_FILE_BYTES + 1).unwrap();
+        assert_eq!(
+            problem(&file.0),
+            format!(
+                "{} bytes, more than the {MAX_FILE_BYTES} a scene file may have",
+                MAX_FILE_BYTES + 1
+            )
+        );
+    }
+
+    #[test]
+    fn a_file_that_grows_while_it_is_read_is_cut_off() {
+        let file = TempFile::new("growing.obj", b"v 0 0 0\n");
+        let (reader, size) = open(&file.0).unwrap();
+        assert_eq!(size, 8);
+        // It grows after its size was taken, past the limit.
+        std::fs::write(&file.0, vec![b'#'; 100]).unwrap();
+        let error = read_capped(reader, size, 64).unwrap_err();
+        assert_eq!(error.to_string(), "grew past 64 bytes while it was read");
+        // Within the limit, what is there is read.
+        let (reader, size) = open(&file.0).unwrap();
+        assert_eq!(read_capped(reader, size, 100).unwrap().len(), 100);
+    }
+}

@@ -354,6 +354,21 @@ impl Common {
         }
     }
 
+    /// Checks what clap cannot check one option at a time: the level of detail far away
+    /// may not be above the one near the camera.
+    pub fn check(&self) -> anyhow::Result<()> {
+        let c = &self.cull;
+        if c.lod_fewest > c.lod_most {
+            anyhow::bail!(
+                "--lod-fewest {} is above --lod-most {}: the level far away cannot be \
+                 higher than the level near the camera",
+                c.lod_fewest,
+                c.lod_most
+            );
+        }
+        Ok(())
+    }
+
     /// Validation from the flag or from GRASS_VALIDATION=1.
     pub fn validation_requested(&self) -> bool {
         self.validation

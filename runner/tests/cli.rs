@@ -167,6 +167,26 @@ const FREE_TEXT: [&str; 2] = ["scene", "out"];
 /// take: not-a-number, infinities, absurd magnitudes, an empty value, a word. The
 /// options are listed by clap itself, so a new option without a range fails here.
 #[test]
+fn inverted_lod_levels_are_refused() {
+    let args = [
+        "render",
+        "--lod-most",
+        "1",
+        "--lod-fewest",
+        "9",
+        "--out",
+        "x.png",
+    ];
+    let o = grass(&args);
+    let stderr = stderr_of(&args, &o);
+    assert!(!o.status.success(), "accepted: {stderr}");
+    assert!(
+        stderr.contains("--lod-fewest 9 is above --lod-most 1"),
+        "{stderr}"
+    );
+}
+
+#[test]
 fn every_option_refuses_values_outside_its_range() {
     use clap::{CommandFactory, Parser};
     let mut cli = runner::cli::Cli::command();

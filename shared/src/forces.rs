@@ -41,8 +41,9 @@ pub fn recovery(blade: &Blade, collision_strength: f32) -> Vec3 {
     (rest_tip - blade.tip()) * blade.stiffness() * (1.0 - collision_strength).max(0.1)
 }
 
-/// Wind alignment fd = 1 − |normalize(wi) · normalize(v2 − v0)|: a blade whose
-/// width faces the wind moves most, one seen edge-on by the wind least (paper eq. 7).
+/// Wind alignment fd = 1 − |normalize(wi) · normalize(v2 − v0)|: a blade whose axis
+/// (root to tip) lies across the wind moves most, one whose axis points along the
+/// wind least (paper eq. 7).
 /// Zero wind gives alignment 1; the force is zero anyway.
 pub fn wind_alignment(blade: &Blade, wind: Vec3) -> f32 {
     let along = (blade.tip() - blade.root()).normalize_or_zero();

@@ -176,7 +176,8 @@ pub fn screen_bounds(blade: &Blade, view_proj: Mat4, screen: Vec2) -> ScreenBoun
 
 /// True when every pixel of the rectangle [x0, x1] × [y0, y1] (inclusive, on screen)
 /// has occluder depth nearer than `nearest`: the farthest depth over the rectangle,
-/// read from the coarsest level where it spans at most 2×2 texels.
+/// read from the finest level where it spans at most 2×2 texels (the first level,
+/// going up from the screen, where it does).
 pub fn rect_occluded(
     pyramid: &[f32],
     hiz: &HiZLayout,

@@ -40,7 +40,7 @@ pub const BENT_REACH: f32 = 0.7;
 
 /// Relative error |L − h|/h of the arc length L a validated bent blade may have. The
 /// paper's estimate (2·L0 + L1)/3 is not the arc length: the worst bent shape, a tip
-/// pushed straight down its own axis to 0.758·h, is 7.3 % long.
+/// pushed straight down its own axis to 0.758·h, is 7.3 % short.
 pub const LENGTH_TOLERANCE_BENT: f32 = 0.08;
 
 /// Relative length error of any validated blade: a tip pushed straight down onto its
@@ -115,7 +115,7 @@ mod tests {
     }
 
     // The bounds are `LENGTH_TOLERANCE_BENT` and `LENGTH_TOLERANCE_FOLDED` (worst
-    // seen on this grid: 7.3 % bent).
+    // seen on this grid: 7.3 % short, bent).
 
     #[test]
     fn validation_keeps_blades_above_ground_with_v1_above_v0_and_length_near_h() {

@@ -28,6 +28,7 @@ pub const DEFAULT_BLADES_SOFTWARE: u32 = 2048;
 
 /// Runs what the command line asks for.
 pub fn run(cli: Cli) -> Result<()> {
+    cli.common.check()?;
     match cli.command {
         Some(Command::Render(args)) => render::run(&cli.common, &args).map(|_| ()),
         Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),

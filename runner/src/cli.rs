@@ -55,8 +55,8 @@ pub struct SoakArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub height: u32,
-    /// Host memory (resident set) the run may gain from its first reading to its last,
-    /// in MiB.
+    /// Host memory (resident set) the run may gain, in MiB: the lowest reading of the
+    /// last third against the highest of the first third.
     #[arg(long, default_value_t = 8.0, value_parser = range(0.0, 1e6))]
     pub host_slack_mib: f32,
     /// Run without the validation layer (where it is not installed).

@@ -54,12 +54,23 @@ pub struct SoakReport {
 }
 
 impl SoakReport {
-    /// Host memory gained from the first reading to the last, bytes (may be negative).
+    /// Host memory gained over the run, bytes (may be negative): the lowest reading of
+    /// the last third above the highest of the first third. Memory that swings up and
+    /// down (allocator pools, a driver's caches) gains nothing this way; a leak raises
+    /// even the lowest late reading above every early one. With fewer than three
+    /// readings it is the last against the first.
     pub fn host_growth(&self) -> i64 {
-        match (self.readings.first(), self.readings.last()) {
-            (Some(Reading { host: Some(a), .. }), Some(Reading { host: Some(b), .. })) => {
-                *b as i64 - *a as i64
-            }
+        let host: Vec<i64> = self
+            .readings
+            .iter()
+            .filter_map(|r| r.host.map(|h| h as i64))
+            .collect();
+        let third = (host.len() / 3).max(1);
+        match (
+            host[..third.min(host.len())].iter().max(),
+            host[host.len().saturating_sub(third)..].iter().min(),
+        ) {
+            (Some(early), Some(late)) => late - early,
             _ => 0,
         }
     }
@@ -89,8 +100,8 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     let changes = report.device_changes();
     let mib = |b: f64| b / (1024.0 * 1024.0);
     println!(
-        "soak: {} frames in {:.0} s; host memory {:+.1} MiB from the first reading to the \
-         last; device memory {}; {}",
+        "soak: {} frames in {:.0} s; host memory {:+.1} MiB (lowest of the last third of \
+         the readings against the highest of the first third); device memory {}; {}",
         args.frames,
         report.seconds,
         mib(growth as f64),

@@ -1,7 +1,9 @@
 //! Faults injected on purpose, so tests can drive the paths a real device takes
 //! rarely: `GRASS_FAULT=missing-feature:<name>` makes every device lack that feature,
 //! `GRASS_FAULT=device-lost:<frame>` makes the wait for that frame report
-//! `VK_ERROR_DEVICE_LOST`. Unset (the normal case), nothing changes.
+//! `VK_ERROR_DEVICE_LOST`, `GRASS_FAULT=leak:<bytes>` leaks that much host memory a
+//! frame (what the soak's memory check must catch). Unset (the normal case), nothing
+//! changes.
 
 use ash::vk;
 use std::sync::OnceLock;
@@ -13,6 +15,8 @@ pub enum Fault {
     MissingFeature(String),
     /// The device is lost when the renderer waits for this frame (counted from 0).
     DeviceLost(u64),
+    /// This many bytes of host memory are leaked (written, never freed) every frame.
+    Leak(usize),
 }
 
 impl Fault {
@@ -26,8 +30,13 @@ impl Fault {
                 .parse()
                 .map(Fault::DeviceLost)
                 .map_err(|_| format!("GRASS_FAULT: \"{frame}\" is not a frame number")),
+            Some(("leak", bytes)) => bytes
+                .parse()
+                .map(Fault::Leak)
+                .map_err(|_| format!("GRASS_FAULT: \"{bytes}\" is not a byte count")),
             _ => Err(format!(
-                "GRASS_FAULT: \"{s}\" is neither missing-feature:<name> nor device-lost:<frame>"
+                "GRASS_FAULT: \"{s}\" is none of missing-feature:<name>, device-lost:<frame>, \
+                 leak:<bytes>"
             )),
         }
     }
@@ -50,10 +59,16 @@ pub fn feature_removed(feature: &str) -> bool {
     matches!(injected(), Some(Fault::MissingFeature(f)) if f == feature)
 }
 
-/// `Err(ERROR_DEVICE_LOST)` when `GRASS_FAULT` loses the device at `frame`.
+/// `Err(ERROR_DEVICE_LOST)` when `GRASS_FAULT` loses the device at `frame`; leaks
+/// the frame's bytes when it asks for a leak.
 pub fn check_frame(frame: u64) -> Result<(), vk::Result> {
     match injected() {
         Some(Fault::DeviceLost(at)) if *at == frame => Err(vk::Result::ERROR_DEVICE_LOST),
+        Some(Fault::Leak(bytes)) => {
+            // Written, so the pages count in the resident set; never freed.
+            std::mem::forget(vec![1u8; *bytes]);
+            Ok(())
+        }
         _ => Ok(()),
     }
 }

@@ -6,13 +6,26 @@ use std::sync::Arc;
 
 pub use runner::vulkan::gpu_required;
 
-/// Runs `test` with a Vulkan context, or skips it (printing why) when there is no
-/// usable device, unless GRASS_REQUIRE_GPU=1, where that is a failure.
+/// Runs `test` with a Vulkan context under the validation layer (core and
+/// synchronization validation), then fails if the layer said anything, warnings too;
+/// or skips it (printing why) when there is no usable device or no layer, unless
+/// GRASS_REQUIRE_GPU=1, where that is a failure.
 pub fn with_device(name: &str, test: impl FnOnce(Arc<Context>)) {
     // Validation messages go to the log; show them in the test output.
     let _ = env_logger::builder().is_test(true).try_init();
-    match Context::new(ContextOptions::default()) {
-        Ok(ctx) => test(ctx),
+    let options = ContextOptions {
+        validation: true,
+        ..Default::default()
+    };
+    match Context::new(options) {
+        Ok(ctx) => {
+            test(ctx.clone());
+            let messages = ctx.validation_messages();
+            assert_eq!(
+                messages, 0,
+                "{name}: the validation layer spoke (see the log)"
+            );
+        }
         Err(e) if gpu_required() => {
             panic!("{name}: GRASS_REQUIRE_GPU=1 but no usable Vulkan device: {e:#}")
         }
@@ -154,9 +167,15 @@ pub fn check_reference(name: &str, image: &image::RgbaImage) -> Difference {
 /// returns the report and the image.
 pub fn render_image(args: &str) -> (runner::app::render::RenderReport, image::RgbaImage) {
     let args: Vec<&str> = args.split_whitespace().collect();
-    let (common, render) = render_options(&args);
+    let (mut common, render) = render_options(&args);
+    // Under the validation layer, core and synchronization: no error allowed.
+    common.validation = true;
     let report = runner::app::render::render(&common, &render)
         .unwrap_or_else(|e| panic!("render {args:?}: {e:#}"));
+    assert_eq!(
+        report.validation_errors, 0,
+        "render {args:?}: validation errors (see the log)"
+    );
     let image = image::RgbaImage::from_raw(render.width, render.height, report.pixels.clone())
         .expect("image size");
     (report, image)

@@ -78,7 +78,10 @@ pub fn step(
         env.centre_blend,
         blade.tip(),
     );
-    let wi = wind::wind_field(env.wind_kind, blade.root(), time, env.wind);
+    let root = blade.root();
+    let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
+    let centre = env.gravity_centre.truncate();
+    let wi = wind::along_surface(wi, root, centre, env.centre_blend);
     let force = forces::gravity_from(&blade, g_env)
         + forces::recovery(&blade, strength) * env.stiffness_scale
         + forces::wind_force(&blade, wi);

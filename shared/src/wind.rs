@@ -70,9 +70,44 @@ pub fn wind_field(kind: u32, p: Vec3, time: f32, wind: Vec4) -> Vec3 {
     }
 }
 
+/// Wind `wi` at `p` on a curved world: its part along the local vertical (away from
+/// the gravity centre `centre`) taken out by the share `t` of gravity that pulls
+/// towards the centre (paper eq. 2's blend), so on a planet (t = 1) the wind blows
+/// along the surface, wherever the blade stands, and on flat ground (t = 0) it is
+/// unchanged. The wind fields themselves are laid out in world directions.
+pub fn along_surface(wi: Vec3, p: Vec3, centre: Vec3, t: f32) -> Vec3 {
+    let up = (p - centre).normalize_or_zero();
+    wi - up * (t * wi.dot(up))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn on_a_planet_the_wind_blows_along_the_surface() {
+        let wind = Vec4::new(1.0, 0.0, 0.35, 7.0);
+        let centre = Vec3::new(0.0, -2.0, 0.0);
+        for kind in [WIND_BREEZE, WIND_GUSTS, WIND_VORTEX] {
+            // Points all round a sphere of radius 5 about the centre.
+            for i in 0..64 {
+                let (a, b) = (i as f32 * 0.7, i as f32 * 0.37);
+                let up = Vec3::new(a.cos() * b.sin(), b.cos(), a.sin() * b.sin());
+                let p = centre + 5.0 * up;
+                let wi = wind_field(kind, p, 1.5, wind);
+                let w = along_surface(wi, p, centre, 1.0);
+                assert!(
+                    w.dot(up).abs() < 1e-4 * wi.length().max(1.0),
+                    "{kind} at {p}"
+                );
+                // Only the vertical part goes: what lies along the surface stays.
+                let tangent = wi - up * wi.dot(up);
+                assert!((w - tangent).length() < 1e-4 * wi.length().max(1.0));
+                // Flat ground (no pull towards the centre): unchanged, to the bit.
+                assert_eq!(along_surface(wi, p, centre, 0.0), wi);
+            }
+        }
+    }
 
     #[test]
     fn breeze_is_bounded_finite_and_changes_with_place_and_time() {

@@ -205,8 +205,9 @@ pub struct Common {
     /// Seed of the random field: the same seed gives the same blades.
     #[arg(long, global = true, default_value_t = 1)]
     pub seed: u64,
-    /// Factor on every blade's stiffness (how fast it stands back up).
-    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.0, 4.0))]
+    /// Factor on every blade's stiffness (how fast it stands back up); the recovery is
+    /// taken semi-implicitly, so blades settle at any factor.
+    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.0, 100.0))]
     pub stiffness: f32,
     /// Gravity's acceleration.
     #[arg(long, global = true, default_value_t = 9.8, value_parser = range(0.0, 100.0))]

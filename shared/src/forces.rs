@@ -34,11 +34,21 @@ pub fn gravity_from(blade: &Blade, g_env: Vec3) -> Vec3 {
     g_env + front_gravity(g_env, blade.front_dir())
 }
 
+/// The rest position of the tip, Iv2 = v0 + h·up (paper eq. 5).
+pub fn rest_tip(blade: &Blade) -> Vec3 {
+    blade.root() + blade.up_dir() * blade.height()
+}
+
+/// The recovery's rate s·max(1 − η, 0.1), η the collision strength: the recovery is
+/// r = (Iv2 − v2)·rate (paper eq. 5).
+pub fn recovery_rate(blade: &Blade, collision_strength: f32) -> f32 {
+    blade.stiffness() * (1.0 - collision_strength).max(0.1)
+}
+
 /// Recovery r = (Iv2 − v2)·s·max(1 − η, 0.1): Hooke's law pulling the tip back to its
 /// rest position Iv2 = v0 + h·up; η is the collision strength (paper eq. 5).
 pub fn recovery(blade: &Blade, collision_strength: f32) -> Vec3 {
-    let rest_tip = blade.root() + blade.up_dir() * blade.height();
-    (rest_tip - blade.tip()) * blade.stiffness() * (1.0 - collision_strength).max(0.1)
+    (rest_tip(blade) - blade.tip()) * recovery_rate(blade, collision_strength)
 }
 
 /// Wind alignment fd = 1 − |normalize(wi) · normalize(v2 − v0)|: a blade whose axis

@@ -1,12 +1,13 @@
-//! One simulation step: forces on `v2`, an explicit Euler step, then validation.
+//! One simulation step: forces on `v2` (gravity and wind explicit, the recovery
+//! semi-implicit), then validation.
 
 use crate::collide::MAX_COLLIDERS;
 use crate::{Blade, collide, forces, validate, wind};
-use spirv_std::glam::Vec4;
+use spirv_std::glam::{Vec3, Vec4};
 
-/// Fixed simulation step in seconds. Recovery with stiffness s relaxes `v2` at rate
-/// s·Δt per step; with s up to 13 an explicit step overshoots once s·Δt > 1, so the
-/// step is fixed and small, independent of the frame rate.
+/// Fixed simulation step in seconds: the simulation runs the same at any frame rate.
+/// The recovery is taken semi-implicitly ([`semi_implicit_tip`]), so no stiffness
+/// makes the step overshoot.
 pub const STEP_SECONDS: f32 = 1.0 / STEPS_PER_SECOND as f32;
 
 /// Fixed steps per simulated second.
@@ -62,9 +63,25 @@ impl Default for Environment {
 /// A blade and its collision strength η.
 pub type BladeState = (Blade, f32);
 
-/// One explicit step of length `dt` at time `time` (paper section 5):
-/// v2 ← v2 + (g + r + w)·Δt with the recovery weakened by η, then the sphere
-/// collisions (which grow η; η decays linearly), then the three validation steps.
+/// The tip after a step that moves it by `pushed` (gravity and wind times Δt, taken
+/// explicitly) and pulls it towards `rest` with the recovery at `k` = rate·Δt taken
+/// implicitly (backward Euler): v2' = v2 + pushed + k·(Iv2 − v2'), so
+/// v2' = (v2 + pushed + k·Iv2) / (1 + k). The paper's explicit step
+/// v2 + pushed + k·(Iv2 − v2) overshoots the rest position once k > 1 and grows
+/// without end once k > 2; this one only ever moves a fraction k / (1 + k) < 1 of the
+/// way, so a blade settles at every stiffness. For the default stiffnesses (k ≤ 0.11)
+/// the two differ by k²/(1 + k) of the recovery's pull, about 1 %. Written as
+/// Iv2 + (v2 + pushed − Iv2) / (1 + k): from the rest position, so that f32 rounds the
+/// small offset, not the blade's world coordinates (which would leave a settled tip
+/// wandering by an ulp of its coordinates over k).
+pub fn semi_implicit_tip(tip: Vec3, rest: Vec3, pushed: Vec3, k: f32) -> Vec3 {
+    rest + (tip + pushed - rest) / (1.0 + k)
+}
+
+/// One step of length `dt` at time `time` (paper section 5): gravity and wind move
+/// v2 explicitly, the recovery (weakened by η) semi-implicitly
+/// ([`semi_implicit_tip`]), then the sphere collisions (which grow η; η decays
+/// linearly), then the three validation steps.
 pub fn step(
     (blade, strength): BladeState,
     env: &Environment,
@@ -82,10 +99,10 @@ pub fn step(
     let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
     let centre = env.gravity_centre.truncate();
     let wi = wind::along_surface(wi, root, centre, env.centre_blend);
-    let force = forces::gravity_from(&blade, g_env)
-        + forces::recovery(&blade, strength) * env.stiffness_scale
-        + forces::wind_force(&blade, wi);
-    let moved = blade.with_curve(blade.guide(), blade.tip() + force * dt);
+    let pushed = (forces::gravity_from(&blade, g_env) + forces::wind_force(&blade, wi)) * dt;
+    let k = forces::recovery_rate(&blade, strength) * env.stiffness_scale * dt;
+    let tip = semi_implicit_tip(blade.tip(), forces::rest_tip(&blade), pushed, k);
+    let moved = blade.with_curve(blade.guide(), tip);
     let (pushed, displacement) = collide::collide(&moved, spheres, env.colliders);
     let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
     (validate::validate(&pushed), strength)
@@ -149,7 +166,6 @@ impl SimClock {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::glam::Vec3;
 
     const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
 

@@ -1,6 +1,7 @@
 //! The simulation on the device under extreme settings, over a whole field for
 //! thousands of steps: no blade may become NaN or infinite, fall below its ground,
-//! fold v1 under v0 or lose its length (the host's property tests,
+//! fold v1 under v0 or lose its length; then, the wind calmed and the balls gone,
+//! every blade must come to rest (the host's property tests,
 //! shared/tests/stability.rs, check the same on the shared functions).
 
 use glam::Vec4;
@@ -10,7 +11,7 @@ use runner::renderer::Renderer;
 use runner::scene::Scene;
 use shared::Blade;
 use shared::layout::SimulatePush;
-use shared::settings::WindField::{Breeze, Gusts, Vortex};
+use shared::settings::WindField::{Breeze, Calm, Gusts, Vortex};
 use shared::simulate::MAX_STEPS_PER_FRAME;
 use shared::validate::{BENT_REACH, LENGTH_TOLERANCE_BENT, LENGTH_TOLERANCE_FOLDED, bezier_length};
 use tests::with_device;
@@ -27,6 +28,29 @@ const LENGTH_TOLERANCE_ANY: f32 = LENGTH_TOLERANCE_FOLDED + 1e-3;
 /// How far below its ground plane a tip may be found: f32 rounding of a tip lifted back
 /// from far below (the host tests bound it by the throw; 1e-3 of a blade is ample).
 const GROUND_TOLERANCE: f32 = 1e-3;
+
+/// Frames of calm (2 s each) after the extreme ones, before the blades must be still.
+const CALM_FRAMES: u32 = 5;
+
+/// Most a tip may move in one step once the field has settled, as a share of its
+/// blade's height (as in the host's settling property).
+const SETTLED: f32 = 1e-4;
+
+/// The largest move of any tip between `a` and `b`, as a share of its blade's height.
+fn largest_move(a: &[Blade], b: &[Blade]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| (a.tip() - b.tip()).length() / a.height())
+        .fold(0.0, f32::max)
+}
+
+/// The field's blades as the device holds them.
+fn download(driver: &FrameDriver) -> Vec<Blade> {
+    let renderer = &driver.renderer;
+    renderer
+        .download(&renderer.field.blades, BLADES as usize)
+        .expect("download blades")
+}
 
 /// Checks every blade; returns the worst relative length error of bent blades.
 fn check(blades: &[Blade], what: &str) -> f32 {
@@ -106,10 +130,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                     .compute_frame(&uniforms, push)
                     .expect("compute frame");
             }
-            let renderer = &driver.renderer;
-            let blades: Vec<Blade> = renderer
-                .download(&renderer.field.blades, BLADES as usize)
-                .expect("download blades");
+            let blades = download(&driver);
             let moved = blades
                 .iter()
                 .zip(&scene.blades)
@@ -123,6 +144,42 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
             eprintln!(
                 "{what}: {} steps, every blade valid, worst bent length error {worst:.4}",
                 FRAMES * MAX_STEPS_PER_FRAME
+            );
+
+            // Calm: no wind, no ball; ten seconds, then one step at a time.
+            settings.wind.field = Calm;
+            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            let mut step = FRAMES * MAX_STEPS_PER_FRAME;
+            for _ in 0..CALM_FRAMES {
+                let push = SimulatePush {
+                    first_step: step,
+                    steps: MAX_STEPS_PER_FRAME,
+                };
+                driver.compute_frame(&uniforms, push).expect("calm frame");
+                step += MAX_STEPS_PER_FRAME;
+            }
+            let mut before = download(&driver);
+            let mut worst_move: f32 = 0.0;
+            for _ in 0..2 {
+                let push = SimulatePush {
+                    first_step: step,
+                    steps: 1,
+                };
+                driver.compute_frame(&uniforms, push).expect("one step");
+                step += 1;
+                let after = download(&driver);
+                worst_move = worst_move.max(largest_move(&before, &after));
+                before = after;
+            }
+            check(&before, what);
+            eprintln!(
+                "{what}: after {} s of calm the largest tip move in a step is {worst_move:.2e} of \
+                 its blade's height",
+                2 * CALM_FRAMES
+            );
+            assert!(
+                worst_move < SETTLED,
+                "{what}: not settled, a tip moved {worst_move} of its height in a step"
             );
         }
     });

@@ -271,7 +271,11 @@ fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
         });
     ui.add(egui::Slider::new(&mut wind.strength, 0.0..=30.0).text("wind strength"));
     ui.add(egui::Slider::new(&mut wind.direction, -180.0..=180.0).text("wind direction °"));
-    ui.add(egui::Slider::new(&mut s.stiffness, 0.0..=4.0).text("stiffness ×"));
+    ui.add(
+        egui::Slider::new(&mut s.stiffness, 0.0..=100.0)
+            .logarithmic(true)
+            .text("stiffness ×"),
+    );
     ui.add(egui::Slider::new(&mut s.gravity.acceleration, 0.0..=30.0).text("gravity"));
 
     ui.separator();

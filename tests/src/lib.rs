@@ -2,15 +2,34 @@
 
 use runner::vulkan::{Context, ContextOptions};
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 pub use runner::vulkan::gpu_required;
+
+/// One GPU test at a time in a test binary. Debian's validation layer (1.3.239) dies of
+/// a segmentation fault on the NVIDIA driver when validated instances work in several
+/// threads at once (seen on the H100: the culling and image tests crashed run in
+/// parallel, and passed one at a time and each alone).
+static GPU: Mutex<()> = Mutex::new(());
+
+/// Holds the GPU for one test until dropped.
+pub type GpuGuard = MutexGuard<'static, ()>;
+
+fn gpu_lock() -> GpuGuard {
+    // A test that failed while holding it poisons it; the next one may still run.
+    GPU.lock().unwrap_or_else(PoisonError::into_inner)
+}
 
 /// Runs `test` with a Vulkan context under the validation layer (core and
 /// synchronization validation), then fails if the layer said anything, warnings too;
 /// or skips it (printing why) when there is no usable device or no layer, unless
-/// GRASS_REQUIRE_GPU=1, where that is a failure.
+/// GRASS_REQUIRE_GPU=1, where that is a failure. Holds the GPU lock throughout.
 pub fn with_device(name: &str, test: impl FnOnce(Arc<Context>)) {
+    let _gpu = gpu_lock();
+    run_with_device(name, test);
+}
+
+fn run_with_device(name: &str, test: impl FnOnce(Arc<Context>)) {
     // Validation messages go to the log; show them in the test output.
     let _ = env_logger::builder().is_test(true).try_init();
     let options = ContextOptions {
@@ -33,12 +52,14 @@ pub fn with_device(name: &str, test: impl FnOnce(Arc<Context>)) {
     }
 }
 
-/// Like [`with_device`] for tests that create their own context: says whether a
-/// device exists (skipping or failing as above when not).
-pub fn device_available(name: &str) -> bool {
+/// For tests that create their own contexts: the GPU lock, to hold for the whole test,
+/// when a device exists; `None` (skipping, or failing as [`with_device`] does) when
+/// not.
+pub fn device_available(name: &str) -> Option<GpuGuard> {
+    let gpu = gpu_lock();
     let mut found = false;
-    with_device(name, |_| found = true);
-    found
+    run_with_device(name, |_| found = true);
+    found.then_some(gpu)
 }
 
 /// Folder where failing tests leave the images they compared.

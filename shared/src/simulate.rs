@@ -75,7 +75,8 @@ pub type BladeState = (Blade, f32);
 /// small offset, not the blade's world coordinates (which would leave a settled tip
 /// wandering by an ulp of its coordinates over k).
 pub fn semi_implicit_tip(tip: Vec3, rest: Vec3, pushed: Vec3, k: f32) -> Vec3 {
-    rest + (tip + pushed - rest) / (1.0 + k)
+    // One division, not one per component.
+    rest + (tip + pushed - rest) * (1.0 / (1.0 + k))
 }
 
 /// One step of length `dt` at time `time` (paper section 5): gravity and wind move

@@ -76,6 +76,11 @@ pub fn wind_field(kind: u32, p: Vec3, time: f32, wind: Vec4) -> Vec3 {
 /// along the surface, wherever the blade stands, and on flat ground (t = 0) it is
 /// unchanged. The wind fields themselves are laid out in world directions.
 pub fn along_surface(wi: Vec3, p: Vec3, centre: Vec3, t: f32) -> Vec3 {
+    // Flat ground skips the square root: `t` is the same for every blade of a frame,
+    // so the whole dispatch takes the same branch.
+    if t == 0.0 {
+        return wi;
+    }
     let up = (p - centre).normalize_or_zero();
     wi - up * (t * wi.dot(up))
 }

@@ -2,7 +2,8 @@
 //! or along a scripted path (`--collider-path`) in both viewer and headless render.
 
 use glam::{Vec2, Vec3, Vec4};
-use shared::mesh::{SurfaceMesh, SurfacePoint, closest_point, ray_hit};
+use shared::mesh::SurfacePoint;
+use shared::mesh::bvh::IndexedMesh;
 
 /// How deep the ball sinks into the grass: its centre is this fraction of its radius
 /// above the surface, so it presses the blades down rather than rolling over them.
@@ -19,7 +20,7 @@ pub struct Ball {
 
 impl Ball {
     /// A ball of `radius` dropped onto `mesh` above (x, z) (see [`drop_onto`]).
-    pub fn dropped(mesh: &SurfaceMesh, xz: Vec2, radius: f32) -> Option<Self> {
+    pub fn dropped(mesh: &IndexedMesh, xz: Vec2, radius: f32) -> Option<Self> {
         drop_onto(mesh, xz).map(|contact| Self { contact, radius })
     }
 
@@ -30,21 +31,23 @@ impl Ball {
 
     /// Slides the ball by `delta` along the surface: moves in the tangent plane, then
     /// settles on the nearest point of `mesh`.
-    pub fn slide(&mut self, mesh: &SurfaceMesh, delta: Vec3) {
+    pub fn slide(&mut self, mesh: &IndexedMesh, delta: Vec3) {
         let n = self.contact.normal;
         let tangent = delta - n * n.dot(delta);
-        if let Some(p) = closest_point(mesh, self.contact.position + tangent) {
+        if let Some(p) = mesh.closest_point(self.contact.position + tangent) {
             self.contact = p;
         }
     }
 }
 
 /// Drops a point from high above (x, z) straight down onto `mesh`; where nothing is
-/// below, the nearest point of the mesh.
-pub fn drop_onto(mesh: &SurfaceMesh, xz: Vec2) -> Option<SurfacePoint> {
-    let (_, max) = mesh.bounds()?;
+/// below, the nearest point of the mesh. Both through the mesh's hierarchy: a few
+/// dozen triangles looked at, not every one.
+pub fn drop_onto(mesh: &IndexedMesh, xz: Vec2) -> Option<SurfacePoint> {
+    let (_, max) = mesh.mesh.bounds()?;
     let above = Vec3::new(xz.x, max.y + 1.0, xz.y);
-    ray_hit(mesh, above, Vec3::NEG_Y).or_else(|| closest_point(mesh, above))
+    mesh.ray_hit(above, Vec3::NEG_Y)
+        .or_else(|| mesh.closest_point(above))
 }
 
 /// A polyline in the ground plane (x, z) the ball follows at a constant speed, then
@@ -110,7 +113,7 @@ mod tests {
 
     #[test]
     fn the_ball_slides_along_a_plane_and_stays_on_a_planet() {
-        let plane = crate::scene::builtin::plane(10.0, 4);
+        let plane = IndexedMesh::new(crate::scene::builtin::plane(10.0, 4));
         let mut ball = Ball {
             contact: drop_onto(&plane, Vec2::new(1.0, 2.0)).unwrap(),
             radius: 1.5,
@@ -121,7 +124,7 @@ mod tests {
         assert!((ball.contact.position - Vec3::new(1.5, 0.0, 2.0)).length() < 1e-5);
         assert!((ball.sphere() - Vec4::new(1.5, 0.9, 2.0, 1.5)).length() < 1e-5);
 
-        let planet = crate::scene::builtin::sphere(Vec3::ZERO, 5.0, 4);
+        let planet = IndexedMesh::new(crate::scene::builtin::sphere(Vec3::ZERO, 5.0, 4));
         let mut ball = Ball {
             contact: drop_onto(&planet, Vec2::ZERO).unwrap(),
             radius: 1.0,

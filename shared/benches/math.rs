@@ -10,6 +10,8 @@ use shared::glam::camera::rh;
 use shared::glam::{Mat4, Vec3, Vec4};
 use shared::hiz::{self, HiZLayout};
 use shared::lod::{focal_pixels, screen_level};
+use shared::mesh::bvh::MeshBvh;
+use shared::mesh::{SurfaceMesh, closest_point, ray_hit};
 use shared::shape::{SHAPE_QUADRATIC, surface_point};
 use shared::simulate::{Environment, simulate};
 
@@ -110,4 +112,72 @@ fn lod_level(bencher: Bencher) {
 fn hiz_build_1080p(bencher: Bencher) {
     let depth: Vec<f32> = (0..1920 * 1080).map(|i| (i % 977) as f32 / 977.0).collect();
     bencher.bench(|| black_box(hiz::build(&depth, 1920, 1080)));
+}
+
+/// Rolling ground of 1,448 × 1,448 quads: 4,193,408 triangles, the size at which issue
+/// 15 measured the exhaustive ball placement at about 35 ms.
+fn big_ground() -> &'static SurfaceMesh {
+    static MESH: std::sync::OnceLock<SurfaceMesh> = std::sync::OnceLock::new();
+    MESH.get_or_init(|| {
+        let n = 1448u32;
+        let mut mesh = SurfaceMesh::default();
+        for z in 0..=n {
+            for x in 0..=n {
+                let (fx, fz) = (x as f32 * 0.1, z as f32 * 0.1);
+                mesh.positions
+                    .push(Vec3::new(fx, (fx * 0.3).sin() + (fz * 0.2).cos(), fz));
+                mesh.normals.push(Vec3::Y);
+            }
+        }
+        let at = |x: u32, z: u32| z * (n + 1) + x;
+        for z in 0..n {
+            for x in 0..n {
+                mesh.triangles.push([at(x, z), at(x, z + 1), at(x + 1, z)]);
+                mesh.triangles
+                    .push([at(x + 1, z), at(x, z + 1), at(x + 1, z + 1)]);
+            }
+        }
+        mesh
+    })
+}
+
+/// Where the k-th placement drops the ball: points spread over the ground.
+fn placement(k: u32) -> Vec3 {
+    let t = k as f32 * 2.399_963;
+    Vec3::new(72.4 + 60.0 * t.cos(), 10.0, 72.4 + 60.0 * t.sin())
+}
+
+/// One placement of the ball through the hierarchy on 4 M triangles: a ray dropped
+/// onto the ground, and the closest point (what sliding it asks).
+#[divan::bench(sample_count = 50)]
+fn ball_placement_4m_triangles_bvh(bencher: Bencher) {
+    let mesh = big_ground();
+    let bvh = MeshBvh::new(mesh);
+    let mut k = 0;
+    bencher.bench_local(|| {
+        k += 1;
+        let p = placement(k);
+        black_box(bvh.ray_hit(mesh, p, Vec3::NEG_Y));
+        black_box(bvh.closest_point(mesh, p - Vec3::Y * 9.0))
+    });
+}
+
+/// The same placement by the exhaustive search over every triangle.
+#[divan::bench(sample_count = 3, sample_size = 1)]
+fn ball_placement_4m_triangles_exhaustive(bencher: Bencher) {
+    let mesh = big_ground();
+    let mut k = 0;
+    bencher.bench_local(|| {
+        k += 1;
+        let p = placement(k);
+        black_box(ray_hit(mesh, p, Vec3::NEG_Y));
+        black_box(closest_point(mesh, p - Vec3::Y * 9.0))
+    });
+}
+
+/// Building the hierarchy over 4 M triangles (once per scene, at start-up).
+#[divan::bench(sample_count = 3, sample_size = 1)]
+fn bvh_build_4m_triangles(bencher: Bencher) {
+    let mesh = big_ground();
+    bencher.bench(|| black_box(MeshBvh::new(mesh)));
 }

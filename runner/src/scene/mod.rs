@@ -10,6 +10,7 @@ use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use shared::Blade;
 use shared::generate::{DENSITY, side_for};
+use shared::mesh::bvh::IndexedMesh;
 use shared::mesh::{SurfaceMesh, scatter};
 use shared::settings::Settings;
 use std::path::PathBuf;
@@ -68,8 +69,8 @@ pub struct Scene {
     pub surface: SurfaceMesh,
     /// Drawn without grass (rock).
     pub bare: SurfaceMesh,
-    /// Everything solid, for placing the collider ball.
-    pub solid: SurfaceMesh,
+    /// Everything solid, with its hierarchy, for placing the collider ball.
+    pub solid: IndexedMesh,
     /// The collider ball's mesh: a unit sphere, placed and sized per frame.
     pub ball: SurfaceMesh,
     /// Gravity pulls towards this point (the planet's centre), if any.
@@ -188,7 +189,7 @@ impl Scene {
             blades: scatter(&surface, blades, seed),
             surface,
             bare,
-            solid,
+            solid: IndexedMesh::new(solid),
             ball: builtin::sphere(Vec3::ZERO, 1.0, 3),
             gravity_centre,
             bounds: (centre, radius),

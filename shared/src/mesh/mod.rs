@@ -297,19 +297,70 @@ fn closest_on_triangle(p: Vec3, [a, b, c]: [Vec3; 3]) -> (Vec3, Vec3) {
     (a + ab * v + ac * w, Vec3::new(1.0 - v - w, v, w))
 }
 
-/// Closest point on the mesh to `p` (brute force over the triangles), with the
-/// interpolated normal there. `None` for a mesh without triangles.
+/// The closest point of triangle `i` of `mesh` to `p`: its squared distance, the
+/// point, its barycentric weights and the triangle's corners (`None` for a triangle
+/// whose corners are missing, or so degenerate that the point is not finite).
+pub(crate) fn closest_on_mesh_triangle(
+    mesh: &SurfaceMesh,
+    i: usize,
+    p: Vec3,
+) -> Option<(f32, Vec3, Vec3, [Vec3; 3])> {
+    let abc = mesh.corners(i)?;
+    let (q, weights) = closest_on_triangle(p, abc);
+    let d = p.distance_squared(q);
+    // A degenerate triangle can give no point at all: it is no candidate.
+    d.is_finite().then_some((d, q, weights, abc))
+}
+
+/// Where the ray `origin + t·dir` meets triangle `i` of `mesh` (Möller–Trumbore, both
+/// faces): t, the barycentric weights and the corners; `None` when it misses, runs
+/// parallel to it, or meets it at t ≤ 0.
+pub(crate) fn ray_mesh_triangle(
+    mesh: &SurfaceMesh,
+    i: usize,
+    origin: Vec3,
+    dir: Vec3,
+) -> Option<(f32, Vec3, [Vec3; 3])> {
+    let abc @ [a, b, c] = mesh.corners(i)?;
+    let e1 = b - a;
+    let e2 = c - a;
+    let pvec = dir.cross(e2);
+    let det = e1.dot(pvec);
+    // |det| = |dir|·|e1 × e2|·cos(angle to the normal): relative, so the test does
+    // not depend on the scale of the scene.
+    let parallel = 1e-7 * dir.length() * e1.cross(e2).length();
+    if !det.is_finite() || det.abs() <= parallel {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let tvec = origin - a;
+    let u = tvec.dot(pvec) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let qvec = tvec.cross(e1);
+    let v = dir.dot(qvec) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(qvec) * inv;
+    (t > 0.0).then_some((t, Vec3::new(1.0 - u - v, u, v), abc))
+}
+
+/// Closest point on the mesh to `p` (brute force over the triangles; [`bvh::MeshBvh`]
+/// answers the same from a hierarchy), with the interpolated normal there; of equally
+/// close triangles the first. `None` for a mesh without triangles.
 pub fn closest_point(mesh: &SurfaceMesh, p: Vec3) -> Option<SurfacePoint> {
-    let mut best: Option<(f32, usize, [Vec3; 3], Vec3, Vec3)> = None;
+    let mut best: Option<(f32, usize, Vec3, Vec3, [Vec3; 3])> = None;
     for i in 0..mesh.triangles.len() {
-        let Some(abc) = mesh.corners(i) else { continue };
-        let (q, weights) = closest_on_triangle(p, abc);
-        let d = p.distance_squared(q);
+        let Some((d, q, weights, abc)) = closest_on_mesh_triangle(mesh, i, p) else {
+            continue;
+        };
         if best.is_none_or(|(best_d, ..)| d < best_d) {
-            best = Some((d, i, abc, q, weights));
+            best = Some((d, i, q, weights, abc));
         }
     }
-    let (_, i, abc, position, weights) = best?;
+    let (_, i, position, weights, abc) = best?;
     Some(SurfacePoint {
         position,
         normal: mesh.normal_at(i, abc, weights),
@@ -317,46 +368,28 @@ pub fn closest_point(mesh: &SurfaceMesh, p: Vec3) -> Option<SurfacePoint> {
 }
 
 /// First hit of the ray `origin + t·dir` (t > 0) with the mesh, with the interpolated
-/// normal there (as stored, not turned towards the ray). Both faces of a triangle are
-/// hit (Möller–Trumbore without culling); rays parallel to a triangle miss it.
+/// normal there (as stored, not turned towards the ray); of hits at the same t the
+/// first triangle's. Both faces of a triangle are hit (Möller–Trumbore without
+/// culling); rays parallel to a triangle miss it. Brute force; [`bvh::MeshBvh`] answers
+/// the same from a hierarchy.
 pub fn ray_hit(mesh: &SurfaceMesh, origin: Vec3, dir: Vec3) -> Option<SurfacePoint> {
-    let mut best: Option<(f32, usize, [Vec3; 3], Vec3)> = None;
+    let mut best: Option<(f32, usize, Vec3, [Vec3; 3])> = None;
     for i in 0..mesh.triangles.len() {
-        let Some(abc @ [a, b, c]) = mesh.corners(i) else {
+        let Some((t, weights, abc)) = ray_mesh_triangle(mesh, i, origin, dir) else {
             continue;
         };
-        let e1 = b - a;
-        let e2 = c - a;
-        let pvec = dir.cross(e2);
-        let det = e1.dot(pvec);
-        // |det| = |dir|·|e1 × e2|·cos(angle to the normal): relative, so the test does
-        // not depend on the scale of the scene.
-        let parallel = 1e-7 * dir.length() * e1.cross(e2).length();
-        if !det.is_finite() || det.abs() <= parallel {
-            continue;
-        }
-        let inv = 1.0 / det;
-        let tvec = origin - a;
-        let u = tvec.dot(pvec) * inv;
-        if !(0.0..=1.0).contains(&u) {
-            continue;
-        }
-        let qvec = tvec.cross(e1);
-        let v = dir.dot(qvec) * inv;
-        if v < 0.0 || u + v > 1.0 {
-            continue;
-        }
-        let t = e2.dot(qvec) * inv;
-        if t > 0.0 && best.is_none_or(|(best_t, ..)| t < best_t) {
-            best = Some((t, i, abc, Vec3::new(1.0 - u - v, u, v)));
+        if best.is_none_or(|(best_t, ..)| t < best_t) {
+            best = Some((t, i, weights, abc));
         }
     }
-    let (t, i, abc, weights) = best?;
+    let (t, i, weights, abc) = best?;
     Some(SurfacePoint {
         position: origin + dir * t,
         normal: mesh.normal_at(i, abc, weights),
     })
 }
+
+pub mod bvh;
 
 #[cfg(test)]
 mod tests;

@@ -310,3 +310,101 @@ fn ray_hit_hand_worked() {
     let hit = ray_hit(&two, Vec3::new(0.5, -2.0, 0.5), Vec3::Y).unwrap();
     assert!(close(hit.position, Vec3::new(0.5, 0.0, 0.5)));
 }
+
+mod hierarchy {
+    use super::*;
+    use crate::mesh::bvh::MeshBvh;
+    use proptest::prelude::*;
+
+    /// A grid of `n` × `n` quads over [0, n]² at y = 0, two triangles each, sharing
+    /// vertices: many equally close triangles, rays landing on shared edges.
+    fn grid(n: u32) -> SurfaceMesh {
+        let mut mesh = SurfaceMesh::default();
+        for z in 0..=n {
+            for x in 0..=n {
+                mesh.positions.push(Vec3::new(x as f32, 0.0, z as f32));
+                // Normals that differ per vertex, so a wrong triangle shows.
+                mesh.normals
+                    .push(Vec3::new(0.1 * (x % 3) as f32, 1.0, 0.1 * (z % 2) as f32).normalize());
+            }
+        }
+        let at = |x: u32, z: u32| z * (n + 1) + x;
+        for z in 0..n {
+            for x in 0..n {
+                mesh.triangles.push([at(x, z), at(x, z + 1), at(x + 1, z)]);
+                mesh.triangles
+                    .push([at(x + 1, z), at(x, z + 1), at(x + 1, z + 1)]);
+            }
+        }
+        mesh
+    }
+
+    fn point(extent: f32) -> impl Strategy<Value = Vec3> {
+        (-extent..extent, -extent..extent, -extent..extent).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    /// Triangles anywhere in a small box, some of them slivers and some repeated.
+    fn soup_mesh() -> impl Strategy<Value = SurfaceMesh> {
+        prop::collection::vec((point(4.0), point(4.0), point(4.0), 0..4u8), 1..80).prop_map(
+            |tris| {
+                let corners: Vec<[Vec3; 3]> = tris
+                    .iter()
+                    .map(|&(a, b, c, kind)| match kind {
+                        0 => [a, b, a + (b - a) * 0.5],
+                        1 => [a, a, c],
+                        _ => [a, b, c],
+                    })
+                    .chain(tris.iter().take(3).map(|&(a, b, c, _)| [a, b, c]))
+                    .collect();
+                soup(&corners)
+            },
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+        /// The hierarchy gives exactly the exhaustive search's answers: the same
+        /// closest point and normal, the same first hit.
+        #[test]
+        fn the_hierarchy_answers_as_the_exhaustive_search(
+            mesh in soup_mesh(),
+            queries in prop::collection::vec((point(6.0), point(1.0)), 1..16),
+        ) {
+            let bvh = MeshBvh::new(&mesh);
+            for (p, dir) in queries {
+                prop_assert_eq!(bvh.closest_point(&mesh, p), closest_point(&mesh, p));
+                prop_assert_eq!(bvh.ray_hit(&mesh, p, dir), ray_hit(&mesh, p, dir));
+            }
+        }
+
+        /// On a grid of shared vertices, where many triangles are equally close and
+        /// dropped rays land on shared edges, the first triangle wins in both.
+        #[test]
+        fn ties_on_a_grid_go_to_the_first_triangle(
+            n in 1u32..24,
+            queries in prop::collection::vec((0u32..48, 0u32..48, -2.0f32..2.0), 1..24),
+        ) {
+            let mesh = grid(n);
+            let bvh = MeshBvh::new(&mesh);
+            for (x, z, y) in queries {
+                // On vertices, edges and quad centres, above, on and below the grid.
+                let p = Vec3::new(x as f32 * 0.5, y, z as f32 * 0.5);
+                prop_assert_eq!(bvh.closest_point(&mesh, p), closest_point(&mesh, p));
+                let above = p + Vec3::Y * 3.0;
+                prop_assert_eq!(
+                    bvh.ray_hit(&mesh, above, Vec3::NEG_Y),
+                    ray_hit(&mesh, above, Vec3::NEG_Y)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_empty_mesh_has_no_answer() {
+        let mesh = SurfaceMesh::default();
+        let bvh = MeshBvh::new(&mesh);
+        assert_eq!(bvh.closest_point(&mesh, Vec3::ZERO), None);
+        assert_eq!(bvh.ray_hit(&mesh, Vec3::ZERO, Vec3::Y), None);
+    }
+}

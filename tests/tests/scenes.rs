@@ -142,3 +142,69 @@ fn share(image: &RgbaImage, pred: impl Fn([i32; 3]) -> bool) -> f64 {
         .count();
     n as f64 / f64::from(image.width() * image.height())
 }
+
+/// The walls scene's ground and stones meet without cracks: no pixel inside the
+/// ground square's outline on screen may show the sky (the clear colour, read from the
+/// top-left corner, above the horizon). Seen from above the field's corner, where the
+/// walls' feet are in sight.
+#[test]
+fn the_walls_meet_the_ground_without_cracks() {
+    let Some(_gpu) = device_available("the_walls_meet_the_ground_without_cracks") else {
+        return;
+    };
+    // Few blades, so the ground and the walls' feet are in sight.
+    let blades = 64;
+    let args = format!(
+        "--scene walls --blades {blades} --frames 2 --width 512 --height 288 --pitch 35 \
+         --zoom 1.6 --yaw 30 --wind calm"
+    );
+    let (report, image) = render_image(&args);
+    let kind = runner::scene::SceneKind::Walls;
+    let count = runner::scene::BladeCount::Total(blades);
+    let scene = runner::scene::Scene::build(&kind, None, count, 1, |_| Ok(())).unwrap();
+    // The ground square: the mesh's bounds at y = 0.
+    let (lo, hi) = scene.surface.bounds().unwrap();
+    let corners = [
+        Vec3::new(lo.x, 0.0, lo.z),
+        Vec3::new(hi.x, 0.0, lo.z),
+        Vec3::new(hi.x, 0.0, hi.z),
+        Vec3::new(lo.x, 0.0, hi.z),
+    ];
+    let (w, h) = (image.width() as f32, image.height() as f32);
+    let screen: Vec<Vec2> = corners
+        .iter()
+        .map(|c| {
+            let clip = report.view_proj * c.extend(1.0);
+            assert!(clip.w > 0.0, "a ground corner behind the camera");
+            let ndc = clip.xy() / clip.w;
+            Vec2::new((ndc.x + 1.0) * 0.5 * w, (ndc.y + 1.0) * 0.5 * h)
+        })
+        .collect();
+    // Inside the convex outline, two pixels in from its edges.
+    let inside = |p: Vec2| {
+        let sign = |a: Vec2, b: Vec2| (b - a).perp_dot(p - a) / (b - a).length();
+        let s: Vec<f32> = (0..4)
+            .map(|i| sign(screen[i], screen[(i + 1) % 4]))
+            .collect();
+        s.iter().all(|&d| d > 2.0) || s.iter().all(|&d| d < -2.0)
+    };
+    let sky = *image.get_pixel(0, 0);
+    let mut cracks = 0;
+    let mut ground = 0;
+    for (x, y, p) in image.enumerate_pixels() {
+        if inside(Vec2::new(x as f32 + 0.5, y as f32 + 0.5)) {
+            ground += 1;
+            cracks += usize::from(*p == sky);
+        }
+    }
+    println!("walls: {cracks} sky pixels among {ground} inside the ground's outline");
+    assert!(
+        ground > 20_000,
+        "the ground covers too little of the image: {ground}"
+    );
+    assert!(
+        cracks == 0,
+        "{cracks} sky pixels inside the ground's outline; {}",
+        save_failure("walls_cracks", &image, None)
+    );
+}

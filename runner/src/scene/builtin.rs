@@ -109,8 +109,8 @@ const WALLS: [([f32; 3], [f32; 3]); 4] = [
 ];
 
 /// The occluder scene: a square field of side `side` (a grid of `cells`×`cells`)
-/// with stone walls and a block standing on it, returned as (ground with holes under
-/// the stones, the stones). Walls are a quarter of the side high (at least 2.5), so
+/// with stone walls and a block standing on it, returned as (ground with holes where
+/// a triangle lies wholly under a stone, the stones). Walls are a quarter of the side high (at least 2.5), so
 /// from a low camera they hide much of the grass behind them.
 pub fn walls(side: f32, cells: u32) -> (SurfaceMesh, SurfaceMesh) {
     let height = (0.25 * side).max(2.5);
@@ -122,15 +122,17 @@ pub fn walls(side: f32, cells: u32) -> (SurfaceMesh, SurfaceMesh) {
             (scale(*lo) - Vec3::Y * 0.05, scale(*hi))
         })
         .collect();
+    // Holes only where a triangle lies wholly under a stone: a triangle the stone's
+    // edge crosses stays, its inner part hidden in the stone, so ground and stone meet
+    // without a crack (cutting every triangle whose centroid was under a stone left
+    // slivers of sky along the stones' feet).
     let mut ground = plane(side, cells);
     ground.triangles.retain(|tri| {
-        let centroid = tri
-            .iter()
-            .map(|&i| ground.positions[i as usize])
-            .sum::<Vec3>()
-            / 3.0;
         !boxes.iter().any(|(lo, hi)| {
-            (lo.x..=hi.x).contains(&centroid.x) && (lo.z..=hi.z).contains(&centroid.z)
+            tri.iter().all(|&i| {
+                let p = ground.positions[i as usize];
+                (lo.x..=hi.x).contains(&p.x) && (lo.z..=hi.z).contains(&p.z)
+            })
         })
     });
     let mut stones = SurfaceMesh::default();

@@ -16,9 +16,10 @@ struct Xvfb {
 }
 
 impl Xvfb {
-    /// Starts Xvfb on a display no other run uses; `None` where it is not installed.
-    fn start() -> Option<Self> {
-        let number = 200 + std::process::id() % 500;
+    /// Starts Xvfb on a display no other run (nor this run's other `slot`s) uses;
+    /// `None` where it is not installed.
+    fn start(slot: u32) -> Option<Self> {
+        let number = 200 + (std::process::id() % 400) * 2 + slot;
         let child = Command::new("Xvfb")
             .args([
                 &format!(":{number}"),
@@ -55,12 +56,19 @@ impl Drop for Xvfb {
     }
 }
 
-/// Runs `grass` with `args` on `display`; fails the test if it has not quit by `limit`.
-fn run_viewer(display: &str, args: &[&str], limit: Duration) -> (bool, String) {
+/// Runs `grass` with `args` and `env` on `display`; fails the test if it has not quit
+/// by `limit`.
+fn run_viewer(
+    display: &str,
+    args: &[&str],
+    env: &[(&str, &str)],
+    limit: Duration,
+) -> (bool, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_grass"))
         .args(args)
         .env("DISPLAY", display)
         .env("RUST_LOG", "info")
+        .envs(env.iter().copied())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -86,7 +94,7 @@ fn run_viewer(display: &str, args: &[&str], limit: Duration) -> (bool, String) {
 
 #[test]
 fn the_viewer_draws_through_a_resize_storm() {
-    let Some(x) = Xvfb::start() else {
+    let Some(x) = Xvfb::start(0) else {
         assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
         eprintln!("skipped: no Xvfb");
         return;
@@ -99,7 +107,7 @@ fn the_viewer_draws_through_a_resize_storm() {
         "--blades",
         "256",
     ];
-    let (ok, log) = run_viewer(&x.display, &args, Duration::from_secs(300));
+    let (ok, log) = run_viewer(&x.display, &args, &[], Duration::from_secs(300));
     if !ok && !gpu_required() && log.contains("device") {
         eprintln!("skipped, no device: {log}");
         return;
@@ -132,4 +140,27 @@ fn the_viewer_draws_through_a_resize_storm() {
     ] {
         assert!(log.contains(expected), "no \"{expected}\": {log}");
     }
+}
+
+#[test]
+fn a_lost_device_is_made_again_and_the_viewer_carries_on() {
+    let Some(x) = Xvfb::start(1) else {
+        assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
+        eprintln!("skipped: no Xvfb");
+        return;
+    };
+    let args = ["--frames", "80", "--validation", "--blades", "256"];
+    let fault = [("GRASS_FAULT", "device-lost:30")];
+    let (ok, log) = run_viewer(&x.display, &args, &fault, Duration::from_secs(300));
+    if !ok && !gpu_required() && log.contains("device") && !log.contains("made again") {
+        eprintln!("skipped, no device: {log}");
+        return;
+    }
+    assert!(ok, "{log}");
+    assert!(
+        log.contains("The GPU device was lost and has been made again (1 of 3)"),
+        "no recovery: {log}"
+    );
+    assert!(log.contains("80 frames drawn"), "{log}");
+    assert!(!log.contains("validation:"), "validation messages: {log}");
 }

@@ -48,8 +48,9 @@ pub fn advice(error: &anyhow::Error) -> Option<&'static str> {
     Some(match *result {
         R::ERROR_DEVICE_LOST => {
             "the GPU device was lost (VK_ERROR_DEVICE_LOST): the driver reset it, it was \
-             removed, or it crashed. Nothing more can be drawn in this run; start grass \
-             again, and if it repeats, try fewer blades (--blades) or another driver"
+             removed, or it crashed. The viewer makes it again up to three times; here \
+             nothing more can be drawn: start grass again, and if it repeats, try fewer \
+             blades (--blades) or another driver"
         }
         R::ERROR_OUT_OF_DEVICE_MEMORY => {
             "the GPU ran out of memory (VK_ERROR_OUT_OF_DEVICE_MEMORY): ask for fewer \

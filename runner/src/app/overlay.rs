@@ -23,6 +23,8 @@ pub struct Readings {
     pub times: Option<PassTimes>,
     /// The scene has surfaces that can hide grass.
     pub occluders: bool,
+    /// Something the user should know, shown above everything (a device made again).
+    pub notice: Option<String>,
 }
 
 /// egui's output for one frame, ready for the overlay pass.
@@ -125,6 +127,9 @@ impl Overlay {
 
 /// FPS, the frame-time graph and GPU time per pass.
 fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) {
+    if let Some(notice) = &r.notice {
+        ui.colored_label(Color32::from_rgb(255, 170, 60), notice);
+    }
     let last = frame_ms.last().copied().unwrap_or(0.0);
     ui.label(format!("{:.1} fps, {last:.2} ms ({device})", r.fps));
     let top = frame_ms.iter().copied().fold(1000.0 / 30.0, f32::max);

@@ -17,6 +17,7 @@ use crate::vulkan::{Context, ContextOptions};
 use anyhow::{Context as _, Result};
 use glam::{Vec2, Vec3, Vec3Swizzles};
 use shared::settings::Settings;
+use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -131,11 +132,50 @@ impl Pace {
     }
 }
 
+/// Everything on the GPU: made once at start, and again after a lost device.
+struct Gpu {
+    driver: FrameDriver,
+    presenter: Presenter,
+}
+
+impl Gpu {
+    /// A context for `window`'s surface.
+    fn context(window: &Window, validation: bool) -> Result<Arc<Context>> {
+        let display = window.display_handle().context("display handle")?.as_raw();
+        let extensions = ash_window::enumerate_required_extensions(display)
+            .context("Vulkan surface extensions for this window system")?;
+        Context::new(ContextOptions {
+            validation,
+            surface_extensions: extensions,
+            window: Some(window),
+        })
+    }
+
+    /// The presenter, the renderer of `scene` (its blades as the seed made them) with
+    /// the overlay, and the frame driver, on `ctx`.
+    fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self> {
+        let presenter = Presenter::new(ctx)?;
+        let mut renderer = Renderer::new(ctx, &scene.meshes(), presenter.format())?;
+        renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
+        let driver = FrameDriver::new(ctx, renderer)?;
+        Ok(Self { driver, presenter })
+    }
+}
+
+/// True when `error` came from a lost device.
+fn device_lost(error: &anyhow::Error) -> bool {
+    error
+        .chain()
+        .any(|c| c.downcast_ref::<ash::vk::Result>() == Some(&ash::vk::Result::ERROR_DEVICE_LOST))
+}
+
+/// Lost devices the viewer makes again before it gives up.
+const MAX_RECOVERIES: u32 = 3;
+
 // Fields drop in order: GPU objects first (the last of them ends the context), then
 // the window its surface belongs to.
 struct Running {
-    driver: FrameDriver,
-    presenter: Presenter,
+    gpu: Gpu,
     scene: Scene,
     settings: Settings,
     common: Common,
@@ -148,6 +188,10 @@ struct Running {
     pace: Pace,
     /// The scripted window changes of `--resize-storm`.
     storm: Option<Storm>,
+    /// Lost devices made again so far.
+    recoveries: u32,
+    /// Shown in the overlay and the title after a recovery.
+    notice: Option<String>,
     window: Window,
 }
 
@@ -164,19 +208,9 @@ impl Running {
         let window = event_loop
             .create_window(attributes)
             .context("create window")?;
-        let display = window.display_handle().context("display handle")?.as_raw();
-        let extensions = ash_window::enumerate_required_extensions(display)
-            .context("Vulkan surface extensions for this window system")?;
-        let ctx = Context::new(ContextOptions {
-            validation: common.validation_requested(),
-            surface_extensions: extensions,
-            window: Some(&window),
-        })?;
+        let ctx = Gpu::context(&window, common.validation_requested())?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
-        let presenter = Presenter::new(&ctx)?;
-        let mut renderer = Renderer::new(&ctx, &scene.meshes(), presenter.format())?;
-        renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
-        let driver = FrameDriver::new(&ctx, renderer)?;
+        let gpu = Gpu::new(&ctx, &scene)?;
         let overlay = Overlay::new(&window, ctx.device_name());
         log::info!("{CONTROLS}");
         // The ball starts at the path's start, else in front of the camera's target.
@@ -186,8 +220,7 @@ impl Running {
             .map_or(scene.camera().target.xz(), |p| p.at(0.0));
         let ball = Ball::dropped(&scene.solid, start, common.collider_radius);
         Ok(Self {
-            driver,
-            presenter,
+            gpu,
             settings,
             common: common.clone(),
             camera: scene.camera(),
@@ -199,6 +232,8 @@ impl Running {
             overlay,
             pace: Pace::new(),
             storm: args.resize_storm.then(Storm::default),
+            recoveries: 0,
+            notice: None,
             window,
         })
     }
@@ -212,27 +247,63 @@ impl Running {
         }
     }
 
+    /// After a lost device: a new context, presenter, renderer (the field as the seed
+    /// made it) and overlay; the camera, the settings and the ball stay. An error when
+    /// the device is lost too often, or cannot be made again.
+    fn recover(&mut self, error: anyhow::Error) -> Result<()> {
+        if self.recoveries >= MAX_RECOVERIES {
+            return Err(error.context(format!(
+                "the GPU device was lost {} times",
+                MAX_RECOVERIES + 1
+            )));
+        }
+        self.recoveries += 1;
+        log::warn!(
+            "{error:#}: making the device again ({} of {MAX_RECOVERIES})",
+            self.recoveries
+        );
+        let ctx = Gpu::context(&self.window, self.common.validation_requested())
+            .context("make the device again after it was lost")?;
+        // The new objects are made before the old ones go: the old device is lost, and
+        // its objects only wait to be destroyed.
+        self.gpu = Gpu::new(&ctx, &self.scene).context("make the renderer again")?;
+        let visible = self.overlay.visible;
+        self.overlay = Overlay::new(&self.window, ctx.device_name());
+        self.overlay.visible = visible;
+        let notice = format!(
+            "The GPU device was lost and has been made again ({} of {MAX_RECOVERIES}); the \
+             field starts anew.",
+            self.recoveries
+        );
+        log::warn!("{notice}");
+        self.window.set_title(&format!("grass: {notice}"));
+        self.notice = Some(notice);
+        Ok(())
+    }
+
     /// Draws one frame; returns without drawing while minimised.
     fn frame(&mut self) -> Result<()> {
         let size = self.size();
-        if !self.presenter.prepare((size.width, size.height))? {
+        if !self.gpu.presenter.prepare((size.width, size.height))? {
             return Ok(());
         }
         // Simulated time and the ball follow the wall clock.
         let dt = self.pace.tick();
-        let Some(frame) = self.driver.begin(&mut self.presenter, dt)? else {
+        let gpu = &mut self.gpu;
+        let Some(frame) = gpu.driver.begin(&mut gpu.presenter, dt)? else {
             return Ok(());
         };
         self.move_ball(dt as f32, frame.time);
         self.overlay.frame_time((dt * 1000.0) as f32);
         // After the read-back, so the overlay shows the newest counts.
-        let readback = &self.driver.readback;
+        let readback = &self.gpu.driver.readback;
         let readings = Readings {
             fps: self.pace.fps,
             blades: self.scene.blade_count(),
             counts: readback.counts,
             times: readback.times,
-            occluders: self.driver.renderer.has_occluders,
+            occluders: self.gpu.driver.renderer.has_occluders,
+            notice: self.notice.clone(),
         };
         let painted = self.overlay.run(
             &self.window,
@@ -258,7 +329,8 @@ impl Running {
             }),
             capture: false,
         };
-        self.driver.submit(frame, &mut self.presenter, spec)?;
+        let gpu = &mut self.gpu;
+        gpu.driver.submit(frame, &mut gpu.presenter, spec)?;
         if self.pace.drawn() {
             self.report();
         }
@@ -267,7 +339,7 @@ impl Running {
 
     /// Once a second: frame rate and visible blades in the title and the log.
     fn report(&mut self) {
-        let visible = self.driver.readback.visible().unwrap_or(0);
+        let visible = self.gpu.driver.readback.visible().unwrap_or(0);
         let line = format!(
             "{:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
             self.pace.fps,
@@ -278,7 +350,7 @@ impl Running {
         );
         self.window.set_title(&format!("grass: {line}"));
         log::info!("{line}");
-        if let Some(counts) = self.driver.readback.counts {
+        if let Some(counts) = self.gpu.driver.readback.counts {
             log::info!("{}", super::render::describe(&counts));
         }
     }
@@ -307,7 +379,7 @@ impl Running {
             Gust::Zero => {}
         }
         // Whatever the window system makes of it, the next frame checks the surface.
-        self.presenter.recreate = true;
+        self.gpu.presenter.recreate = true;
     }
 
     /// Moves the ball along its path (to where it is at simulated time `time`), or by
@@ -474,7 +546,7 @@ impl ApplicationHandler for Viewer {
             },
             WindowEvent::Focused(false) => state.arrows = Arrows::default(),
             WindowEvent::ModifiersChanged(m) => state.mouse.modifiers = m.state(),
-            WindowEvent::Resized(_) => state.presenter.recreate = true,
+            WindowEvent::Resized(_) => state.gpu.presenter.recreate = true,
             WindowEvent::MouseInput {
                 state: pressed,
                 button,
@@ -497,7 +569,11 @@ impl ApplicationHandler for Viewer {
                 state.camera.zoom(steps);
             }
             WindowEvent::RedrawRequested => {
-                if let Err(e) = state.frame() {
+                let result = match state.frame() {
+                    Err(e) if device_lost(&e) => state.recover(e),
+                    other => other,
+                };
+                if let Err(e) = result {
                     self.error = Some(e);
                     event_loop.exit();
                 } else if self.args.frames.is_some_and(|n| state.pace.frames >= n) {
@@ -514,7 +590,7 @@ impl ApplicationHandler for Viewer {
             log::info!(
                 "{} frames drawn, {} swapchains made, {gusts} storm gusts",
                 state.pace.frames,
-                state.presenter.swapchains
+                state.gpu.presenter.swapchains
             );
         }
     }

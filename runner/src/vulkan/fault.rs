@@ -7,13 +7,18 @@
 
 use ash::vk;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The injected device loss has happened (it happens once a run).
+static LOST: AtomicBool = AtomicBool::new(false);
 
 /// The fault asked for in `GRASS_FAULT`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Fault {
     /// Every device reports this feature (by its Vulkan name) as missing.
     MissingFeature(String),
-    /// The device is lost when the renderer waits for this frame (counted from 0).
+    /// The device is lost when the renderer waits for this frame (counted from 0),
+    /// once a run.
     DeviceLost(u64),
     /// This many bytes of host memory are leaked (written, never freed) every frame.
     Leak(usize),
@@ -63,7 +68,10 @@ pub fn feature_removed(feature: &str) -> bool {
 /// the frame's bytes when it asks for a leak.
 pub fn check_frame(frame: u64) -> Result<(), vk::Result> {
     match injected() {
-        Some(Fault::DeviceLost(at)) if *at == frame => Err(vk::Result::ERROR_DEVICE_LOST),
+        // Once a run: a viewer that makes its device again starts counting anew.
+        Some(Fault::DeviceLost(at)) if *at == frame && !LOST.swap(true, Ordering::SeqCst) => {
+            Err(vk::Result::ERROR_DEVICE_LOST)
+        }
         Some(Fault::Leak(bytes)) => {
             // Written, so the pages count in the resident set; never freed.
             std::mem::forget(vec![1u8; *bytes]);

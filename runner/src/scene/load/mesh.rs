@@ -220,10 +220,12 @@ mod tests {
     #[test]
     fn obj_with_a_nan_vertex_names_it() {
         // tobj parses `nan` (Rust's f32 parser does), so the check here must catch it.
-        let (file, result) = load_obj_text("o field\nv 0 0 0\nv nan 0 1\nv 1 0 0\nf 1 2 3\n");
+        // Named by its line and its number in the file (from 1, as faces count), not
+        // by where tobj put it: the third `v` line was once called "vertex 1".
+        let (file, result) = load_obj_text("o field\nv 0 0 0\nv 1 0 0\nv nan 0 1\nf 1 2 3\n");
         assert_eq!(
             problem(&file, result.unwrap_err()),
-            "object `field`: vertex 1 has a non-finite coordinate (NaN, 0, 1)"
+            "line 4: vertex 3 has a non-finite coordinate (NaN, 0, 1)"
         );
         let (file, result) = load_obj_text("v inf 0 0\nv 0 0 1\nv 1 0 0\nf 1 2 3\n");
         assert!(problem(&file, result.unwrap_err()).ends_with("(inf, 0, 0)"));

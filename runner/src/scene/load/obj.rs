@@ -33,10 +33,38 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
                     names.insert(name);
                 }
             }
-            Some("v") => before[0] += 1,
+            Some("v") => {
+                before[0] += 1;
+                // Checked here, where the line is known: tobj reorders the vertices.
+                let xyz: Vec<f32> = words
+                    .clone()
+                    .take(3)
+                    .map_while(|w| w.parse().ok())
+                    .collect();
+                if let [x, y, z] = xyz[..]
+                    && !(x.is_finite() && y.is_finite() && z.is_finite())
+                {
+                    return Err(SceneError::new(
+                        scene,
+                        SceneErrorKind::NonFinite {
+                            part: format!("line {}", number + 1),
+                            // OBJ numbers its vertices from 1, as its faces name them.
+                            vertex: before[0],
+                            position: Vec3::new(x, y, z),
+                        },
+                    ));
+                }
+            }
             Some("vt") => before[1] += 1,
             Some("vn") => before[2] += 1,
-            Some("f" | "l") => {
+            Some(kind @ ("f" | "l")) => {
+                let corners = words.clone().count();
+                if kind == "f" && corners < 3 {
+                    return Err(not_obj(format!(
+                        "line {}: a face needs three vertices or more, this one has {corners}",
+                        number + 1
+                    )));
+                }
                 for word in words {
                     for (kind, index) in word.split('/').enumerate() {
                         // Anything else is tobj's to refuse.
@@ -109,7 +137,17 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
 #[cfg(test)]
 mod tests {
     use super::super::load;
+
     use super::super::tests::{TempFile, load_obj_text, problem};
+
+    #[test]
+    fn a_face_of_two_vertices_is_named_by_its_line() {
+        let (file, result) = load_obj_text("v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 2\n");
+        assert_eq!(
+            problem(&file, result.unwrap_err()),
+            "not an OBJ file: line 5: a face needs three vertices or more, this one has 2"
+        );
+    }
 
     #[test]
     fn obj_index_out_of_range_is_an_error() {

@@ -308,6 +308,14 @@ fn frames() -> impl Strategy<Value = Vec<(f64, Vec<Placement>)>> {
     )
 }
 
+/// Ten simulated seconds or a little more: the frame times `times` over and over.
+fn ten_seconds(times: &[f64]) -> impl Iterator<Item = f64> + '_ {
+    times.iter().cycle().scan(0.0, |t, dt| {
+        *t += dt;
+        (*t < 10.0 + dt).then_some(*dt)
+    })
+}
+
 /// Runs `frames` through a `SimClock`, with the spheres of each frame from `spheres`
 /// (given the blade at the frame's start and the simulated time), checking the
 /// invariants after every frame.
@@ -420,12 +428,7 @@ proptest! {
             strength_decay: 1.0,
             ..Environment::default()
         };
-        // Ten simulated seconds or more: the frame times over and over.
-        let frames = times.iter().cycle().scan(0.0, |t, dt| {
-            *t += dt;
-            (*t < 10.0 + dt).then_some(*dt)
-        });
-        let result = run_frames((blade, strength), &env, frames, |_, _, _| NO_SPHERES);
+        let result = run_frames((blade, strength), &env, ten_seconds(&times), |_, _, _| NO_SPHERES);
         prop_assert!(result.is_ok(), "{}", result.clone().unwrap_err());
         let (b, strength) = result.unwrap().1;
         let rest = b.root() + b.up_dir() * b.height();
@@ -456,11 +459,7 @@ proptest! {
             strength_decay: 1.0,
             ..Environment::default()
         };
-        let frames = times.iter().cycle().scan(0.0, |t, dt| {
-            *t += dt;
-            (*t < 10.0 + dt).then_some(*dt)
-        });
-        let result = run_frames((blade, strength), &env, frames, |_, _, _| NO_SPHERES);
+        let result = run_frames((blade, strength), &env, ten_seconds(&times), |_, _, _| NO_SPHERES);
         prop_assert!(result.is_ok(), "{}", result.clone().unwrap_err());
         let (steps, settled) = result.unwrap();
         // Step by step: a blade flailing with period 2 is back where it was after two.

@@ -3,28 +3,26 @@
 //! swapchain recreated on resize, frame rate and blade counts in the title once a
 //! second.
 
-use super::driver::{FRAMES_IN_FLIGHT, FrameDriver, FrameSpec};
+mod gpu;
+
+use super::driver::FrameSpec;
 use super::overlay::{Overlay, Readings};
-use super::presenter::Presenter;
 use super::storm::{Gust, Storm};
 use crate::camera::OrbitCamera;
 use crate::cli::{Common, ViewArgs};
 use crate::collider::{Ball, drop_onto};
 use crate::passes::overlay::OverlayFrame;
-use crate::renderer::Renderer;
 use crate::scene::{Scene, SceneFile};
-use crate::vulkan::{Context, ContextOptions};
 use anyhow::{Context as _, Result};
 use glam::{Vec2, Vec3, Vec3Swizzles};
+use gpu::{Gpu, MAX_RECOVERIES, device_lost};
 use shared::settings::Settings;
-use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, ModifiersState, NamedKey};
-use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
 /// Opens the window and runs until it is closed (or Esc).
@@ -131,46 +129,6 @@ impl Pace {
         true
     }
 }
-
-/// Everything on the GPU: made once at start, and again after a lost device.
-struct Gpu {
-    driver: FrameDriver,
-    presenter: Presenter,
-}
-
-impl Gpu {
-    /// A context for `window`'s surface.
-    fn context(window: &Window, validation: bool) -> Result<Arc<Context>> {
-        let display = window.display_handle().context("display handle")?.as_raw();
-        let extensions = ash_window::enumerate_required_extensions(display)
-            .context("Vulkan surface extensions for this window system")?;
-        Context::new(ContextOptions {
-            validation,
-            surface_extensions: extensions,
-            window: Some(window),
-        })
-    }
-
-    /// The presenter, the renderer of `scene` (its blades as the seed made them) with
-    /// the overlay, and the frame driver, on `ctx`.
-    fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self> {
-        let presenter = Presenter::new(ctx)?;
-        let mut renderer = Renderer::new(ctx, &scene.meshes(), presenter.format())?;
-        renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
-        let driver = FrameDriver::new(ctx, renderer)?;
-        Ok(Self { driver, presenter })
-    }
-}
-
-/// True when `error` came from a lost device.
-fn device_lost(error: &anyhow::Error) -> bool {
-    error
-        .chain()
-        .any(|c| c.downcast_ref::<ash::vk::Result>() == Some(&ash::vk::Result::ERROR_DEVICE_LOST))
-}
-
-/// Lost devices the viewer makes again before it gives up.
-const MAX_RECOVERIES: u32 = 3;
 
 // Fields drop in order: GPU objects first (the last of them ends the context), then
 // the window its surface belongs to.

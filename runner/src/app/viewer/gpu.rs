@@ -1,0 +1,53 @@
+//! What the viewer holds on the GPU, made again when the device is lost.
+
+use crate::app::driver::{FRAMES_IN_FLIGHT, FrameDriver};
+use crate::app::presenter::Presenter;
+use crate::renderer::Renderer;
+use crate::scene::Scene;
+use crate::vulkan::{Context, ContextOptions};
+use anyhow::{Context as _, Result};
+use std::sync::Arc;
+use winit::raw_window_handle::HasDisplayHandle;
+use winit::window::Window;
+
+/// Everything on the GPU: made once at start, and again after a lost device.
+pub(super) struct Gpu {
+    /// Runs the frames.
+    pub(super) driver: FrameDriver,
+    /// The swapchain side.
+    pub(super) presenter: Presenter,
+}
+
+impl Gpu {
+    /// A context for `window`'s surface.
+    pub(super) fn context(window: &Window, validation: bool) -> Result<Arc<Context>> {
+        let display = window.display_handle().context("display handle")?.as_raw();
+        let extensions = ash_window::enumerate_required_extensions(display)
+            .context("Vulkan surface extensions for this window system")?;
+        Context::new(ContextOptions {
+            validation,
+            surface_extensions: extensions,
+            window: Some(window),
+        })
+    }
+
+    /// The presenter, the renderer of `scene` (its blades as the seed made them) with
+    /// the overlay, and the frame driver, on `ctx`.
+    pub(super) fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self> {
+        let presenter = Presenter::new(ctx)?;
+        let mut renderer = Renderer::new(ctx, &scene.meshes(), presenter.format())?;
+        renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
+        let driver = FrameDriver::new(ctx, renderer)?;
+        Ok(Self { driver, presenter })
+    }
+}
+
+/// True when `error` came from a lost device.
+pub(super) fn device_lost(error: &anyhow::Error) -> bool {
+    error
+        .chain()
+        .any(|c| c.downcast_ref::<ash::vk::Result>() == Some(&ash::vk::Result::ERROR_DEVICE_LOST))
+}
+
+/// Lost devices the viewer makes again before it gives up.
+pub(super) const MAX_RECOVERIES: u32 = 3;

@@ -54,9 +54,11 @@ impl Renderer {
         let pass = ThroughputPass::new(&self.ctx, &self.module, &self.field, self.color_format)?;
         let depth = self.depth.as_ref().context("depth image")?;
         let push = shared::reference::push(level, target.extent.width, target.extent.height);
-        let attachments = (
-            S::COLOR_ATTACHMENT_OUTPUT | S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
-            A::COLOR_ATTACHMENT_WRITE | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        // Each image's barrier names its own kind of access only.
+        let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+        let depth_tests = (
+            S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+            A::DEPTH_STENCIL_ATTACHMENT_WRITE,
         );
         let layouts = (
             vk::ImageLayout::UNDEFINED,
@@ -69,9 +71,9 @@ impl Renderer {
         let triangles = TrianglePool::new(&self.ctx)?;
         let best = self.best_time(repeats, |rec| {
             let color = vk::ImageAspectFlags::COLOR;
-            rec.image_barrier(target.image, color, layouts, attachments, attachments);
+            rec.image_barrier(target.image, color, layouts, color_out, color_out);
             let aspect = vk::ImageAspectFlags::DEPTH;
-            rec.image_barrier(depth.image, aspect, depth_layouts, attachments, attachments);
+            rec.image_barrier(depth.image, aspect, depth_layouts, depth_tests, depth_tests);
             if let Some(t) = &triangles {
                 rec.reset_queries(t.pool, 0, 1);
             }

@@ -26,7 +26,16 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
     println!("cargo::rerun-if-env-changed=PWD");
     let crate_dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR")?);
     let shaders = crate_dir.join("../shaders-rs");
+    // spirv-builder's own target dir, one per clone: left at its default, clones that
+    // share a target dir share its uplifted `shaders_rs.spv`, and a clone whose shader
+    // build is fresh keeps whatever another clone built last.
+    let clone: String = crate_dir
+        .to_string_lossy()
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
     let mut builder = SpirvBuilder::new(&shaders, "spirv-unknown-vulkan1.2")
+        .target_dir_path(format!("spirv-builder/{}", clone.trim_matches('-')))
         .capability(Capability::Tessellation)
         // Device-scope atomics (the visible-blade counter) under the Vulkan memory model.
         .capability(Capability::VulkanMemoryModelDeviceScope);

@@ -1,5 +1,7 @@
-//! Compiles `shaders-rs` to SPIR-V with rust-gpu, then adds the `Patch` decoration
-//! that rust-gpu 0.11 leaves off the tessellation-level built-ins.
+//! Compiles `shaders-rs` to SPIR-V with rust-gpu, one module per entry point (so that
+//! GPU-assisted validation, which refuses a module of several stages, can check each),
+//! then adds the `Patch` decoration that rust-gpu 0.11 leaves off the
+//! tessellation-level built-ins, and lists the modules for `src/shaders.rs`.
 //!
 //! Without it lavapipe tessellates nothing and NVIDIA draws with wrong levels, while
 //! spirv-val and the validation layer stay silent; glslang always emits it.
@@ -7,8 +9,8 @@
 use rspirv::binary::Assemble;
 use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{BuiltIn, Decoration, Op};
-use spirv_builder::{Capability, SpirvBuilder};
-use std::path::{Path, PathBuf};
+use spirv_builder::{Capability, ModuleResult, SpirvBuilder};
+use std::path::PathBuf;
 
 fn main() {
     if let Err(e) = build() {
@@ -40,19 +42,42 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
         // Device-scope atomics (the visible-blade counter) under the Vulkan memory model.
         .capability(Capability::VulkanMemoryModelDeviceScope);
     builder.build_script.defaults = true;
-    let result = builder.build()?;
-    let spv = result.module.unwrap_single();
+    builder.build_script.env_shader_spv_path = Some(false);
+    let result = builder.multimodule(true).build()?;
+    let ModuleResult::MultiModule(modules) = &result.module else {
+        return Err("spirv-builder made one module, not one per entry point".into());
+    };
 
-    let mut module = rspirv::dr::load_bytes(std::fs::read(spv)?)
-        .map_err(|e| format!("cannot parse {}: {e}", spv.display()))?;
-    let added = add_patch_decorations(&mut module);
-    if added == 0 {
-        return Err("no tessellation-level built-in found in the shader module".into());
+    let out = PathBuf::from(std::env::var("OUT_DIR")?);
+    let mut added = 0;
+    let mut list = String::new();
+    for (entry, spv) in modules {
+        let mut module = rspirv::dr::load_bytes(std::fs::read(spv)?)
+            .map_err(|e| format!("cannot parse {}: {e}", spv.display()))?;
+        added += add_patch_decorations(&mut module);
+        let file = out.join(format!("{}.spv", entry.replace("::", "-")));
+        std::fs::write(&file, bytemuck_words(&module.assemble()))?;
+        list += &format!(
+            "    ({entry:?}, include_bytes!({:?})),\n",
+            file.display().to_string()
+        );
     }
-    let out = Path::new(&std::env::var("OUT_DIR")?).join("grass.spv");
-    let words = module.assemble();
-    std::fs::write(&out, bytemuck_words(&words))?;
-    println!("cargo::rustc-env=GRASS_SPIRV={}", out.display());
+    if added == 0 {
+        return Err("no tessellation-level built-in found in the shader modules".into());
+    }
+    let listing = out.join("modules.rs");
+    std::fs::write(
+        &listing,
+        format!(
+            "/// Every entry point and its own SPIR-V module (Patch decorations added by the\n\
+             /// build script).\n\
+             pub const MODULES: &[(&str, &[u8])] = &[\n{list}];\n"
+        ),
+    )?;
+    println!(
+        "cargo::rustc-env=GRASS_SHADER_MODULES={}",
+        listing.display()
+    );
     Ok(())
 }
 

@@ -3,6 +3,7 @@
 use crate::collider::ColliderPath;
 use crate::parse::{parse_coordinates, range};
 use crate::scene::{BladeCount, SceneKind};
+use crate::vulkan::ValidationChecks;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 use shared::cull;
@@ -219,6 +220,10 @@ pub struct Common {
     /// fails on any validation error.
     #[arg(long, global = true)]
     pub validation: bool,
+    /// The validation layer's checks beside its core ones (implies --validation when
+    /// not the default).
+    #[arg(long, global = true, value_enum, default_value_t = ValidationChecks::Synchronization)]
+    pub validation_checks: ValidationChecks,
 }
 
 /// The culling tests, their thresholds, the level of detail and the grass view.
@@ -373,6 +378,7 @@ impl Common {
     /// Validation from the flag or from GRASS_VALIDATION=1.
     pub fn validation_requested(&self) -> bool {
         self.validation
+            || self.validation_checks != ValidationChecks::default()
             || std::env::var("GRASS_VALIDATION")
                 .is_ok_and(|v| matches!(v.trim(), "1" | "true" | "yes" | "on"))
     }

@@ -1,7 +1,15 @@
-//! The SPIR-V module built from `shaders-rs` by `build.rs`, and its entry points.
+//! The SPIR-V modules built from `shaders-rs` by `build.rs`, one per entry point, and
+//! the entry points' names.
 
-/// Every entry point, in one module (Patch decorations added by the build script).
-pub const SPIRV: &[u8] = include_bytes!(env!("GRASS_SPIRV"));
+include!(env!("GRASS_SHADER_MODULES"));
+
+/// The SPIR-V module of `entry`, if there is one.
+pub fn module(entry: &str) -> Option<&'static [u8]> {
+    MODULES
+        .iter()
+        .find(|(name, _)| *name == entry)
+        .map(|(_, spirv)| *spirv)
+}
 
 /// Compute: simulate, cull and compact.
 pub const SIMULATE_CULL: &str = "compute::simulate_cull";

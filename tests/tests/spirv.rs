@@ -1,5 +1,5 @@
-//! The compiled SPIR-V module: valid for Vulkan, tessellation levels decorated `Patch`,
-//! and its interface (bindings, push constants, workgroup sizes, entry points) equal
+//! The compiled SPIR-V modules, one per entry point: each valid for Vulkan, tessellation
+//! levels decorated `Patch`, and their interface (bindings, push constants, workgroup sizes, entry points) equal
 //! to what the runner creates.
 
 use ash::vk;
@@ -12,8 +12,22 @@ use runner::vulkan::descriptors::BindingSpec;
 use shared::layout;
 use std::collections::{BTreeMap, BTreeSet};
 
-fn module() -> Module {
-    rspirv::dr::load_bytes(shaders::SPIRV).expect("parse the shader module")
+/// Every (entry point, its module).
+fn modules() -> Vec<(&'static str, Module)> {
+    shaders::MODULES
+        .iter()
+        .map(|&(entry, spirv)| {
+            let m = rspirv::dr::load_bytes(spirv)
+                .unwrap_or_else(|e| panic!("parse the module of {entry}: {e}"));
+            (entry, m)
+        })
+        .collect()
+}
+
+/// The module of `entry`.
+fn module_of(entry: &str) -> Module {
+    let spirv = shaders::module(entry).unwrap_or_else(|| panic!("no module for {entry}"));
+    rspirv::dr::load_bytes(spirv).expect("parse the shader module")
 }
 
 fn decorations(m: &Module, id: u32) -> Vec<&[Operand]> {
@@ -49,39 +63,56 @@ fn entry_points(m: &Module) -> BTreeMap<String, (ExecutionModel, Vec<u32>, u32)>
 }
 
 #[test]
-fn module_passes_spirv_val_for_vulkan() {
-    let path = std::env::temp_dir().join(format!("grass-{}.spv", std::process::id()));
-    std::fs::write(&path, shaders::SPIRV).unwrap();
-    let out = std::process::Command::new("spirv-val")
-        .args(["--target-env", "vulkan1.3"])
-        .arg(&path)
-        .output()
-        .expect("run spirv-val (Debian/Ubuntu: apt-get install spirv-tools)");
-    let _ = std::fs::remove_file(&path);
+fn every_module_passes_spirv_val_for_vulkan() {
+    for &(entry, spirv) in shaders::MODULES {
+        let path = std::env::temp_dir().join(format!("grass-{}.spv", std::process::id()));
+        std::fs::write(&path, spirv).unwrap();
+        let out = std::process::Command::new("spirv-val")
+            .args(["--target-env", "vulkan1.3"])
+            .arg(&path)
+            .output()
+            .expect("run spirv-val (Debian/Ubuntu: apt-get install spirv-tools)");
+        let _ = std::fs::remove_file(&path);
+        assert!(
+            out.status.success(),
+            "spirv-val rejected the module of {entry}:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// One entry point, one stage, in each module: what GPU-assisted validation needs.
+#[test]
+fn each_module_holds_its_entry_point_alone() {
     assert!(
-        out.status.success(),
-        "spirv-val rejected the module:\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
+        shaders::MODULES.len() >= 16,
+        "{} modules",
+        shaders::MODULES.len()
     );
+    for (entry, m) in modules() {
+        let names: Vec<String> = entry_points(&m).into_keys().collect();
+        assert_eq!(names, [entry], "the module of {entry}");
+    }
 }
 
 #[test]
 fn tessellation_levels_are_patch_decorated() {
-    let m = module();
     let mut seen = BTreeSet::new();
-    for i in &m.annotations {
-        if let [
-            Operand::IdRef(id),
-            Operand::Decoration(Decoration::BuiltIn),
-            Operand::BuiltIn(b @ (BuiltIn::TessLevelOuter | BuiltIn::TessLevelInner)),
-        ] = i.operands.as_slice()
-        {
-            let patch = decorations(&m, *id)
-                .iter()
-                .any(|ops| *ops == [Operand::Decoration(Decoration::Patch)]);
-            assert!(patch, "{b:?} (id {id}) lacks the Patch decoration");
-            seen.insert(format!("{b:?}"));
+    for (_, m) in modules() {
+        for i in &m.annotations {
+            if let [
+                Operand::IdRef(id),
+                Operand::Decoration(Decoration::BuiltIn),
+                Operand::BuiltIn(b @ (BuiltIn::TessLevelOuter | BuiltIn::TessLevelInner)),
+            ] = i.operands.as_slice()
+            {
+                let patch = decorations(&m, *id)
+                    .iter()
+                    .any(|ops| *ops == [Operand::Decoration(Decoration::Patch)]);
+                assert!(patch, "{b:?} (id {id}) lacks the Patch decoration");
+                seen.insert(format!("{b:?}"));
+            }
         }
     }
     assert_eq!(
@@ -93,7 +124,10 @@ fn tessellation_levels_are_patch_decorated() {
 
 #[test]
 fn every_entry_point_the_runner_uses_exists_with_its_stage() {
-    let entries = entry_points(&module());
+    let entries: BTreeMap<_, _> = modules()
+        .iter()
+        .flat_map(|(_, m)| entry_points(m))
+        .collect();
     let expected = [
         (shaders::SIMULATE_CULL, ExecutionModel::GLCompute),
         (shaders::WRITE_DRAWS, ExecutionModel::GLCompute),
@@ -190,24 +224,24 @@ fn runner_layout(name: &str) -> (&'static [BindingSpec], (vk::ShaderStageFlags, 
 
 #[test]
 fn descriptor_bindings_and_push_constants_match_the_runner() {
-    let m = module();
-    for (name, (model, interface, _)) in entry_points(&m) {
-        let stage = stage_of(model);
-        let (bindings, push_range) = runner_layout(&name);
-        // SPIR-V 1.4+: the interface lists every global the entry point uses.
-        for &var in &interface {
-            let Some((class, ty)) = pointee(&m, var) else {
-                continue;
-            };
-            match class {
-                StorageClass::Uniform
-                | StorageClass::StorageBuffer
-                | StorageClass::UniformConstant => {
-                    let set = decoration_value(&m, var, Decoration::DescriptorSet);
-                    let binding = decoration_value(&m, var, Decoration::Binding);
-                    assert_eq!(set, Some(layout::SET), "{name}: descriptor set of id {var}");
-                    let binding = binding.expect("binding decoration");
-                    let spec = bindings
+    for (_, m) in modules() {
+        for (name, (model, interface, _)) in entry_points(&m) {
+            let stage = stage_of(model);
+            let (bindings, push_range) = runner_layout(&name);
+            // SPIR-V 1.4+: the interface lists every global the entry point uses.
+            for &var in &interface {
+                let Some((class, ty)) = pointee(&m, var) else {
+                    continue;
+                };
+                match class {
+                    StorageClass::Uniform
+                    | StorageClass::StorageBuffer
+                    | StorageClass::UniformConstant => {
+                        let set = decoration_value(&m, var, Decoration::DescriptorSet);
+                        let binding = decoration_value(&m, var, Decoration::Binding);
+                        assert_eq!(set, Some(layout::SET), "{name}: descriptor set of id {var}");
+                        let binding = binding.expect("binding decoration");
+                        let spec = bindings
                         .iter()
                         .find(|b| b.binding == binding)
                         .unwrap_or_else(|| {
@@ -215,41 +249,42 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                                 "{name} uses binding {binding}, which the runner does not create"
                             )
                         });
-                    let ty_expected = match class {
-                        StorageClass::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
-                        StorageClass::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
-                        _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    };
-                    assert_eq!(spec.ty, ty_expected, "{name}: type of binding {binding}");
-                    assert!(
-                        spec.stages.contains(stage),
-                        "{name}: binding {binding} not visible to {stage:?}"
-                    );
+                        let ty_expected = match class {
+                            StorageClass::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
+                            StorageClass::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+                            _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                        };
+                        assert_eq!(spec.ty, ty_expected, "{name}: type of binding {binding}");
+                        assert!(
+                            spec.stages.contains(stage),
+                            "{name}: binding {binding} not visible to {stage:?}"
+                        );
+                    }
+                    StorageClass::PushConstant => {
+                        let size = struct_size(&m, ty);
+                        assert!(
+                            push_range.0.contains(stage),
+                            "{name}: push constants not in its stage"
+                        );
+                        assert!(
+                            size <= push_range.1,
+                            "{name}: push block of {size} bytes, runner range {}",
+                            push_range.1
+                        );
+                        let expected = match name.as_str() {
+                            n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
+                            n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
+                            n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
+                            n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
+                            n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
+                            n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
+                            n if n == shaders::THROUGHPUT_VS => size_of::<layout::ThroughputPush>(),
+                            _ => panic!("{name} has push constants the runner does not push"),
+                        };
+                        assert_eq!(size as usize, expected, "{name}: push block size");
+                    }
+                    _ => {}
                 }
-                StorageClass::PushConstant => {
-                    let size = struct_size(&m, ty);
-                    assert!(
-                        push_range.0.contains(stage),
-                        "{name}: push constants not in its stage"
-                    );
-                    assert!(
-                        size <= push_range.1,
-                        "{name}: push block of {size} bytes, runner range {}",
-                        push_range.1
-                    );
-                    let expected = match name.as_str() {
-                        n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
-                        n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
-                        n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
-                        n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
-                        n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
-                        n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
-                        n if n == shaders::THROUGHPUT_VS => size_of::<layout::ThroughputPush>(),
-                        _ => panic!("{name} has push constants the runner does not push"),
-                    };
-                    assert_eq!(size as usize, expected, "{name}: push block size");
-                }
-                _ => {}
             }
         }
     }
@@ -257,15 +292,14 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
 
 #[test]
 fn compute_workgroup_sizes_match_the_dispatches() {
-    let m = module();
-    let entries = entry_points(&m);
     for (name, size) in [
         (shaders::SIMULATE_CULL, layout::SIMULATE_WORKGROUP),
         (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
     ] {
-        let function = entries[name].2;
+        let m = module_of(name);
+        let function = entry_points(&m)[name].2;
         let local_size = m
             .execution_modes
             .iter()
@@ -403,7 +437,7 @@ fn frame_block_layout_matches_the_host_struct() {
         ),
     ];
 
-    let m = module();
+    let m = module_of(shaders::SIMULATE_CULL);
     let (_, interface, _) = &entry_points(&m)[shaders::SIMULATE_CULL];
     let block = interface
         .iter()

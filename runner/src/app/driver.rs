@@ -91,6 +91,8 @@ impl FrameSpec<'_> {
 
 /// Per-slot objects of a frame in flight.
 struct FrameSlot {
+    /// The slot's own pool, reset whole when the slot records again.
+    pool: CommandPool,
     cmd: vk::CommandBuffer,
     fence: Fence,
     /// Signalled when the swapchain image of this frame is ready.
@@ -111,19 +113,18 @@ pub struct FrameDriver {
     next: usize,
     /// Frames begun so far.
     frames_begun: u64,
-    pool: CommandPool,
     ctx: Arc<Context>,
 }
 
 impl FrameDriver {
     /// [`FRAMES_IN_FLIGHT`] slots for `renderer`.
     pub fn new(ctx: &Arc<Context>, renderer: Renderer) -> Result<Self> {
-        let pool = CommandPool::new(ctx)?;
-        let cmds = pool.allocate(FRAMES_IN_FLIGHT as u32)?;
-        let slots = cmds
-            .into_iter()
-            .map(|cmd| {
+        let slots = (0..FRAMES_IN_FLIGHT)
+            .map(|_| {
+                let pool = CommandPool::new(ctx)?;
+                let cmd = pool.allocate(1)?[0];
                 Ok(FrameSlot {
+                    pool,
                     cmd,
                     fence: Fence::new(ctx, true)?,
                     image_available: Semaphore::new(ctx)?,
@@ -139,7 +140,6 @@ impl FrameDriver {
             slots,
             next: 0,
             frames_begun: 0,
-            pool,
             ctx: ctx.clone(),
         })
     }
@@ -202,10 +202,10 @@ impl FrameDriver {
             overlay: spec.overlay,
         };
         let slot = &mut self.slots[frame.slot];
-        let rec = self.pool.begin(slot.cmd)?;
+        let rec = slot.pool.begin(slot.cmd)?;
         self.renderer
             .record(&rec, &slot.queries, frame.slot, &input)?;
-        self.pool
+        slot.pool
             .submit(slot.cmd, acquired.wait, acquired.signal, &slot.fence)?;
         slot.submitted = true;
         self.next = (frame.slot + 1) % self.slots.len();
@@ -238,10 +238,10 @@ impl FrameDriver {
     pub fn compute_frame(&mut self, uniforms: &FrameUniforms, push: SimulatePush) -> Result<()> {
         let index = self.next_slot()?;
         let slot = &mut self.slots[index];
-        let rec = self.pool.begin(slot.cmd)?;
+        let rec = slot.pool.begin(slot.cmd)?;
         self.renderer
             .record_compute_only(&rec, &slot.queries, uniforms, push);
-        self.pool.submit(slot.cmd, None, None, &slot.fence)?;
+        slot.pool.submit(slot.cmd, None, None, &slot.fence)?;
         slot.submitted = true;
         self.next = (index + 1) % self.slots.len();
         self.finish()

@@ -97,6 +97,7 @@ pub fn open_headless(common: &Common) -> Result<(Option<SceneFile>, std::sync::A
     let file = common.scene_kind().read()?;
     let ctx = Context::new(crate::vulkan::ContextOptions {
         validation: common.validation_requested(),
+        checks: common.validation_checks,
         ..Default::default()
     })?;
     Ok((file, ctx))

@@ -33,6 +33,31 @@ use std::sync::Arc;
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
+/// Every stage a frame's commands use: what one frame waits for before the next
+/// overwrites its buffers (named stage by stage: the layer's best-practices check flags
+/// `ALL_COMMANDS` and `ALL_GRAPHICS`).
+pub(crate) const FRAME_STAGES: S = S::from_raw(
+    S::COPY.as_raw()
+        | S::CLEAR.as_raw()
+        | S::COMPUTE_SHADER.as_raw()
+        | S::DRAW_INDIRECT.as_raw()
+        | S::VERTEX_ATTRIBUTE_INPUT.as_raw()
+        | S::INDEX_INPUT.as_raw()
+        | SHADER_STAGES.as_raw()
+        | S::EARLY_FRAGMENT_TESTS.as_raw()
+        | S::LATE_FRAGMENT_TESTS.as_raw()
+        | S::COLOR_ATTACHMENT_OUTPUT.as_raw(),
+);
+
+/// Every shader stage a frame runs.
+const SHADER_STAGES: S = S::from_raw(
+    S::COMPUTE_SHADER.as_raw()
+        | S::VERTEX_SHADER.as_raw()
+        | S::TESSELLATION_CONTROL_SHADER.as_raw()
+        | S::TESSELLATION_EVALUATION_SHADER.as_raw()
+        | S::FRAGMENT_SHADER.as_raw(),
+);
+
 /// Sky colour behind the field (linear).
 const SKY: [f32; 4] = [0.42, 0.62, 0.86, 1.0];
 
@@ -101,7 +126,7 @@ impl Renderer {
     pub fn new(ctx: &Arc<Context>, meshes: &Meshes, color_format: vk::Format) -> Result<Self> {
         let pool = CommandPool::new(ctx)?;
         let field = Field::new(ctx, &pool, meshes.blades)?;
-        let module = ShaderModule::new(ctx, shaders::SPIRV)?;
+        let module = ShaderModule::new(ctx, shaders::MODULES)?;
         let simulate = SimulatePass::new(ctx, &module, &field)?;
         let surfaces = [
             (meshes.surface, MATERIAL_SOIL),
@@ -195,7 +220,8 @@ impl Renderer {
         let stamps = queries.timestamps.as_ref().map(|t| t.pool);
         let stamp = |mark: Mark| {
             if let Some(pool) = stamps {
-                rec.write_timestamp(pool, mark as u32, S::ALL_COMMANDS);
+                // Once everything recorded before it is done.
+                rec.write_timestamp(pool, mark as u32, S::BOTTOM_OF_PIPE);
             }
         };
         if let Some(pool) = stamps {
@@ -252,15 +278,15 @@ impl Renderer {
         // Everything the previous frame read or wrote is done before this one
         // overwrites the uniforms, the counters, the pyramid and the blades.
         rec.memory_barrier(
-            (S::ALL_COMMANDS, A::MEMORY_WRITE),
-            (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+            (FRAME_STAGES, A::MEMORY_WRITE),
+            (FRAME_STAGES, A::MEMORY_READ | A::MEMORY_WRITE),
         );
         rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
         rec.fill_buffer(field.counters.buffer, 0);
         rec.memory_barrier(
             (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
             (
-                S::COMPUTE_SHADER | S::ALL_GRAPHICS,
+                SHADER_STAGES,
                 A::SHADER_READ | A::SHADER_WRITE | A::UNIFORM_READ,
             ),
         );

@@ -2,7 +2,7 @@
 //! how fast this device copies the blade buffer, and how fast it draws patches
 //! tessellated like a blade (`grass bench`, see the README's Performance section).
 
-use super::{Renderer, SKY, Target};
+use super::{FRAME_STAGES, Renderer, SKY, Target};
 use crate::passes::throughput::ThroughputPass;
 use crate::vulkan::query::{TimestampPool, TrianglePool};
 use crate::vulkan::{Buffer, Recorder};
@@ -104,12 +104,12 @@ impl Renderer {
         self.pool.one_shot(|rec| {
             rec.reset_queries(stamps.pool, 0, stamps.count);
             for r in 0..stamps.count / 2 {
-                rec.write_timestamp(stamps.pool, 2 * r, S::ALL_COMMANDS);
+                rec.write_timestamp(stamps.pool, 2 * r, S::BOTTOM_OF_PIPE);
                 record(rec);
-                rec.write_timestamp(stamps.pool, 2 * r + 1, S::ALL_COMMANDS);
+                rec.write_timestamp(stamps.pool, 2 * r + 1, S::BOTTOM_OF_PIPE);
                 rec.memory_barrier(
-                    (S::ALL_COMMANDS, A::MEMORY_WRITE),
-                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                    (FRAME_STAGES, A::MEMORY_WRITE),
+                    (FRAME_STAGES, A::MEMORY_READ | A::MEMORY_WRITE),
                 );
             }
         })?;

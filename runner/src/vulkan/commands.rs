@@ -6,7 +6,8 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use std::sync::Arc;
 
-/// A command pool whose buffers are re-recorded every frame.
+/// A command pool: one per frame slot (reset whole before the slot records again),
+/// and one for one-shot uploads.
 pub struct CommandPool {
     ctx: Arc<Context>,
     /// The pool.
@@ -14,11 +15,10 @@ pub struct CommandPool {
 }
 
 impl CommandPool {
-    /// A resettable pool on the context's queue family.
+    /// A pool on the context's queue family. Its buffers are reset with the whole
+    /// pool, not one by one (what the layer's best practices ask).
     pub fn new(ctx: &Arc<Context>) -> Result<Self> {
-        let info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(ctx.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let info = vk::CommandPoolCreateInfo::default().queue_family_index(ctx.queue_family);
         let pool = unsafe { ctx.device.create_command_pool(&info, None) }
             .context("create command pool")?;
         Ok(Self {
@@ -37,13 +37,14 @@ impl CommandPool {
             .context("allocate command buffers")
     }
 
-    /// Resets `cmd` (one of this pool's) and begins recording it for one submission.
+    /// Resets the whole pool, then begins recording `cmd` (its one buffer) for one
+    /// submission.
     pub fn begin(&self, cmd: vk::CommandBuffer) -> Result<Recorder<'_>> {
         let device = &self.ctx.device;
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         unsafe {
-            device.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+            device.reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty())?;
             device.begin_command_buffer(cmd, &begin)?;
         }
         Ok(Recorder::new(device, cmd))
@@ -64,11 +65,17 @@ impl CommandPool {
         let stages = [vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT];
         let signals: Vec<_> = signal.into_iter().collect();
         let cmds = [cmd];
-        let submit = vk::SubmitInfo::default()
-            .wait_semaphores(&waits)
-            .wait_dst_stage_mask(&stages[..waits.len()])
-            .command_buffers(&cmds)
-            .signal_semaphores(&signals);
+        let mut submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        // Semaphore arrays only where there are semaphores (an empty array's pointer
+        // with a count of 0 draws a best-practices warning).
+        if !waits.is_empty() {
+            submit = submit
+                .wait_semaphores(&waits)
+                .wait_dst_stage_mask(&stages[..waits.len()]);
+        }
+        if !signals.is_empty() {
+            submit = submit.signal_semaphores(&signals);
+        }
         fence.reset()?;
         unsafe { device.queue_submit(self.ctx.queue, &[submit], fence.fence) }
             .context("submit frame")

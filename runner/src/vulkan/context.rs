@@ -38,10 +38,38 @@ pub enum DeviceError {
 pub struct ContextOptions<'a> {
     /// Enable `VK_LAYER_KHRONOS_validation` and count its errors.
     pub validation: bool,
+    /// Which of the layer's checks run beside its core ones.
+    pub checks: ValidationChecks,
     /// Instance extensions the window system needs (empty when headless).
     pub surface_extensions: &'a [*const std::ffi::c_char],
     /// Create a surface for this window and pick a device that can present to it.
     pub window: Option<&'a winit::window::Window>,
+}
+
+/// The validation layer's checks beside its core ones.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum ValidationChecks {
+    /// Synchronization validation: hazards between commands.
+    #[default]
+    Synchronization,
+    /// GPU-assisted validation: shaders instrumented to check their own accesses
+    /// (instead of synchronization validation, which the layer does not run with it).
+    GpuAssisted,
+    /// Synchronization validation and the best-practices checks (warnings about
+    /// correct but costly use).
+    BestPractices,
+}
+
+impl ValidationChecks {
+    /// The layer's features this enables.
+    fn features(self) -> &'static [vk::ValidationFeatureEnableEXT] {
+        use vk::ValidationFeatureEnableEXT as F;
+        match self {
+            Self::Synchronization => &[F::SYNCHRONIZATION_VALIDATION],
+            Self::GpuAssisted => &[F::GPU_ASSISTED, F::GPU_ASSISTED_RESERVE_BINDING_SLOT],
+            Self::BestPractices => &[F::SYNCHRONIZATION_VALIDATION, F::BEST_PRACTICES],
+        }
+    }
 }
 
 /// The device and everything created once per run; shared by `Arc`.
@@ -112,9 +140,8 @@ impl Context {
         // Validation means synchronization validation too (hazards between commands
         // that core validation does not look for). Its queue-submit check stays off:
         // it crashes inside Debian's layer (1.3.239).
-        let checks = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
-        let mut features =
-            vk::ValidationFeaturesEXT::default().enabled_validation_features(&checks);
+        let mut features = vk::ValidationFeaturesEXT::default()
+            .enabled_validation_features(options.checks.features());
 
         let app = vk::ApplicationInfo::default()
             .application_name(c"grass")

@@ -14,7 +14,7 @@ pub mod sampler;
 pub mod swapchain;
 
 pub use buffer::Buffer;
-pub use context::{Context, ContextOptions};
+pub use context::{Context, ContextOptions, ValidationChecks};
 pub use image::Image;
 pub use recorder::Recorder;
 

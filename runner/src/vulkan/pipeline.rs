@@ -6,30 +6,47 @@ use ash::vk;
 use std::ffi::CString;
 use std::sync::Arc;
 
-/// A SPIR-V module holding every entry point.
+/// The shader modules, one per entry point (GPU-assisted validation refuses a module
+/// of several stages), each found by its entry point's name.
 pub struct ShaderModule {
     ctx: Arc<Context>,
-    /// The module.
-    pub module: vk::ShaderModule,
+    /// (entry point, its module).
+    modules: Vec<(&'static str, vk::ShaderModule)>,
 }
 
 impl ShaderModule {
-    /// Creates the module from SPIR-V bytes.
-    pub fn new(ctx: &Arc<Context>, spirv: &[u8]) -> Result<Self> {
-        let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).context("read SPIR-V")?;
-        let info = vk::ShaderModuleCreateInfo::default().code(&words);
-        let module = unsafe { ctx.device.create_shader_module(&info, None) }
-            .context("create shader module")?;
-        Ok(Self {
+    /// Creates a module for each (entry point, SPIR-V bytes).
+    pub fn new(ctx: &Arc<Context>, spirv: &[(&'static str, &[u8])]) -> Result<Self> {
+        let mut set = Self {
             ctx: ctx.clone(),
-            module,
-        })
+            modules: Vec::with_capacity(spirv.len()),
+        };
+        for &(entry, bytes) in spirv {
+            let words = ash::util::read_spv(&mut std::io::Cursor::new(bytes))
+                .with_context(|| format!("read SPIR-V of {entry}"))?;
+            let info = vk::ShaderModuleCreateInfo::default().code(&words);
+            let module = unsafe { ctx.device.create_shader_module(&info, None) }
+                .with_context(|| format!("create shader module {entry}"))?;
+            set.modules.push((entry, module));
+        }
+        Ok(set)
+    }
+
+    /// The module of `entry`.
+    pub fn get(&self, entry: &str) -> Result<vk::ShaderModule> {
+        self.modules
+            .iter()
+            .find(|(name, _)| *name == entry)
+            .map(|(_, module)| *module)
+            .with_context(|| format!("no shader module has the entry point {entry}"))
     }
 }
 
 impl Drop for ShaderModule {
     fn drop(&mut self) {
-        unsafe { self.ctx.device.destroy_shader_module(self.module, None) };
+        for (_, module) in &self.modules {
+            unsafe { self.ctx.device.destroy_shader_module(*module, None) };
+        }
     }
 }
 
@@ -96,7 +113,7 @@ impl Pipeline {
         let name = CString::new(entry)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module.module)
+            .module(module.get(entry)?)
             .name(&name);
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
@@ -124,13 +141,13 @@ impl Pipeline {
             .stages
             .iter()
             .zip(&names)
-            .map(|((stage, _), name)| {
-                vk::PipelineShaderStageCreateInfo::default()
+            .map(|((stage, entry), name)| {
+                Ok(vk::PipelineShaderStageCreateInfo::default()
                     .stage(*stage)
-                    .module(desc.module.module)
-                    .name(name)
+                    .module(desc.module.get(entry)?)
+                    .name(name))
             })
-            .collect();
+            .collect::<Result<_>>()?;
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(desc.vertex_bindings)
             .vertex_attribute_descriptions(desc.vertex_attributes);

@@ -2,6 +2,7 @@
 
 use crate::app::driver::{FRAMES_IN_FLIGHT, FrameDriver};
 use crate::app::presenter::Presenter;
+use crate::cli::Common;
 use crate::renderer::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::{Context, ContextOptions};
@@ -19,13 +20,14 @@ pub(super) struct Gpu {
 }
 
 impl Gpu {
-    /// A context for `window`'s surface.
-    pub(super) fn context(window: &Window, validation: bool) -> Result<Arc<Context>> {
+    /// A context for `window`'s surface, validated as `common` asks.
+    pub(super) fn context(window: &Window, common: &Common) -> Result<Arc<Context>> {
         let display = window.display_handle().context("display handle")?.as_raw();
         let extensions = ash_window::enumerate_required_extensions(display)
             .context("Vulkan surface extensions for this window system")?;
         Context::new(ContextOptions {
-            validation,
+            validation: common.validation_requested(),
+            checks: common.validation_checks,
             surface_extensions: extensions,
             window: Some(window),
         })

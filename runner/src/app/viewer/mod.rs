@@ -166,7 +166,7 @@ impl Running {
         let window = event_loop
             .create_window(attributes)
             .context("create window")?;
-        let ctx = Gpu::context(&window, common.validation_requested())?;
+        let ctx = Gpu::context(&window, common)?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
         let gpu = Gpu::new(&ctx, &scene)?;
         let overlay = Overlay::new(&window, ctx.device_name());
@@ -220,7 +220,7 @@ impl Running {
             "{error:#}: making the device again ({} of {MAX_RECOVERIES})",
             self.recoveries
         );
-        let ctx = Gpu::context(&self.window, self.common.validation_requested())
+        let ctx = Gpu::context(&self.window, &self.common)
             .context("make the device again after it was lost")?;
         // The new objects are made before the old ones go: the old device is lost, and
         // its objects only wait to be destroyed.

@@ -9,6 +9,22 @@ use glam::Vec3;
 /// Name of the material library handed to the OBJ parser (see [`load_obj`]).
 const OBJ_NAMES_LIBRARY: &str = "grass-usemtl-names.mtl";
 
+/// Checks that the first `needed` words of a `v`, `vt` or `vn` line are numbers, so
+/// that a bad one is named with its line (tobj's own error names none).
+fn numbers(words: &std::str::SplitWhitespace, needed: usize) -> Result<(), String> {
+    let mut count = 0;
+    for word in words.clone().take(needed) {
+        if word.parse::<f32>().is_err() {
+            return Err(format!("`{word}` is not a number"));
+        }
+        count += 1;
+    }
+    if count < needed {
+        return Err(format!("{needed} numbers needed, {count} found"));
+    }
+    Ok(())
+}
+
 /// Parses and gathers an OBJ file: every object, triangulated, one index per vertex.
 pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneError> {
     let not_obj = |message: String| SceneError::new(scene, SceneErrorKind::NotObj { message });
@@ -34,6 +50,7 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
                 }
             }
             Some("v") => {
+                numbers(&words, 3).map_err(|e| not_obj(format!("line {}: {e}", number + 1)))?;
                 before[0] += 1;
                 // Checked here, where the line is known: tobj reorders the vertices.
                 let xyz: Vec<f32> = words
@@ -55,8 +72,12 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
                     ));
                 }
             }
-            Some("vt") => before[1] += 1,
-            Some("vn") => before[2] += 1,
+            Some(kind @ ("vt" | "vn")) => {
+                let (slot, needed) = if kind == "vt" { (1, 1) } else { (2, 3) };
+                numbers(&words, needed)
+                    .map_err(|e| not_obj(format!("line {}: {e}", number + 1)))?;
+                before[slot] += 1;
+            }
             Some(kind @ ("f" | "l")) => {
                 let corners = words.clone().count();
                 if kind == "f" && corners < 3 {
@@ -68,6 +89,12 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
                 for word in words {
                     for (kind, index) in word.split('/').enumerate() {
                         // Anything else is tobj's to refuse.
+                        if !index.is_empty() && index.parse::<isize>().is_err() {
+                            return Err(not_obj(format!(
+                                "line {}: index `{word}` is not a number",
+                                number + 1
+                            )));
+                        }
                         let (Some(&before), Ok(index)) = (before.get(kind), index.parse::<isize>())
                         else {
                             continue;
@@ -139,6 +166,27 @@ mod tests {
     use super::super::load;
 
     use super::super::tests::{TempFile, load_obj_text, problem};
+
+    #[test]
+    fn bad_numbers_are_named_by_their_line() {
+        for (text, message) in [
+            ("v 0 0 0\nv 1 x 0\n", "line 2: `x` is not a number"),
+            ("v 0 0\n", "line 1: 3 numbers needed, 2 found"),
+            ("v 0 0 0\nvn 0 1\n", "line 2: 3 numbers needed, 2 found"),
+            ("vt u\n", "line 1: `u` is not a number"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 two 3\n",
+                "line 4: index `two` is not a number",
+            ),
+        ] {
+            let (file, result) = load_obj_text(text);
+            assert_eq!(
+                problem(&file, result.unwrap_err()),
+                format!("not an OBJ file: {message}"),
+                "{text:?}"
+            );
+        }
+    }
 
     #[test]
     fn a_face_of_two_vertices_is_named_by_its_line() {

@@ -113,7 +113,7 @@ pub fn build_hiz(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &mut [f32],
 ) {
     let hiz = &frame.hiz;
-    let (w, h) = level_size(hiz.width(), hiz.height(), push.level);
+    let (w, h) = level_size(hiz.width, hiz.height, push.level);
     if id.x >= w || id.y >= h {
         return;
     }

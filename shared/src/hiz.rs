@@ -68,25 +68,9 @@ impl HiZLayout {
         layout.len = offset;
         layout
     }
-    /// Screen width in pixels.
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-    /// Screen height in pixels.
-    pub fn height(&self) -> u32 {
-        self.height
-    }
-    /// Number of levels; 0 when there is no pyramid.
-    pub fn levels(&self) -> u32 {
-        self.levels
-    }
-    /// Floats in the whole pyramid.
-    pub fn len(&self) -> u32 {
-        self.len
-    }
     /// True when there is no pyramid.
     pub fn is_empty(&self) -> bool {
-        self.levels() == 0
+        self.levels == 0
     }
     /// Offset in floats of `level`.
     pub fn offset(&self, level: u32) -> u32 {
@@ -97,7 +81,7 @@ impl HiZLayout {
 /// Texel (x, y) of `level` (≥ 1): the farthest of the 2×2 texels of the level below
 /// that lie inside it (one or two at an odd edge).
 pub fn reduce(pyramid: &[f32], hiz: &HiZLayout, level: u32, x: u32, y: u32) -> f32 {
-    let (w, h) = level_size(hiz.width(), hiz.height(), level - 1);
+    let (w, h) = level_size(hiz.width, hiz.height, level - 1);
     let base = hiz.offset(level - 1);
     let (x0, y0) = (2 * x, 2 * y);
     let x1 = (x0 + 1).min(w - 1);
@@ -111,9 +95,9 @@ pub fn reduce(pyramid: &[f32], hiz: &HiZLayout, level: u32, x: u32, y: u32) -> f
 #[cfg(not(target_arch = "spirv"))]
 pub fn build(depth: &[f32], width: u32, height: u32) -> (HiZLayout, Vec<f32>) {
     let hiz = HiZLayout::new(width, height);
-    let mut pyramid = vec![0.0; hiz.len() as usize];
+    let mut pyramid = vec![0.0; hiz.len as usize];
     pyramid[..depth.len()].copy_from_slice(depth);
-    for level in 1..hiz.levels() {
+    for level in 1..hiz.levels {
         let (w, h) = level_size(width, height, level);
         for y in 0..h {
             for x in 0..w {
@@ -187,14 +171,14 @@ pub fn rect_occluded(
 ) -> bool {
     let (mut a0, mut a1, mut b0, mut b1) = (x0, x1, y0, y1);
     let mut level = 0;
-    while level + 1 < hiz.levels() && (a1 - a0 > 1 || b1 - b0 > 1) {
+    while level + 1 < hiz.levels && (a1 - a0 > 1 || b1 - b0 > 1) {
         level += 1;
         a0 >>= 1;
         a1 >>= 1;
         b0 >>= 1;
         b1 >>= 1;
     }
-    let (w, _) = level_size(hiz.width(), hiz.height(), level);
+    let (w, _) = level_size(hiz.width, hiz.height, level);
     let base = hiz.offset(level);
     let at = |x: u32, y: u32| pyramid[(base + y * w + x) as usize];
     let farthest = at(a0, b0).max(at(a1, b0)).max(at(a0, b1)).max(at(a1, b1));
@@ -208,7 +192,7 @@ pub fn occluded(blade: &Blade, view_proj: Mat4, pyramid: &[f32], hiz: &HiZLayout
     if hiz.is_empty() {
         return false;
     }
-    let screen = Vec2::new(hiz.width() as f32, hiz.height() as f32);
+    let screen = Vec2::new(hiz.width as f32, hiz.height as f32);
     let b = screen_bounds(blade, view_proj, screen);
     let min = b.min - MARGIN_PIXELS;
     let max = b.max + MARGIN_PIXELS;
@@ -234,16 +218,16 @@ mod tests {
     fn layout_of_an_odd_screen() {
         let hiz = HiZLayout::new(5, 3);
         // 5×3, 3×2, 2×1, 1×1.
-        assert_eq!(hiz.levels(), 4);
+        assert_eq!(hiz.levels, 4);
         assert_eq!(level_size(5, 3, 1), (3, 2));
         assert_eq!(level_size(5, 3, 2), (2, 1));
         assert_eq!(
             (0..4).map(|l| hiz.offset(l)).collect::<Vec<_>>(),
             vec![0, 15, 21, 23]
         );
-        assert_eq!(hiz.len(), 24);
+        assert_eq!(hiz.len, 24);
         let full_hd = HiZLayout::new(1920, 1080);
-        assert_eq!(full_hd.levels(), 12);
+        assert_eq!(full_hd.levels, 12);
         assert_eq!(level_size(1920, 1080, 11), (1, 1));
     }
 

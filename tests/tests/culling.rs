@@ -177,11 +177,11 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             uniforms.hiz = renderer.hiz();
             let layout = uniforms.hiz;
             let pyramid: Vec<f32> = renderer
-                .download(&renderer.field.pyramid, layout.len() as usize)
+                .download(&renderer.field.pyramid, layout.len as usize)
                 .unwrap();
 
             // Every level above 0 is the host's reduction of the GPU's level 0.
-            let (w, h) = (layout.width(), layout.height());
+            let (w, h) = (layout.width, layout.height);
             let (host_layout, host_pyramid) = hiz::build(&pyramid[..(w * h) as usize], w, h);
             assert_eq!(host_layout, layout);
             assert_eq!(
@@ -195,7 +195,7 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             assert!(occluder_pixels > 0, "the pre-pass drew no occluder");
             println!(
                 "pyramid {w}x{h}, {} levels, occluders on {occluder_pixels} pixels",
-                layout.levels()
+                layout.levels
             );
 
             // The host's outcome for every blade against the GPU's pyramid.

@@ -213,24 +213,23 @@ impl FrameDriver {
         target.present(acquired)
     }
 
-    /// One frame of `seconds` showing `uniforms`, captured if `capture`; false when
-    /// the target had no image.
+    /// One frame of `seconds` showing `uniforms`, captured if `capture`; nothing when
+    /// the target has no image this time.
     pub fn run(
         &mut self,
         target: &mut dyn FrameTarget,
         seconds: f64,
         uniforms: impl FnOnce(&Frame) -> FrameUniforms,
         capture: bool,
-    ) -> Result<bool> {
+    ) -> Result<()> {
         let Some(frame) = self.begin(target, seconds)? else {
-            return Ok(false);
+            return Ok(());
         };
         let spec = FrameSpec {
             capture,
             ..FrameSpec::plain(uniforms(&frame))
         };
-        self.submit(frame, target, spec)?;
-        Ok(true)
+        self.submit(frame, target, spec)
     }
 
     /// Only the compute part of a frame (simulate, cull, chunk draws), then waits for

@@ -5,7 +5,7 @@
 
 use crate::field::Field;
 use crate::shaders;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -22,7 +22,7 @@ impl GrassPass {
     /// The pipelines for a colour target of `color_format`.
     pub fn new(
         ctx: &Arc<Context>,
-        module: &ShaderModule,
+        module: &ShaderModules,
         field: &Field,
         color_format: vk::Format,
     ) -> Result<Self> {

@@ -4,7 +4,7 @@
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule, vec4_vertex_input};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules, vec4_vertex_input};
 use crate::vulkan::{Buffer, Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -68,7 +68,7 @@ impl GroundPass {
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
-        module: &ShaderModule,
+        module: &ShaderModules,
         field: &Field,
         color_format: vk::Format,
         ground: &[(&SurfaceMesh, u32)],

@@ -5,7 +5,7 @@
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::passes::ground::GroundPass;
 use crate::shaders;
-use crate::vulkan::pipeline::{Pipeline, ShaderModule};
+use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -25,7 +25,7 @@ pub struct OcclusionPass {
 
 impl OcclusionPass {
     /// The reduction pipeline; the pyramid is sized by [`OcclusionPass::resize`].
-    pub fn new(ctx: &Arc<Context>, module: &ShaderModule, field: &Field) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, module: &ShaderModules, field: &Field) -> Result<Self> {
         Ok(Self {
             build: Pipeline::compute(ctx, &field.layout, module, shaders::BUILD_HIZ)?,
             hiz: HiZLayout::default(),
@@ -40,7 +40,7 @@ impl OcclusionPass {
         extent: vk::Extent2D,
     ) -> Result<()> {
         self.hiz = HiZLayout::new(extent.width, extent.height);
-        field.resize_pyramid(ctx, self.hiz.len())
+        field.resize_pyramid(ctx, self.hiz.len)
     }
 
     /// Records the occluder depth into `depth` (left in TRANSFER_SRC_OPTIMAL) and the
@@ -83,8 +83,8 @@ impl OcclusionPass {
         rec.memory_barrier(written, read);
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         rec.bind_pipeline(compute, self.build.pipeline, layout, set);
-        for level in 1..self.hiz.levels() {
-            let (w, h) = level_size(self.hiz.width(), self.hiz.height(), level);
+        for level in 1..self.hiz.levels {
+            let (w, h) = level_size(self.hiz.width, self.hiz.height, level);
             let push = HiZPush { level };
             rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
             rec.dispatch((w.div_ceil(HIZ_WORKGROUP), h.div_ceil(HIZ_WORKGROUP)));

@@ -5,7 +5,7 @@
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModule};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModules};
 use crate::vulkan::sampler::Sampler;
 use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::{Context as _, Result};
@@ -68,7 +68,7 @@ impl OverlayPass {
     /// The pipeline for a colour target of `color_format`, with `slots` frames in flight.
     pub fn new(
         ctx: &Arc<Context>,
-        module: &ShaderModule,
+        module: &ShaderModules,
         color_format: vk::Format,
         slots: usize,
     ) -> Result<Self> {

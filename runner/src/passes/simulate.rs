@@ -3,7 +3,7 @@
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
-use crate::vulkan::pipeline::{Pipeline, ShaderModule};
+use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -25,7 +25,7 @@ pub struct SimulatePass {
 
 impl SimulatePass {
     /// Both compute pipelines.
-    pub fn new(ctx: &Arc<Context>, module: &ShaderModule, field: &Field) -> Result<Self> {
+    pub fn new(ctx: &Arc<Context>, module: &ShaderModules, field: &Field) -> Result<Self> {
         Ok(Self {
             ctx: ctx.clone(),
             simulate: Pipeline::compute(ctx, &field.layout, module, shaders::SIMULATE_CULL)?,

@@ -4,7 +4,7 @@
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
-use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModule};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -20,7 +20,7 @@ impl ThroughputPass {
     /// The pipeline for a colour target of `color_format`.
     pub fn new(
         ctx: &Arc<Context>,
-        module: &ShaderModule,
+        module: &ShaderModules,
         field: &Field,
         color_format: vk::Format,
     ) -> Result<Self> {

@@ -19,7 +19,7 @@ use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::simulate::SimulatePass;
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
-use crate::vulkan::pipeline::ShaderModule;
+use crate::vulkan::pipeline::ShaderModules;
 use crate::vulkan::{Context, Image, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
@@ -117,7 +117,7 @@ pub struct Renderer {
     color_format: vk::Format,
     depth: Option<Image>,
     pool: CommandPool,
-    module: ShaderModule,
+    module: ShaderModules,
 }
 
 impl Renderer {
@@ -126,7 +126,7 @@ impl Renderer {
     pub fn new(ctx: &Arc<Context>, meshes: &Meshes, color_format: vk::Format) -> Result<Self> {
         let pool = CommandPool::new(ctx)?;
         let field = Field::new(ctx, &pool, meshes.blades)?;
-        let module = ShaderModule::new(ctx, shaders::MODULES)?;
+        let module = ShaderModules::new(ctx, shaders::MODULES)?;
         let simulate = SimulatePass::new(ctx, &module, &field)?;
         let surfaces = [
             (meshes.surface, MATERIAL_SOIL),

@@ -8,13 +8,13 @@ use std::sync::Arc;
 
 /// The shader modules, one per entry point (GPU-assisted validation refuses a module
 /// of several stages), each found by its entry point's name.
-pub struct ShaderModule {
+pub struct ShaderModules {
     ctx: Arc<Context>,
     /// (entry point, its module).
     modules: Vec<(&'static str, vk::ShaderModule)>,
 }
 
-impl ShaderModule {
+impl ShaderModules {
     /// Creates a module for each (entry point, SPIR-V bytes).
     pub fn new(ctx: &Arc<Context>, spirv: &[(&'static str, &[u8])]) -> Result<Self> {
         let mut set = Self {
@@ -42,7 +42,7 @@ impl ShaderModule {
     }
 }
 
-impl Drop for ShaderModule {
+impl Drop for ShaderModules {
     fn drop(&mut self) {
         for (_, module) in &self.modules {
             unsafe { self.ctx.device.destroy_shader_module(*module, None) };
@@ -107,7 +107,7 @@ impl Pipeline {
     pub fn compute(
         ctx: &Arc<Context>,
         layout: &PipelineLayout,
-        module: &ShaderModule,
+        module: &ShaderModules,
         entry: &str,
     ) -> Result<Self> {
         let name = CString::new(entry)?;
@@ -228,7 +228,7 @@ impl Pipeline {
 /// What a graphics pipeline is made of.
 pub struct GraphicsDesc<'a> {
     /// The module with every entry point.
-    pub module: &'a ShaderModule,
+    pub module: &'a ShaderModules,
     /// (stage, entry point name), in pipeline order.
     pub stages: &'a [(vk::ShaderStageFlags, &'a str)],
     /// The layout.
@@ -253,7 +253,7 @@ impl<'a> GraphicsDesc<'a> {
     /// An opaque, depth-tested triangle-list pipeline of `stages` over one buffer of
     /// `vec4` vertex attributes; change fields for the rest.
     pub fn opaque(
-        module: &'a ShaderModule,
+        module: &'a ShaderModules,
         stages: &'a [(vk::ShaderStageFlags, &'a str)],
         layout: &'a PipelineLayout,
         vertex_input: &'a VertexInput,
@@ -271,7 +271,7 @@ impl<'a> GraphicsDesc<'a> {
     /// An opaque, depth-tested pipeline of one-control-point patches with no vertex
     /// buffer (the vertex stage works from its index); change fields for the rest.
     pub fn patches(
-        module: &'a ShaderModule,
+        module: &'a ShaderModules,
         stages: &'a [(vk::ShaderStageFlags, &'a str)],
         layout: &'a PipelineLayout,
         color_format: vk::Format,

@@ -29,6 +29,7 @@ impl OrbitCamera {
             position: self.eye(),
             fov_y: self.fov_y,
             height: extent.1,
+            forward: (self.target - self.eye()).normalize_or_zero(),
         }
     }
 

@@ -6,6 +6,7 @@ use crate::collide::MAX_COLLIDERS;
 use crate::cull::{self, CullParams};
 use crate::hiz::HiZLayout;
 use crate::lod::LodParams;
+use crate::look::LookParams;
 use crate::shade::Light;
 use crate::simulate::Environment;
 use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
@@ -119,6 +120,8 @@ pub struct FrameUniforms {
     pub grass: GrassParams,
     /// The culling tests and their thresholds (paper section 4.2).
     pub cull: CullParams,
+    /// The natural look: shadows, fog, clumps.
+    pub look: LookParams,
 }
 
 /// Push constants of the simulate-and-cull dispatch: which fixed steps to run.
@@ -197,6 +200,19 @@ pub struct ThroughputPush {
 pub struct CopyPush {
     /// Number of `vec4`.
     pub count: u32,
+}
+
+/// Push constants of the tone-map pass: what it needs to draw the sky behind the
+/// scene and to expose the image.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ToneMapPush {
+    /// Clip space to world (the inverse of the camera's view-projection).
+    pub clip_to_world: Mat4,
+    /// Camera position (xyz) and exposure (w).
+    pub camera: Vec4,
+    /// Unit direction towards the sun (xyz); w unused.
+    pub sun: Vec4,
 }
 
 /// Push constants of the chunk pass: how the visible blades split into draws.

@@ -14,6 +14,7 @@ pub mod generate;
 pub mod hiz;
 pub mod layout;
 pub mod lod;
+pub mod look;
 #[cfg(not(target_arch = "spirv"))]
 pub mod mesh;
 pub mod reference;

@@ -7,7 +7,10 @@ use crate::cull::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NA
 use crate::layout::{CameraParams, FrameUniforms, GrassParams};
 use crate::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
 use crate::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
-use crate::shape::{SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP};
+use crate::look::{LOOK_NATURAL, LOOK_PAPER, LookParams};
+use crate::shape::{
+    SHAPE_DANDELION, SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP,
+};
 use crate::simulate::Environment;
 use crate::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};
 use spirv_std::glam::{Mat4, Vec3, Vec4};
@@ -42,7 +45,76 @@ pub enum BladeShape {
     Quadratic = SHAPE_QUADRATIC,
     /// Full width up to `--tip-start`, then a triangle.
     TriangleTip = SHAPE_TRIANGLE_TIP,
+    /// A dandelion leaf: three lobes with teeth pointing back to the root.
+    Dandelion = SHAPE_DANDELION,
 }
+
+/// The look of the frame (`look`).
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Look {
+    /// The paper's image: Lambert blades with a base-to-tip gradient on a flat sky,
+    /// drawn straight into the sRGB target (the reference images).
+    Paper = LOOK_PAPER,
+    /// Clumps and colour, rounded leaves lit through, ambient occlusion, sun shadows,
+    /// sky and fog, rendered in linear HDR and tone-mapped.
+    #[default]
+    Natural = LOOK_NATURAL,
+}
+
+impl Look {
+    /// Both looks, in the order the viewer's key cycles them.
+    pub const ALL: [Self; 2] = [Self::Paper, Self::Natural];
+    /// The next look in [`Self::ALL`].
+    pub fn next(self) -> Self {
+        next_of(&Self::ALL, self)
+    }
+}
+
+/// How the frame looks: the style and its parts.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct LookSettings {
+    /// Paper or natural.
+    pub style: Look,
+    /// Sun shadows (natural look).
+    pub shadows: bool,
+    /// Samples per pixel: 1, 2, 4 or 8.
+    pub msaa: u32,
+    /// Factor on the radiance before the tone map (natural look).
+    pub exposure: f32,
+    /// Aerial perspective: fog density per unit of distance.
+    pub fog_density: f32,
+    /// Clump size in scene units.
+    pub clump_size: f32,
+    /// The field's seed (clumps and colours).
+    pub seed: u32,
+    /// The scene's bounding sphere (centre, radius): the shadow map covers it, or
+    /// the part of it in front of the camera.
+    pub scene: (Vec3, f32),
+}
+
+impl Default for LookSettings {
+    fn default() -> Self {
+        Self {
+            style: Look::Natural,
+            shadows: true,
+            msaa: 1,
+            exposure: 1.0,
+            fog_density: 0.004,
+            clump_size: 1.6,
+            seed: 1,
+            scene: (Vec3::ZERO, 12.0),
+        }
+    }
+}
+
+/// Side of the sun's shadow map in texels.
+pub const SHADOW_SIZE: u32 = 2048;
+
+/// Farthest the shadow map reaches from the camera, in units: beyond, the sun's map
+/// would spread too thin over a large field.
+pub const SHADOW_REACH: f32 = 48.0;
 
 /// How the grass is drawn.
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
@@ -75,11 +147,12 @@ impl WindField {
 
 impl BladeShape {
     /// Every shape, in the order the viewer's key cycles them.
-    pub const ALL: [Self; 4] = [
+    pub const ALL: [Self; 5] = [
         Self::Quad,
         Self::Triangle,
         Self::Quadratic,
         Self::TriangleTip,
+        Self::Dandelion,
     ];
     /// The next shape in [`Self::ALL`].
     pub fn next(self) -> Self {
@@ -260,6 +333,8 @@ pub struct Settings {
     pub shape: BladeShape,
     /// Tip start k of the triangle-tip shape, 0 (root) to 1 (tip).
     pub tip_start: f32,
+    /// The look.
+    pub look: LookSettings,
 }
 
 impl Default for Settings {
@@ -299,6 +374,7 @@ impl Default for Settings {
             view: View::Shaded,
             shape: BladeShape::Quadratic,
             tip_start: 0.5,
+            look: LookSettings::default(),
         }
     }
 }
@@ -314,6 +390,8 @@ pub struct Viewpoint {
     pub fov_y: f32,
     /// Height of the target in pixels.
     pub height: u32,
+    /// Unit direction the camera looks along.
+    pub forward: Vec3,
 }
 
 impl Settings {
@@ -372,8 +450,40 @@ impl Settings {
                 buckets: cull.buckets,
                 enabled: cull.tests.mask(),
             },
+            look: self.look_params(eye),
         }
     }
+
+    /// The natural look's block: the shadow map around what the camera sees.
+    pub fn look_params(&self, eye: &Viewpoint) -> LookParams {
+        let look = &self.look;
+        let (centre, radius) = shadow_sphere(look.scene, eye.position, eye.forward);
+        LookParams {
+            shadow_view_proj: crate::look::sun_view_proj(self.light.direction, centre, radius),
+            style: look.style as u32,
+            shadows: u32::from(look.shadows && look.style == Look::Natural),
+            seed: look.seed,
+            shadow_size: SHADOW_SIZE,
+            fog_density: look.fog_density,
+            field_distance: self.cull.max_distance,
+            pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,
+            clump_size: look.clump_size,
+        }
+    }
+}
+
+/// The sphere the shadow map covers: the scene's, or where it is larger than
+/// [`SHADOW_REACH`], a sphere of that radius ahead of the camera, its centre snapped to
+/// a grid of a sixteenth of the radius so the map does not swim as the camera turns.
+pub fn shadow_sphere(scene: (Vec3, f32), camera: Vec3, forward: Vec3) -> (Vec3, f32) {
+    let (centre, radius) = scene;
+    if radius <= SHADOW_REACH {
+        return (centre, radius);
+    }
+    let r = SHADOW_REACH;
+    let ahead = camera + forward.normalize_or_zero() * (0.8 * r);
+    let step = r / 16.0;
+    ((ahead / step).round() * step, r)
 }
 
 #[cfg(test)]
@@ -410,6 +520,7 @@ mod tests {
             position: Vec3::new(1.0, 2.0, 3.0),
             fov_y: std::f32::consts::FRAC_PI_2,
             height: 200,
+            forward: Vec3::Z,
         };
         let balls = [Vec4::ONE; MAX_COLLIDERS + 3];
         let u = s.uniforms(&eye, 1234, &balls);

@@ -3,6 +3,8 @@
 
 use crate::Blade;
 use spirv_std::glam::Vec3;
+#[cfg(target_arch = "spirv")]
+use spirv_std::num_traits::Float;
 
 /// τ = u: a rectangle, full width to the tip.
 pub const SHAPE_QUAD: u32 = 0;
@@ -12,6 +14,13 @@ pub const SHAPE_TRIANGLE: u32 = 1;
 pub const SHAPE_QUADRATIC: u32 = 2;
 /// τ = ½ + (u − ½)(1 − max(v − k, 0)/(1 − k)): full width up to k, then a triangle.
 pub const SHAPE_TRIANGLE_TIP: u32 = 3;
+/// τ = ½ + (u − ½)·(1 − v)·(0.4 + 0.6·(1 − fract(3v))): the paper's fifth shape, a
+/// dandelion leaf narrowing to the tip with three lobes whose teeth point back to the
+/// root. PAPER.md gives no formula for it; this one is ours (see [`shape_tau`]).
+pub const SHAPE_DANDELION: u32 = 4;
+
+/// Lobes of the dandelion leaf.
+pub const DANDELION_LOBES: f32 = 3.0;
 
 /// The shape function τ(u, v) for `shape` (one of the `SHAPE_*` constants);
 /// `tip_start` is k of the triangle-tip shape.
@@ -23,6 +32,12 @@ pub fn shape_tau(shape: u32, u: f32, v: f32, tip_start: f32) -> f32 {
     } else if shape == SHAPE_TRIANGLE_TIP {
         let k = tip_start.min(0.999);
         0.5 + (u - 0.5) * (1.0 - (v - k).max(0.0) / (1.0 - k))
+    } else if shape == SHAPE_DANDELION {
+        // Each lobe is widest at its lower end and narrows upwards, so its tooth
+        // points back towards the root (a runcinate leaf).
+        let lobe = v * DANDELION_LOBES;
+        let tooth = 1.0 - (lobe - lobe.floor());
+        0.5 + (u - 0.5) * (1.0 - v) * (0.4 + 0.6 * tooth)
     } else {
         u
     }
@@ -85,6 +100,13 @@ mod tests {
                 );
             }
         }
+        // The dandelion: full width at the root, closed at the tip, and narrower just
+        // below a lobe's upper end than just above it (the teeth point back).
+        assert_eq!(shape_tau(SHAPE_DANDELION, 1.0, 0.0, 0.5), 1.0);
+        assert!((shape_tau(SHAPE_DANDELION, 1.0, 1.0, 0.5) - 0.5).abs() < 1e-6);
+        let below = shape_tau(SHAPE_DANDELION, 1.0, 1.0 / 3.0 - 0.01, 0.5);
+        let above = shape_tau(SHAPE_DANDELION, 1.0, 1.0 / 3.0 + 0.01, 0.5);
+        assert!(above - below > 0.15, "{below} {above}");
         // Triangle-tip keeps the full width below k.
         assert_eq!(shape_tau(SHAPE_TRIANGLE_TIP, 1.0, 0.4, 0.5), 1.0);
     }

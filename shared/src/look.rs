@@ -1,0 +1,657 @@
+//! The natural look: what games add to the paper's Lambert blades (issue 16). Clumps
+//! and a colour palette, leaves rounded across their width and lit through, ambient
+//! occlusion towards the root, fades instead of popping, a sky with a sun disc,
+//! aerial perspective, sun shadows and a tone map. Every function here runs in the
+//! shaders and in the host tests; `--look paper` skips all of it.
+//!
+//! Sources: clumps as Voronoi cells with shared lean, height and colour, rounded
+//! normals and translucency follow Eric Wohllaib's *Procedural Grass in Ghost of
+//! Tsushima* (GDC 2021); the sky gradient and exponential fog follow Iñigo Quilez's
+//! *Better fog* (2010); the tone map is Krzysztof Narkowicz's fit of the ACES
+//! reference rendering transform (2016).
+
+use crate::Blade;
+use crate::blade::tangent_frame;
+use spirv_std::glam::{Mat4, Vec3, Vec4};
+#[cfg(target_arch = "spirv")]
+use spirv_std::num_traits::Float;
+
+/// Look: the paper's Lambert blades, as before (the reference images).
+pub const LOOK_PAPER: u32 = 0;
+/// Look: clumps, colour, rounded lit leaves, shadows, sky, fog and tone mapping.
+pub const LOOK_NATURAL: u32 = 1;
+
+/// The natural look's values, as the frame block carries them.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LookParams {
+    /// World to the sun's shadow map (clip space, depth 0..1).
+    pub shadow_view_proj: Mat4,
+    /// `LOOK_PAPER` or `LOOK_NATURAL`.
+    pub style: u32,
+    /// Shadows on (1) or off (0).
+    pub shadows: u32,
+    /// The field's seed: clumps and colours follow it.
+    pub seed: u32,
+    /// Side of the shadow map in texels.
+    pub shadow_size: u32,
+    /// Fog density per unit of distance (aerial perspective).
+    pub fog_density: f32,
+    /// Where the distance test leaves no blade: the ground takes the field's colour
+    /// towards it.
+    pub field_distance: f32,
+    /// Size of a pixel at distance 1 (2·tan(fov/2)/height): blades are kept at least
+    /// this wide times their distance, and fade instead.
+    pub pixel_angle: f32,
+    /// Clump size in scene units.
+    pub clump_size: f32,
+}
+
+/// Sun radiance (linear, before exposure).
+pub const SUN: Vec3 = Vec3::new(3.2, 2.95, 2.6);
+/// Sky light on a surface facing up (linear, before exposure).
+pub const SKY_AMBIENT: Vec3 = Vec3::new(0.42, 0.55, 0.75);
+
+// ---- hashing -------------------------------------------------------------------
+
+/// A 32-bit integer hash (Chris Wellons's `lowbias32`).
+pub fn hash_u32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// Uniform in 0..1 from `x`.
+pub fn hash_unit(x: u32) -> f32 {
+    (hash_u32(x) >> 8) as f32 / 16_777_216.0
+}
+
+fn hash_cell(x: i32, y: i32, z: i32, seed: u32) -> u32 {
+    hash_u32(
+        (x as u32).wrapping_mul(0x8da6_b343)
+            ^ (y as u32).wrapping_mul(0xd816_3841)
+            ^ (z as u32).wrapping_mul(0xcb1a_b31f)
+            ^ hash_u32(seed),
+    )
+}
+
+// ---- clumps --------------------------------------------------------------------
+
+/// What a clump gives its blades.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Clump {
+    /// Lean: the blade tips move this far sideways per unit of height (a vector in
+    /// world space, any length; only its part across `up` counts).
+    pub lean: Vec3,
+    /// Factor on the blades' height.
+    pub height: f32,
+    /// Dryness 0 (fresh) to 1 (dry), picks the colour from [`palette`].
+    pub dryness: f32,
+}
+
+/// Sharpness of the blend between clumps: weights fall by e per 1/`CLUMP_SHARPNESS`
+/// cell sizes of extra distance, so a clump's inside is its own and its borders blend.
+pub const CLUMP_SHARPNESS: f32 = 9.0;
+
+/// The clump at `p`: Voronoi cells of jittered points on a 3D grid of `size` (so
+/// any surface, a planet's included, has clumps), each cell's lean, height and
+/// dryness from a hash of the cell and `seed`, blended with weights exp(−k·(dᵢ − d₁))
+/// over the 27 neighbouring cells (k = [`CLUMP_SHARPNESS`] / size). The weights are
+/// continuous in `p`, so the clumps blend at their borders without seams.
+pub fn clump_at(p: Vec3, size: f32, seed: u32) -> Clump {
+    let q = p / size.max(1e-4);
+    let cell = q.floor();
+    let (cx, cy, cz) = (cell.x as i32, cell.y as i32, cell.z as i32);
+    // Nearest feature distance first, then the weighted sums.
+    let mut nearest = 1e9_f32;
+    let mut z = -1;
+    while z <= 1 {
+        let mut y = -1;
+        while y <= 1 {
+            let mut x = -1;
+            while x <= 1 {
+                let h = hash_cell(cx + x, cy + y, cz + z, seed);
+                let d = (feature(cell, x, y, z, h) - q).length();
+                nearest = nearest.min(d);
+                x += 1;
+            }
+            y += 1;
+        }
+        z += 1;
+    }
+    let mut total = 0.0;
+    let mut lean = Vec3::ZERO;
+    let mut height = 0.0;
+    let mut dryness = 0.0;
+    let mut z = -1;
+    while z <= 1 {
+        let mut y = -1;
+        while y <= 1 {
+            let mut x = -1;
+            while x <= 1 {
+                let h = hash_cell(cx + x, cy + y, cz + z, seed);
+                let d = (feature(cell, x, y, z, h) - q).length();
+                let w = (-CLUMP_SHARPNESS * (d - nearest)).exp();
+                let angle = hash_unit(h ^ 0x51) * core::f32::consts::TAU;
+                let amount = 0.1 + 0.3 * hash_unit(h ^ 0x52);
+                lean += w * Vec3::new(angle.cos(), 0.3 * angle.sin(), angle.sin()) * amount;
+                height += w * (0.7 + 0.55 * hash_unit(h ^ 0x53));
+                dryness += w * hash_unit(h ^ 0x54);
+                total += w;
+                x += 1;
+            }
+            y += 1;
+        }
+        z += 1;
+    }
+    Clump {
+        lean: lean / total,
+        height: height / total,
+        dryness: dryness / total,
+    }
+}
+
+/// The jittered feature point of cell `cell + (x, y, z)` whose hash is `h`.
+fn feature(cell: Vec3, x: i32, y: i32, z: i32, h: u32) -> Vec3 {
+    let jitter = Vec3::new(
+        hash_unit(h ^ 0x11),
+        hash_unit(h ^ 0x12),
+        hash_unit(h ^ 0x13),
+    );
+    cell + Vec3::new(x as f32, y as f32, z as f32) + 0.15 + 0.7 * jitter
+}
+
+/// The blade as the natural look draws it: its clump's height factor times a
+/// per-blade jitter, the tip leaning with the clump (across `up` only, the length of
+/// v0→v2 kept), and the width times `width_scale` (the fades).
+pub fn dressed_blade(blade: &Blade, clump: &Clump, jitter: f32, width_scale: f32) -> Blade {
+    let v0 = blade.root();
+    let up = blade.up_dir();
+    let scale = clump.height * (0.9 + 0.2 * jitter);
+    let sideways = clump.lean - up * clump.lean.dot(up);
+    let lean = |p: Vec3| {
+        let d = p - v0;
+        let len = d.length();
+        v0 + (d + sideways * len).normalize_or_zero() * len * scale
+    };
+    let mut out = blade.with_curve(lean(blade.guide()), lean(blade.tip()));
+    out.v1.w = blade.height() * scale;
+    out.v2.w = blade.width() * width_scale;
+    out
+}
+
+// ---- colour --------------------------------------------------------------------
+
+/// Fresh blade colour (linear albedo).
+pub const FRESH: Vec3 = Vec3::new(0.075, 0.21, 0.025);
+/// Half-dry blade colour.
+pub const RIPE: Vec3 = Vec3::new(0.17, 0.24, 0.045);
+/// Dry blade colour.
+pub const DRY: Vec3 = Vec3::new(0.36, 0.30, 0.12);
+
+/// The palette from fresh (0) through ripe to dry (1).
+pub fn palette(dryness: f32) -> Vec3 {
+    let t = dryness.clamp(0.0, 1.0);
+    if t < 0.5 {
+        FRESH.lerp(RIPE, 2.0 * t)
+    } else {
+        RIPE.lerp(DRY, 2.0 * t - 1.0)
+    }
+}
+
+/// A blade's own colour: its clump's place in the palette moved by a per-blade
+/// jitter (`hash` 0..1), the value ±15 % by a second hash.
+pub fn blade_tint(clump: &Clump, hash: f32, hash2: f32) -> Vec3 {
+    let dryness = clump.dryness * 0.8 + 0.25 * (hash - 0.5);
+    palette(dryness) * (0.85 + 0.3 * hash2)
+}
+
+/// Albedo at height `v` (0 root, 1 tip): the tint, darker at the root and drier
+/// towards the tip.
+pub fn blade_albedo(tint: Vec3, v: f32) -> Vec3 {
+    let v = v.clamp(0.0, 1.0);
+    let drier = tint.lerp(DRY, 0.45 * v * v * v);
+    drier * (0.55 + 0.45 * v)
+}
+
+// ---- leaf shading --------------------------------------------------------------
+
+/// Rounding of the blade across its width: the normal turns by up to this angle
+/// (radians) towards each edge.
+pub const ROUNDING: f32 = 0.6;
+
+/// The normal of a leaf rounded across its width: `normal` turned towards −t1 at
+/// the edge u = 0 and towards +t1 at u = 1, by up to `ROUNDING` radians, so a blade
+/// shades like a curved leaf, not a flat card (Ghost of Tsushima). Unit length.
+pub fn rounded_normal(normal: Vec3, width_dir: Vec3, u: f32) -> Vec3 {
+    let angle = (2.0 * u.clamp(0.0, 1.0) - 1.0) * ROUNDING;
+    (normal * angle.cos() + width_dir * angle.sin()).normalize_or_zero()
+}
+
+/// Ambient occlusion of a blade at height `v` in a field of relative density
+/// `density` (1: every blade kept, less where the distance test thins it): the
+/// canopy hides the sky towards the root, 1 − 0.75·density·(1 − v)².
+pub fn ambient_occlusion(v: f32, density: f32) -> f32 {
+    let below = 1.0 - v.clamp(0.0, 1.0);
+    1.0 - 0.75 * density.clamp(0.0, 1.0) * below * below
+}
+
+/// Light through a thin leaf: zero while the sun is on the viewer's side of the
+/// blade (`facing` is the normal turned towards the viewer), growing as the sun
+/// comes from behind it, strongest when the viewer looks into the sun.
+pub fn translucency(facing: Vec3, to_light: Vec3, to_eye: Vec3) -> f32 {
+    let behind = (-facing.dot(to_light)).max(0.0);
+    let into_sun = (-to_eye.dot(to_light)).max(0.0);
+    behind * (0.35 + 0.65 * into_sun * into_sun * into_sun * into_sun)
+}
+
+/// A soft specular highlight (Blinn-Phong, exponent 24, strength 0.1), zero on the
+/// side away from the sun.
+pub fn soft_specular(facing: Vec3, to_light: Vec3, to_eye: Vec3) -> f32 {
+    if facing.dot(to_light) <= 0.0 {
+        return 0.0;
+    }
+    let half = (to_light + to_eye).normalize_or_zero();
+    0.1 * facing.dot(half).max(0.0).powf(24.0)
+}
+
+/// The radiance of a leaf fragment: sky light times occlusion, sun light (direct,
+/// through the leaf, specular) times the shadow factor `sun` (1 lit, 0 shadowed).
+/// `normal` is either face; it is turned towards the viewer.
+pub fn shade_leaf(
+    albedo: Vec3,
+    normal: Vec3,
+    to_light: Vec3,
+    to_eye: Vec3,
+    occlusion: f32,
+    sun: f32,
+) -> Vec3 {
+    let facing = if normal.dot(to_eye) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let diffuse = facing.dot(to_light).max(0.0);
+    let through = translucency(facing, to_light, to_eye);
+    let sky = SKY_AMBIENT * (0.6 + 0.4 * facing.y.max(0.0)) * occlusion;
+    let direct = albedo * (diffuse + 1.4 * through) + Vec3::splat(soft_specular(facing, to_light, to_eye));
+    albedo * sky + SUN * direct * sun
+}
+
+/// A ground fragment: Lambert under the sky and the sun.
+pub fn shade_ground(albedo: Vec3, normal: Vec3, to_light: Vec3, occlusion: f32, sun: f32) -> Vec3 {
+    let diffuse = normal.dot(to_light).max(0.0);
+    albedo * (SKY_AMBIENT * occlusion * (0.6 + 0.4 * normal.y.max(0.0)) + SUN * diffuse * sun)
+}
+
+/// The soil under grass takes the colour of the grass's roots, and beyond where
+/// blades thin out (from half `field_distance` on) the colour of the field seen from
+/// afar, so the meadow seems to reach the horizon: `soil` blended to the clump's
+/// colour by `cover` (0..1, 1 under grass).
+pub fn ground_under_grass(soil: Vec3, clump: &Clump, distance: f32, field_distance: f32) -> Vec3 {
+    let tint = palette(clump.dryness * 0.8);
+    let roots = blade_albedo(tint, 0.1);
+    // The field from afar: blades seen from the side cover the ground, mid-height
+    // colour with the canopy's occlusion.
+    let far = blade_albedo(tint, 0.6) * 0.9;
+    let t = smoothstep(0.35 * field_distance, field_distance, distance);
+    soil.lerp(roots, 0.8).lerp(far, t)
+}
+
+/// 0 below `a`, 1 above `b`, the cubic 3t² − 2t³ between.
+pub fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
+    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+// ---- fades ---------------------------------------------------------------------
+
+/// Width kept by the distance test's fade: blade `id`'s bucket b = id mod n is
+/// removed once n·(1 − dproj/dmax) < b; over the last unit before that the blade
+/// narrows to nothing, clamp(n·(1 − dproj/dmax) − b, 0, 1), so it leaves without a pop.
+pub fn distance_fade(dproj: f32, max_distance: f32, buckets: u32, id: u32) -> f32 {
+    let position = crate::cull::distance_bucket_position(dproj, max_distance, buckets);
+    let bucket = (id % buckets.max(1)) as f32;
+    (position - bucket).clamp(0.0, 1.0)
+}
+
+/// Width of the band before the orientation threshold over which a blade narrows.
+pub const ORIENTATION_BAND: f32 = 0.08;
+
+/// Width kept by the orientation test's fade: 1 below threshold − band, 0 at the
+/// threshold where the test removes the blade.
+pub fn orientation_fade(alignment: f32, threshold: f32) -> f32 {
+    ((threshold - alignment) / ORIENTATION_BAND).clamp(0.0, 1.0)
+}
+
+/// Relative density of the field at `dproj`: the share of the distance test's
+/// buckets kept there (1 with the test off).
+pub fn kept_share(dproj: f32, max_distance: f32, buckets: u32) -> f32 {
+    let position = crate::cull::distance_bucket_position(dproj, max_distance, buckets);
+    ((position + 1.0) / buckets.max(1) as f32).clamp(0.0, 1.0)
+}
+
+/// Coverage of a blade narrower than `min_width` (a pixel at its distance): the drawn
+/// width is clamped to `min_width` and the fragment's alpha (alpha to coverage
+/// under MSAA) is the share of it the blade really covers.
+pub fn thin_coverage(width: f32, min_width: f32) -> (f32, f32) {
+    if width >= min_width || min_width <= 0.0 {
+        (width, 1.0)
+    } else {
+        (min_width, (width / min_width).max(0.0))
+    }
+}
+
+// ---- sky, fog, tone map -----------------------------------------------------------
+
+/// Angular radius of the sun disc, radians (about 1.5× the real sun, so it reads).
+pub const SUN_RADIUS: f32 = 0.012;
+
+/// Sky radiance towards `dir` (unit) with the sun towards `sun` (unit): a gradient
+/// from a pale horizon to a deep zenith, a glow around the sun, the sun disc, and a
+/// dim ground colour below the horizon.
+pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
+    let zenith = Vec3::new(0.16, 0.34, 0.78);
+    let horizon = Vec3::new(0.62, 0.74, 0.92);
+    let up = dir.y.max(0.0);
+    let base = horizon.lerp(zenith, 1.0 - (1.0 - up) * (1.0 - up) * (1.0 - up));
+    let below = Vec3::new(0.30, 0.32, 0.30).lerp(horizon, (1.0 + dir.y * 8.0).clamp(0.0, 1.0));
+    let base = if dir.y < 0.0 { below } else { base };
+    let cos = dir.dot(sun).clamp(-1.0, 1.0);
+    let glow = cos.max(0.0).powf(64.0) * 0.6 + cos.max(0.0).powf(6.0) * 0.12;
+    let disc = smoothstep((SUN_RADIUS * 1.2).cos(), SUN_RADIUS.cos(), cos) * 40.0;
+    base + SUN * (glow + disc) / SUN.x
+}
+
+/// The sky without the sun disc, what fog takes on towards `dir`.
+pub fn fog_colour(dir: Vec3, sun: Vec3) -> Vec3 {
+    let horizon = Vec3::new(0.62, 0.74, 0.92);
+    let cos = dir.dot(sun).max(0.0);
+    horizon + Vec3::new(0.9, 0.75, 0.5) * cos.powf(8.0) * 0.5
+}
+
+/// Aerial perspective: `colour` at `distance` along `dir` fogged towards the sky,
+/// 1 − exp(−density·distance) of the way.
+pub fn fog(colour: Vec3, distance: f32, dir: Vec3, sun: Vec3, density: f32) -> Vec3 {
+    let amount = 1.0 - (-density * distance.max(0.0)).exp();
+    colour.lerp(fog_colour(dir, sun), amount)
+}
+
+/// Narkowicz's ACES fit per channel: x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14),
+/// clamped to 0..1. Maps 0 to 0, increasing, 1 at about x = 11.
+pub fn aces(x: f32) -> f32 {
+    let x = x.max(0.0);
+    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// Linear HDR radiance to display-linear colour (the sRGB target encodes it):
+/// `exposure` times the radiance through [`aces`].
+pub fn tone_map(radiance: Vec3, exposure: f32) -> Vec3 {
+    let x = radiance * exposure;
+    Vec3::new(aces(x.x), aces(x.y), aces(x.z))
+}
+
+// ---- shadows -------------------------------------------------------------------
+
+/// The sun's shadow map: an orthographic view along −`to_sun` of the sphere
+/// (`centre`, `radius`), depth 0..1 front to back (Vulkan).
+pub fn sun_view_proj(to_sun: Vec3, centre: Vec3, radius: f32) -> Mat4 {
+    let dir = to_sun.normalize_or_zero();
+    let (side, _) = tangent_frame(dir);
+    let up = dir.cross(side);
+    let eye = centre + dir * (2.0 * radius);
+    let forward = -dir;
+    let far = 4.0 * radius;
+    // Rows: x and y across the light's view scaled to ±1, z from the eye to `far`.
+    let row = |axis: Vec3, scale: f32| (axis / scale).extend(-axis.dot(eye) / scale);
+    Mat4::from_cols(
+        row(side, radius),
+        row(up, radius),
+        row(forward, far),
+        Vec4::W,
+    )
+    .transpose()
+}
+
+/// Where `p` falls in the shadow map: (u, v) in 0..1 and its depth, from the map's
+/// `view_proj`.
+pub fn shadow_coord(view_proj: Mat4, p: Vec3) -> Vec3 {
+    let clip: Vec4 = view_proj * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    Vec3::new(0.5 * ndc.x + 0.5, 0.5 * ndc.y + 0.5, ndc.z)
+}
+
+/// Share of the four nearest texels (bilinear weights) whose stored depth is at or
+/// behind `depth − bias`: 1 lit, 0 in shadow. `texel(x, y)` reads the map, `size`
+/// texels a side; outside the map everything is lit.
+pub fn shadow_factor(
+    coord: Vec3,
+    size: u32,
+    bias: f32,
+    texel: impl Fn(i32, i32) -> f32,
+) -> f32 {
+    if coord.x <= 0.0 || coord.y <= 0.0 || coord.x >= 1.0 || coord.y >= 1.0 || coord.z >= 1.0 {
+        return 1.0;
+    }
+    let p = Vec3::new(coord.x * size as f32 - 0.5, coord.y * size as f32 - 0.5, 0.0);
+    let base = p.floor();
+    let f = p - base;
+    let (x, y) = (base.x as i32, base.y as i32);
+    let max = size as i32 - 1;
+    let lit = |dx: i32, dy: i32| {
+        let d = texel((x + dx).clamp(0, max), (y + dy).clamp(0, max));
+        if coord.z - bias <= d { 1.0 } else { 0.0 }
+    };
+    let top = lit(0, 0) * (1.0 - f.x) + lit(1, 0) * f.x;
+    let bottom = lit(0, 1) * (1.0 - f.x) + lit(1, 1) * f.x;
+    top * (1.0 - f.y) + bottom * f.y
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cull::{cull_distance, cull_orientation, orientation_alignment};
+
+    #[test]
+    fn clumps_are_seeded_continuous_and_varied() {
+        let p = Vec3::new(3.3, 0.0, -7.1);
+        assert_eq!(clump_at(p, 1.6, 5), clump_at(p, 1.6, 5));
+        assert_ne!(clump_at(p, 1.6, 5), clump_at(p, 1.6, 6));
+        // Along a line 40 units long in steps of 1/400 of a clump, no value jumps:
+        // the blend is continuous (a hard Voronoi border would jump by up to 0.55).
+        let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+        let mut last = clump_at(Vec3::ZERO, 1.6, 5);
+        let step = 1.6 / 400.0;
+        for i in 1..(40.0 / step) as i32 {
+            let c = clump_at(Vec3::new(i as f32 * step, 0.0, 0.3 * i as f32 * step), 1.6, 5);
+            assert!((c.height - last.height).abs() < 0.02, "height jumps at {i}");
+            assert!((c.dryness - last.dryness).abs() < 0.03, "dryness jumps at {i}");
+            assert!((c.lean - last.lean).length() < 0.02, "lean jumps at {i}");
+            (lo, hi) = (lo.min(c.height), hi.max(c.height));
+            last = c;
+        }
+        // Yet clumps differ: the height factor spans much of its range.
+        assert!(hi - lo > 0.3, "{lo}..{hi}");
+    }
+
+    #[test]
+    fn a_dressed_blade_keeps_its_root_and_leans_sideways() {
+        let b = Blade::at_rest(Vec3::new(1.0, 0.0, 2.0), Vec3::Y, 0.3, 2.0, 0.1, 9.0);
+        let clump = Clump {
+            lean: Vec3::new(0.3, 5.0, 0.0),
+            height: 0.8,
+            dryness: 0.5,
+        };
+        let d = dressed_blade(&b, &clump, 0.5, 0.5);
+        assert_eq!(d.root(), b.root());
+        // The up part of the lean is dropped; the tip moves towards +X; the length
+        // v0→v2 is the height times the factor (0.8 · 1.0).
+        assert!(d.tip().x > b.tip().x && (d.tip().z - b.tip().z).abs() < 1e-6);
+        assert!(((d.tip() - d.root()).length() - 1.6).abs() < 1e-5);
+        assert!((d.height() - 1.6).abs() < 1e-5);
+        assert!((d.width() - 0.05).abs() < 1e-7);
+        assert_eq!(d.stiffness(), b.stiffness());
+    }
+
+    #[test]
+    fn rounded_normals_are_unit_and_tilt_towards_each_edge() {
+        let (n, t1) = (Vec3::Z, Vec3::X);
+        assert!((rounded_normal(n, t1, 0.5) - n).length() < 1e-6);
+        for u in [0.0, 0.2, 0.7, 1.0] {
+            let r = rounded_normal(n, t1, u);
+            assert!((r.length() - 1.0).abs() < 1e-5);
+            assert_eq!(r.x > 0.0, u > 0.5, "u = {u}: {r}");
+        }
+        assert!((rounded_normal(n, t1, 1.0).x - ROUNDING.sin()).abs() < 1e-5);
+    }
+
+    #[test]
+    fn translucency_only_with_the_sun_behind() {
+        let facing = Vec3::Z;
+        let eye = Vec3::Z;
+        // The sun on the viewer's side: nothing comes through.
+        for l in [Vec3::Z, Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 0.99, 0.14)] {
+            assert_eq!(translucency(facing, l.normalize(), eye), 0.0);
+        }
+        // Behind the blade: light through it, most when looking into the sun.
+        let side = translucency(facing, Vec3::new(0.8, 0.0, -0.6), eye);
+        let into = translucency(facing, -Vec3::Z, eye);
+        assert!(side > 0.0 && into > side, "{side} {into}");
+        assert_eq!(soft_specular(facing, -Vec3::Z, eye), 0.0);
+        assert!(soft_specular(facing, Vec3::Z, eye) > 0.09);
+    }
+
+    #[test]
+    fn occlusion_grows_towards_the_root_and_with_density() {
+        assert_eq!(ambient_occlusion(1.0, 1.0), 1.0);
+        assert!((ambient_occlusion(0.0, 1.0) - 0.25).abs() < 1e-6);
+        let mut last = 0.0;
+        for i in 0..=10 {
+            let ao = ambient_occlusion(i as f32 / 10.0, 1.0);
+            assert!(ao > last);
+            last = ao;
+        }
+        assert!(ambient_occlusion(0.2, 0.3) > ambient_occlusion(0.2, 1.0));
+        assert_eq!(ambient_occlusion(0.0, 0.0), 1.0);
+    }
+
+    #[test]
+    fn tone_map_is_monotonic_from_zero() {
+        assert_eq!(aces(0.0), 0.0);
+        assert_eq!(tone_map(Vec3::ZERO, 3.0), Vec3::ZERO);
+        let mut last = 0.0;
+        for i in 1..2000 {
+            let y = aces(i as f32 * 0.01);
+            assert!(y >= last && y <= 1.0);
+            last = y;
+        }
+        assert!(last > 0.99);
+        // Mid grey stays mid: 0.18 maps near 0.27 (display linear).
+        assert!((aces(0.18) - 0.267).abs() < 0.01, "{}", aces(0.18));
+        assert!(tone_map(Vec3::splat(0.1), 2.0).x > tone_map(Vec3::splat(0.1), 1.0).x);
+    }
+
+    #[test]
+    fn fades_reach_zero_where_the_tests_remove_the_blade() {
+        // Distance: walk the blade outwards; the width falls to 0 no later than the
+        // test removes it, and is 1 well inside.
+        let (dmax, n) = (40.0, 8);
+        for id in 0..16 {
+            let mut removed_at = None;
+            for step in 0..4100 {
+                let d = step as f32 * 0.01;
+                let b = Blade::at_rest(Vec3::new(d, 0.0, 0.0), Vec3::Y, 0.0, 2.0, 0.1, 9.0);
+                if cull_distance(&b, id, Vec3::ZERO, dmax, n) {
+                    removed_at.get_or_insert(d);
+                } else {
+                    let fade = distance_fade(d, dmax, n, id);
+                    // 0.01 units before the cut, the blade is thinner than 1/50.
+                    assert!(fade >= 0.0 && fade <= 1.0);
+                    if cull_distance(
+                        &Blade::at_rest(Vec3::new(d + 0.01, 0.0, 0.0), Vec3::Y, 0.0, 2.0, 0.1, 9.0),
+                        id,
+                        Vec3::ZERO,
+                        dmax,
+                        n,
+                    ) {
+                        assert!(fade < 0.02, "id {id} at {d}: {fade}");
+                    }
+                }
+            }
+            assert!(removed_at.is_some());
+        }
+        assert_eq!(distance_fade(0.0, dmax, n, 7), 1.0);
+        // Orientation: 0 at the threshold, 1 a band below.
+        assert_eq!(orientation_fade(0.9, 0.9), 0.0);
+        assert!(orientation_fade(0.9 - ORIENTATION_BAND, 0.9) > 0.9999);
+        assert_eq!(orientation_fade(0.5, 0.9), 1.0);
+        let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 9.0);
+        let camera = Vec3::new(-10.0, 2.0, 0.5);
+        let a = orientation_alignment(&b, camera);
+        assert!(cull_orientation(&b, camera, 0.9) && orientation_fade(a, 0.9) == 0.0);
+        assert_eq!(kept_share(0.0, dmax, n), 1.0);
+        assert!(kept_share(35.0, dmax, n) < 0.3);
+    }
+
+    #[test]
+    fn thin_blades_keep_their_coverage() {
+        assert_eq!(thin_coverage(0.2, 0.1), (0.2, 1.0));
+        let (w, alpha) = thin_coverage(0.025, 0.1);
+        assert_eq!(w, 0.1);
+        assert!((w * alpha - 0.025).abs() < 1e-7);
+    }
+
+    #[test]
+    fn the_sky_has_a_sun_and_fog_tends_to_it() {
+        let sun = Vec3::new(0.3, 0.5, 0.8).normalize();
+        let at_sun = sky(sun, sun);
+        let away = sky(Vec3::new(-0.3, 0.5, -0.8).normalize(), sun);
+        assert!(at_sun.x > 10.0 * away.x, "{at_sun} {away}");
+        // Deeper blue overhead than at the horizon; darker below it.
+        let zenith = sky(Vec3::Y, sun);
+        let horizon = sky(Vec3::X, sun);
+        assert!(zenith.z / zenith.x > horizon.z / horizon.x);
+        assert!(sky(-Vec3::Y, sun).length() < horizon.length());
+        let green = Vec3::new(0.1, 0.3, 0.05);
+        assert_eq!(fog(green, 0.0, Vec3::X, sun, 0.01), green);
+        let far = fog(green, 1e5, Vec3::X, sun, 0.01);
+        assert!((far - fog_colour(Vec3::X, sun)).length() < 1e-4);
+    }
+
+    #[test]
+    fn the_sun_sees_the_scene_and_the_map_finds_shadows() {
+        let to_sun = Vec3::new(0.4, 0.8, 0.3).normalize();
+        let m = sun_view_proj(to_sun, Vec3::ZERO, 10.0);
+        let c = shadow_coord(m, Vec3::ZERO);
+        assert!((c - Vec3::new(0.5, 0.5, 0.5)).length() < 1e-5, "{c}");
+        // Towards the sun is nearer to it (smaller depth); across stays in the map.
+        assert!(shadow_coord(m, to_sun * 5.0).z < c.z);
+        let across = shadow_coord(m, to_sun.cross(Vec3::Y).normalize() * 9.0);
+        assert!(across.x > 0.0 && across.x < 1.0 && across.y > 0.0 && across.y < 1.0);
+        // A map holding depth 0.4 everywhere shadows a point at depth 0.5 and lights
+        // one at 0.3; outside the map is lit.
+        let map = |_: i32, _: i32| 0.4;
+        assert_eq!(shadow_factor(Vec3::new(0.5, 0.5, 0.5), 64, 0.001, map), 0.0);
+        assert_eq!(shadow_factor(Vec3::new(0.5, 0.5, 0.3), 64, 0.001, map), 1.0);
+        assert_eq!(shadow_factor(Vec3::new(1.5, 0.5, 0.5), 64, 0.001, map), 1.0);
+        // Half the map occluded: a point on the edge is half lit.
+        let half = |x: i32, _: i32| if x < 32 { 0.4 } else { 1.0 };
+        let edge = shadow_factor(Vec3::new(0.5, 0.5, 0.5), 64, 0.001, half);
+        assert!((edge - 0.5).abs() < 1e-5, "{edge}");
+    }
+
+    #[test]
+    fn palette_runs_fresh_to_dry_and_tips_are_drier() {
+        assert_eq!(palette(0.0), FRESH);
+        assert_eq!(palette(1.0), DRY);
+        assert_eq!(palette(0.5), RIPE);
+        let tint = palette(0.1);
+        let (root, tip) = (blade_albedo(tint, 0.0), blade_albedo(tint, 1.0));
+        assert!(root.length() < tip.length());
+        // Redder (drier) relative to green at the tip.
+        assert!(tip.x / tip.y > root.x / root.y);
+    }
+}

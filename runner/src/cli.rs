@@ -7,7 +7,7 @@ use crate::vulkan::ValidationChecks;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 use shared::cull;
-use shared::settings::{BladeShape, CullTests, View, WindField};
+use shared::settings::{BladeShape, CullTests, Look, View, WindField};
 use std::path::PathBuf;
 
 /// Real-time grass after Jahrmann & Wimmer (I3D 2017): Rust shaders, Vulkan through ash.
@@ -216,6 +216,21 @@ pub struct Common {
     /// Culling, level of detail and the grass view.
     #[command(flatten)]
     pub cull: CullArgs,
+    /// The look: `paper` is the paper's Lambert blades on a flat sky (the reference
+    /// images); `natural` adds clumps and colour, rounded leaves lit through, ambient
+    /// occlusion, sun shadows, sky and fog, in linear HDR with a tone map.
+    #[arg(long, global = true, value_enum, default_value_t = Look::Natural)]
+    pub look: Look,
+    /// No sun shadows (natural look).
+    #[arg(long, global = true)]
+    pub no_shadows: bool,
+    /// Samples per pixel, 1, 2, 4 or 8 (lowered to what the device has) [default: 4
+    /// on a GPU, 1 on a software device].
+    #[arg(long, global = true, value_parser = parse_msaa)]
+    pub msaa: Option<u32>,
+    /// Factor on the light before the tone map (natural look).
+    #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.01, 100.0))]
+    pub exposure: f32,
     /// Enable VK_LAYER_KHRONOS_validation (also GRASS_VALIDATION=1); `render` then
     /// fails on any validation error.
     #[arg(long, global = true)]
@@ -339,6 +354,13 @@ pub struct RenderArgs {
 
 fn parse_point(s: &str) -> Result<Vec3, String> {
     parse_coordinates::<3>(s).map(Vec3::from_array)
+}
+
+fn parse_msaa(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(n @ (1 | 2 | 4 | 8)) => Ok(n),
+        _ => Err(format!("{s:?} is not 1, 2, 4 or 8")),
+    }
 }
 
 fn parse_density(s: &str) -> Result<f32, String> {

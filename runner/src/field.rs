@@ -41,26 +41,26 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 8] = [
+pub const BINDINGS: [BindingSpec; 9] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
         stages: UNIFORM_STAGES,
     },
-    // The grass draw's tessellation stages read the blades through their index.
-    storage_in(
-        layout::BINDING_BLADES,
-        vk::ShaderStageFlags::from_raw(
-            vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
-                | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
-        ),
-    ),
+    // The grass draw's vertex stage reads the blades through their index.
+    storage_in(layout::BINDING_BLADES, vk::ShaderStageFlags::VERTEX),
     storage_in(layout::BINDING_VISIBLE, vk::ShaderStageFlags::VERTEX),
     storage(layout::BINDING_COUNTERS),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),
     storage(layout::BINDING_SCRATCH),
+    // The sun's shadow map (`passes::shadow`), read by the lit fragment stages.
+    BindingSpec {
+        binding: layout::BINDING_SHADOW_MAP,
+        ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
 ];
 
 /// Push-constant range of the pipeline layout: one range covering the compute push

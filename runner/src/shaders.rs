@@ -27,6 +27,16 @@ pub const GRASS_TCS: &str = "grass::grass_tcs";
 pub const GRASS_TES: &str = "grass::grass_tes";
 /// Grass fragment stage.
 pub const GRASS_FS: &str = "grass::grass_fs";
+/// The grass from the sun (shadow map): tessellation control at the fewest segments.
+pub const GRASS_SHADOW_TCS: &str = "grass::grass_shadow_tcs";
+/// The grass from the sun: tessellation evaluation into the shadow map.
+pub const GRASS_SHADOW_TES: &str = "grass::grass_shadow_tes";
+/// The tone map's full-screen triangle.
+pub const TONEMAP_VS: &str = "tonemap::tonemap_vs";
+/// Sky and tone map.
+pub const TONEMAP_FS: &str = "tonemap::tonemap_fs";
+/// The surfaces from the sun (shadow map): vertex stage.
+pub const SHADOW_SURFACE_VS: &str = "ground::shadow_surface_vs";
 /// Ground vertex stage.
 pub const GROUND_VS: &str = "ground::ground_vs";
 /// Ground fragment stage.

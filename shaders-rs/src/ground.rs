@@ -2,7 +2,11 @@
 //! with the soil texture generated in the fragment stage.
 
 use shared::layout::{FrameUniforms, SurfacePush};
+use crate::sun_shadow;
+use shared::look::{LOOK_NATURAL, fog, natural_ground, shade_ground};
 use shared::shade::{lambert, surface_albedo};
+use spirv_std::Image;
+use spirv_std::image::SampledImage;
 use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
 
@@ -27,16 +31,45 @@ pub fn ground_vs(
     *out_material = position.w as u32;
 }
 
-/// The surface's material, lit by the sun.
+/// The surface's material, lit by the sun. In the natural look: soil under grass
+/// takes the roots' colour and, far away, the field's; sky light and the sun with its
+/// shadow; fog.
 #[spirv(fragment)]
 pub fn ground_fs(
     world: Vec3,
     normal: Vec3,
     #[spirv(flat)] material: u32,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &SampledImage<
+        Image!(2D, type=f32, sampled),
+    >,
     out_color: &mut Vec4,
 ) {
     let n = normal.normalize_or_zero();
-    let albedo = surface_albedo(material, world, n);
-    *out_color = lambert(albedo, n, frame.light).extend(1.0);
+    if frame.look.style != LOOK_NATURAL {
+        let albedo = surface_albedo(material, world, n);
+        *out_color = lambert(albedo, n, frame.light).extend(1.0);
+        return;
+    }
+    let to_camera = frame.camera.position - world;
+    let distance = to_camera.length();
+    let look = &frame.look;
+    let (albedo, occlusion) = natural_ground(material, world, n, distance, look);
+    let to_light = frame.light.direction;
+    let sun = sun_shadow(frame, shadow_map, world);
+    let lit = shade_ground(albedo, n, to_light, occlusion, sun);
+    let dir = -to_camera / distance.max(1e-6);
+    *out_color = fog(lit, distance, dir, to_light, look.fog_density).extend(1.0);
+}
+
+/// One surface vertex seen from the sun (the shadow map; depth only).
+#[spirv(vertex)]
+pub fn shadow_surface_vs(
+    position: Vec4,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &SurfacePush,
+    #[spirv(position)] out_position: &mut Vec4,
+) {
+    let world = push.model * position.xyz().extend(1.0);
+    *out_position = frame.look.shadow_view_proj * world;
 }

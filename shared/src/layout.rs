@@ -54,6 +54,10 @@ pub const BINDING_PYRAMID: u32 = 6;
 /// bound only while the reference runs.
 pub const BINDING_SCRATCH: u32 = 7;
 
+/// Binding of the sun's shadow map (combined image sampler, depth), read by the lit
+/// fragment stages of the natural look.
+pub const BINDING_SHADOW_MAP: u32 = 8;
+
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
 /// Index of the blades removed by the orientation test.

@@ -45,6 +45,12 @@ pub struct LookParams {
     pub pixel_angle: f32,
     /// Clump size in scene units.
     pub clump_size: f32,
+    /// Samples per pixel of the frame (the renderer picks its targets from it).
+    pub samples: u32,
+    /// Factor on the radiance before the tone map.
+    pub exposure: f32,
+    /// Padding to 16 bytes.
+    pub padding: [u32; 2],
 }
 
 /// Sun radiance (linear, before exposure).
@@ -183,6 +189,64 @@ pub fn dressed_blade(blade: &Blade, clump: &Clump, jitter: f32, width_scale: f32
     out
 }
 
+/// What the natural look draws of blade `id` seen from `camera`: the blade dressed by
+/// its clump, a per-blade jitter and the fades of the enabled culling tests (width to
+/// zero before the test removes it), widened to a pixel where it is thinner; its tint
+/// (rgb) and coverage (alpha); its width direction (xyz) and the field's local density
+/// (w) for the occlusion.
+pub fn dress(
+    blade: &Blade,
+    id: u32,
+    camera: Vec3,
+    cull: &crate::cull::CullParams,
+    look: &LookParams,
+) -> (Blade, Vec4, Vec4) {
+    use crate::cull::{DISTANCE, ORIENTATION, orientation_alignment, projected_distance};
+    let clump = clump_at(blade.root(), look.clump_size, look.seed);
+    let h1 = hash_unit(id ^ hash_u32(look.seed));
+    let h2 = hash_unit(hash_u32(id) ^ 0x9e37_79b9);
+    let dproj = projected_distance(blade, camera);
+    let mut fade = 1.0;
+    let mut density = 1.0;
+    if cull.enabled & DISTANCE != 0 {
+        fade = distance_fade(dproj, cull.max_distance, cull.buckets, id);
+        density = kept_share(dproj, cull.max_distance, cull.buckets);
+    }
+    if cull.enabled & ORIENTATION != 0 {
+        let alignment = orientation_alignment(blade, camera);
+        fade *= orientation_fade(alignment, cull.orientation_threshold);
+    }
+    let distance = (blade.midpoint() - camera).length();
+    let (width, alpha) = thin_coverage(blade.width() * fade, look.pixel_angle * distance);
+    let scale = if blade.width() > 0.0 {
+        width / blade.width()
+    } else {
+        0.0
+    };
+    let dressed = dressed_blade(blade, &clump, h1, scale);
+    let h3 = hash_unit(hash_u32(id ^ 0x2545_f491));
+    let mask = coverage_mask(alpha, look.samples, h3);
+    let tint = blade_tint(&clump, h1, h2).extend(mask as f32);
+    (dressed, tint, blade.width_dir().extend(density))
+}
+
+/// The samples a blade of coverage `alpha` covers in a pixel of `samples` samples:
+/// floor(alpha·samples + h) of them (`h` in 0..1 a per-blade hash, so on average
+/// alpha·samples, and the same every frame: no shimmer), starting at a sample picked
+/// by the hash so thin neighbours do not all take the first. With one sample a thin
+/// blade is drawn whole with probability alpha.
+pub fn coverage_mask(alpha: f32, samples: u32, h: f32) -> u32 {
+    let samples = samples.clamp(1, 8);
+    let full = (1u32 << samples) - 1;
+    let count = ((alpha.clamp(0.0, 1.0) * samples as f32 + h) as u32).min(samples);
+    if count >= samples {
+        return full;
+    }
+    let bits = (1u32 << count) - 1;
+    let shift = (h * 7919.0) as u32 % samples;
+    ((bits << shift) | (bits >> (samples - shift))) & full
+}
+
 // ---- colour --------------------------------------------------------------------
 
 /// Fresh blade colour (linear albedo).
@@ -299,6 +363,43 @@ pub fn ground_under_grass(soil: Vec3, clump: &Clump, distance: f32, field_distan
     let far = blade_albedo(tint, 0.6) * 0.9;
     let t = smoothstep(0.35 * field_distance, field_distance, distance);
     soil.lerp(roots, 0.8).lerp(far, t)
+}
+
+/// The natural look's ground: (albedo, sky occlusion) of `material` at `p` with normal
+/// `n`, `distance` from the camera. Soil is the grass's ground: one octave of the soil
+/// texture (cheaper than the paper look's three) under the roots' colour, the
+/// field's colour far away ([`ground_under_grass`]), occluded by the canopy. The
+/// clump colour here is value noise over the clump size, not the clumps' Voronoi
+/// cells: 27 cells per pixel would cost more than the ground is allowed.
+pub fn natural_ground(
+    material: u32,
+    p: Vec3,
+    n: Vec3,
+    distance: f32,
+    look: &LookParams,
+) -> (Vec3, f32) {
+    use crate::shade::{MATERIAL_SOIL, surface_albedo, value_noise};
+    use spirv_std::glam::Vec2;
+    if material != MATERIAL_SOIL {
+        return (surface_albedo(material, p, n), 1.0);
+    }
+    // The plane across the normal's dominant axis, so slopes and a planet get it too.
+    let a = n.abs();
+    let q = if a.y >= a.x && a.y >= a.z {
+        Vec2::new(p.x, p.z)
+    } else if a.x >= a.z {
+        Vec2::new(p.z, p.y)
+    } else {
+        Vec2::new(p.x, p.y)
+    };
+    let soil = Vec3::new(0.16, 0.10, 0.05) * (0.7 + 0.6 * value_noise(q * 1.7));
+    let clump = Clump {
+        lean: Vec3::ZERO,
+        height: 1.0,
+        dryness: value_noise(q / look.clump_size.max(1e-3) + 17.0),
+    };
+    let albedo = ground_under_grass(soil, &clump, distance, look.field_distance);
+    (albedo, 0.55)
 }
 
 /// 0 below `a`, 1 above `b`, the cubic 3t² − 2t³ between.
@@ -594,6 +695,26 @@ mod tests {
         assert!(cull_orientation(&b, camera, 0.9) && orientation_fade(a, 0.9) == 0.0);
         assert_eq!(kept_share(0.0, dmax, n), 1.0);
         assert!(kept_share(35.0, dmax, n) < 0.3);
+    }
+
+    #[test]
+    fn coverage_masks_hold_alpha_on_average() {
+        for samples in [1u32, 2, 4, 8] {
+            assert_eq!(coverage_mask(1.0, samples, 0.3), (1 << samples) - 1);
+            assert_eq!(coverage_mask(0.0, samples, 0.0), 0);
+            for alpha in [0.1f32, 0.35, 0.5, 0.8] {
+                let n = 1000;
+                let bits: u32 = (0..n)
+                    .map(|i| coverage_mask(alpha, samples, (i as f32 + 0.5) / n as f32))
+                    .map(|m| {
+                        assert!(m < (1 << samples));
+                        m.count_ones()
+                    })
+                    .sum();
+                let mean = bits as f32 / (n * samples) as f32;
+                assert!((mean - alpha).abs() < 0.01, "{samples}x at {alpha}: {mean}");
+            }
+        }
     }
 
     #[test]

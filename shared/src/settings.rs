@@ -468,6 +468,9 @@ impl Settings {
             field_distance: self.cull.max_distance,
             pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,
             clump_size: look.clump_size,
+            samples: look.msaa,
+            exposure: look.exposure,
+            padding: [0; 2],
         }
     }
 }

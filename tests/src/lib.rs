@@ -76,7 +76,14 @@ pub fn artifact_dir() -> PathBuf {
 /// describe their scenes in the user's words.
 pub fn render_options(args: &[&str]) -> (runner::cli::Common, runner::cli::RenderArgs) {
     use clap::Parser;
-    let argv = ["grass", "render"].iter().chain(args);
+    // The references before the natural look are the paper's: tests name the look
+    // they want, the paper's unless they say.
+    let paper: &[&str] = if args.contains(&"--look") {
+        &[]
+    } else {
+        &["--look", "paper"]
+    };
+    let argv = ["grass", "render"].iter().chain(paper).chain(args);
     let cli = runner::cli::Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{args:?}: {e}"));
     match cli.command {
         Some(runner::cli::Command::Render(render)) => (cli.common, render),

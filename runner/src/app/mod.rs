@@ -138,7 +138,12 @@ pub fn prepare(
         );
     }
     log::info!("scene {}: {} blades", scene.name, scene.blade_count());
-    let settings = settings(common, &scene);
+    let mut settings = settings(common, &scene);
+    settings.look.msaa = common.msaa.unwrap_or(if ctx.is_software() {
+        DEFAULT_MSAA_SOFTWARE
+    } else {
+        DEFAULT_MSAA_GPU
+    });
     Ok((scene, settings))
 }
 
@@ -168,5 +173,16 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s.lod.fewest = cull.lod_fewest;
     s.lod.pixels_per_segment = cull.lod_pixels;
     s.view = cull.view;
+    s.look.style = common.look;
+    s.look.shadows = !common.no_shadows;
+    s.look.exposure = common.exposure;
+    s.look.msaa = common.msaa.unwrap_or(1);
+    s.look.seed = common.seed as u32;
     s
 }
+
+/// Samples per pixel on a GPU when `--msaa` is not given.
+pub const DEFAULT_MSAA_GPU: u32 = 4;
+/// Samples per pixel on a software device when `--msaa` is not given: lavapipe
+/// shades every sample of a multisampled target, too slow for the viewer's target.
+pub const DEFAULT_MSAA_SOFTWARE: u32 = 1;

@@ -19,12 +19,13 @@ pub struct GrassPass {
 }
 
 impl GrassPass {
-    /// The pipelines for a colour target of `color_format`.
+    /// The pipelines for colour targets of `color_format` with `samples` samples.
     pub fn new(
         ctx: &Arc<Context>,
         module: &ShaderModules,
         field: &Field,
         color_format: vk::Format,
+        samples: vk::SampleCountFlags,
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
         let stages = [
@@ -40,6 +41,7 @@ impl GrassPass {
             color_format,
             super::DEPTH_FORMAT,
         );
+        desc.samples = samples;
         let filled = Pipeline::graphics(ctx, &desc)?;
         desc.polygon_mode = vk::PolygonMode::LINE;
         let wireframe = Pipeline::graphics(ctx, &desc)?;
@@ -54,6 +56,11 @@ impl GrassPass {
         } else {
             &self.filled
         };
+        self.record_with(pipeline, rec, field);
+    }
+
+    /// Records the visible blades' draw with `pipeline` (one drawing them as patches).
+    pub fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field) {
         rec.bind_pipeline(
             vk::PipelineBindPoint::GRAPHICS,
             pipeline.pipeline,

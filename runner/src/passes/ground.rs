@@ -63,7 +63,8 @@ pub struct GroundPass {
 
 impl GroundPass {
     /// Uploads `ground` (each mesh with its `shade::MATERIAL_*`) and the unit `ball`,
-    /// and builds the pipeline for a colour target of `color_format`.
+    /// and builds the pipeline for colour targets of `color_format` with `samples`
+    /// samples.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &Arc<Context>,
@@ -74,7 +75,6 @@ impl GroundPass {
         ground: &[(&SurfaceMesh, u32)],
         ball: &SurfaceMesh,
     ) -> Result<Self> {
-        use vk::ShaderStageFlags as St;
         let mut set = MeshSet::default();
         let ground = ground
             .iter()
@@ -91,19 +91,9 @@ impl GroundPass {
             U::VERTEX_BUFFER,
         )?;
         let indices = Buffer::upload(ctx, pool, "surface indices", &set.indices, U::INDEX_BUFFER)?;
-
-        // Position and material, normal: two vec4 at locations 0 and 1.
-        let input = vec4_vertex_input::<SurfaceVertex>();
-        let stages = [
-            (St::VERTEX, shaders::GROUND_VS),
-            (St::FRAGMENT, shaders::GROUND_FS),
-        ];
-        let depth = super::DEPTH_FORMAT;
-        let desc = |stages, color| {
-            GraphicsDesc::opaque(module, stages, &field.layout, &input, color, depth)
-        };
-        let pipeline = Pipeline::graphics(ctx, &desc(&stages, color_format))?;
-        let depth_only = Pipeline::graphics(ctx, &desc(&stages[..1], vk::Format::UNDEFINED))?;
+        let one = vk::SampleCountFlags::TYPE_1;
+        let pipeline = Self::pipeline(ctx, module, field, color_format, one)?;
+        let depth_only = Self::pipeline(ctx, module, field, vk::Format::UNDEFINED, one)?;
         Ok(Self {
             pipeline,
             depth_only,
@@ -112,6 +102,48 @@ impl GroundPass {
             ground,
             ball,
         })
+    }
+
+    /// The lit surface pipeline for `color_format` (`UNDEFINED`: depth only) and
+    /// `samples`.
+    fn pipeline(
+        ctx: &Arc<Context>,
+        module: &ShaderModules,
+        field: &Field,
+        color_format: vk::Format,
+        samples: vk::SampleCountFlags,
+    ) -> Result<Pipeline> {
+        use vk::ShaderStageFlags as St;
+        // Position and material, normal: two vec4 at locations 0 and 1.
+        let input = vec4_vertex_input::<SurfaceVertex>();
+        let stages = [
+            (St::VERTEX, shaders::GROUND_VS),
+            (St::FRAGMENT, shaders::GROUND_FS),
+        ];
+        let depth = super::DEPTH_FORMAT;
+        let stages = if color_format == vk::Format::UNDEFINED {
+            &stages[..1]
+        } else {
+            &stages[..]
+        };
+        let mut desc =
+            GraphicsDesc::opaque(module, stages, &field.layout, &input, color_format, depth);
+        desc.samples = samples;
+        Pipeline::graphics(ctx, &desc)
+    }
+
+    /// Builds the lit pipeline again for colour targets of `color_format` with
+    /// `samples` samples. No frame may be in flight.
+    pub fn retarget(
+        &mut self,
+        ctx: &Arc<Context>,
+        module: &ShaderModules,
+        field: &Field,
+        color_format: vk::Format,
+        samples: vk::SampleCountFlags,
+    ) -> Result<()> {
+        self.pipeline = Self::pipeline(ctx, module, field, color_format, samples)?;
+        Ok(())
     }
 
     /// Records the ground and one ball per collider (centre xyz, radius w) inside the
@@ -126,7 +158,15 @@ impl GroundPass {
         self.record_with(&self.depth_only, rec, field, &[]);
     }
 
-    fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field, balls: &[Vec4]) {
+    /// Records the ground and `balls` with `pipeline` (one taking the surface
+    /// vertices).
+    pub fn record_with(
+        &self,
+        pipeline: &Pipeline,
+        rec: &Recorder,
+        field: &Field,
+        balls: &[Vec4],
+    ) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
         let layout = field.layout.layout;
         rec.bind_pipeline(graphics, pipeline.pipeline, layout, field.descriptors.set);

@@ -7,11 +7,18 @@
 //! 2. [`simulate`]: simulates, culls and compacts every blade, then writes one draw
 //!    command per chunk (reads the frame block and the pyramid; writes the blades,
 //!    their collision strengths, the visible indices, the counters and the draws).
-//! 3. [`ground`]: the surfaces and the collider ball (reads the surface meshes and
+//! 3. [`shadow`]: the sun's shadow map (natural look, shadows on): surfaces, balls and
+//!    the visible grass at its fewest segments (reads what `ground` and `grass` read;
+//!    writes the shadow map).
+//! 4. [`ground`]: the surfaces and the collider ball (reads the surface meshes and
 //!    the frame block; writes colour and depth).
-//! 4. [`grass`]: the visible blades as tessellated patches (reads the visible
+//! 5. [`grass`]: the visible blades as tessellated patches (reads the visible
 //!    indices, the blades, the draws and the frame block; writes colour and depth).
-//! 5. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
+//!    In the natural look both draw into a linear HDR target (multisampled with
+//!    `--msaa`, resolved when the scope ends).
+//! 6. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
+//!    image; writes the target).
+//! 7. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
 //!    colour).
 //!
 //! [`throughput`] is no part of a frame: the benchmark's triangle reference.
@@ -20,8 +27,10 @@ pub mod grass;
 pub mod ground;
 pub mod occlusion;
 pub mod overlay;
+pub mod shadow;
 pub mod simulate;
 pub mod throughput;
+pub mod tonemap;
 
 /// Depth format of every pass.
 pub const DEPTH_FORMAT: ash::vk::Format = ash::vk::Format::D32_SFLOAT;

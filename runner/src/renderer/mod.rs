@@ -7,25 +7,29 @@
 mod hooks;
 pub mod readback;
 mod references;
+pub mod targets;
 
 pub use readback::{CullCounts, FrameQueries, Mark, PassTimes, Readback};
 
 use crate::field::Field;
-use crate::passes::DEPTH_FORMAT;
 use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
+use crate::passes::shadow::ShadowPass;
 use crate::passes::simulate::SimulatePass;
+use crate::passes::tonemap::ToneMapPass;
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::pipeline::ShaderModules;
-use crate::vulkan::{Context, Image, Recorder};
+use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
 use shared::cull::OCCLUSION;
-use shared::layout::{FrameUniforms, SimulatePush};
+use shared::layout::{FrameUniforms, SimulatePush, ToneMapPush};
+use shared::look::LOOK_NATURAL;
+use targets::{DrawTargets, TargetSpec};
 use shared::mesh::SurfaceMesh;
 use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use std::sync::Arc;
@@ -113,9 +117,13 @@ pub struct Renderer {
     occlusion: OcclusionPass,
     /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
     pub has_occluders: bool,
+    shadow: ShadowPass,
+    tonemap: ToneMapPass,
     overlay: Option<OverlayPass>,
     color_format: vk::Format,
-    depth: Option<Image>,
+    targets: Option<DrawTargets>,
+    /// (colour format, samples) the ground and grass pipelines draw into.
+    drawn_into: (vk::Format, u32),
     pool: CommandPool,
     module: ShaderModules,
 }
@@ -141,8 +149,11 @@ impl Renderer {
             &surfaces,
             meshes.ball,
         )?;
-        let grass = GrassPass::new(ctx, &module, &field, color_format)?;
+        let one = vk::SampleCountFlags::TYPE_1;
+        let grass = GrassPass::new(ctx, &module, &field, color_format, one)?;
         let occlusion = OcclusionPass::new(ctx, &module, &field)?;
+        let shadow = ShadowPass::new(ctx, &pool, &module, &field)?;
+        let tonemap = ToneMapPass::new(ctx, &module, color_format)?;
         Ok(Self {
             ctx: ctx.clone(),
             field,
@@ -151,9 +162,12 @@ impl Renderer {
             grass,
             occlusion,
             has_occluders: meshes.has_occluders,
+            shadow,
+            tonemap,
             overlay: None,
             color_format,
-            depth: None,
+            targets: None,
+            drawn_into: (color_format, 1),
             pool,
             module,
         })
@@ -175,21 +189,43 @@ impl Renderer {
         self.occlusion.hiz
     }
 
-    /// The depth image and the depth pyramid sized for `extent`.
-    fn ensure_depth(&mut self, extent: vk::Extent2D) -> Result<()> {
-        if self.depth.as_ref().is_none_or(|d| d.extent != extent) {
-            // The old depth image may still be in use by a frame in flight.
-            self.ctx.wait_idle()?;
-            self.depth = Some(Image::new(
-                &self.ctx,
-                "depth",
-                extent,
-                DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-                vk::ImageAspectFlags::DEPTH,
-            )?);
+    /// The draw's images and the depth pyramid for `extent`, the look and `samples`
+    /// (lowered to what the device has), and the pipelines that draw into them.
+    fn ensure_targets(&mut self, extent: vk::Extent2D, hdr: bool, samples: u32) -> Result<()> {
+        let spec = TargetSpec {
+            extent,
+            hdr,
+            samples: self.ctx.supported_samples(samples),
+        };
+        let old = self.targets.as_ref().map(|t| t.spec);
+        if old == Some(spec) {
+            return Ok(());
+        }
+        // The old images may still be in use by a frame in flight.
+        self.ctx.wait_idle()?;
+        self.targets = None;
+        if old.is_none_or(|o| o.extent != extent) {
             self.occlusion.resize(&self.ctx, &mut self.field, extent)?;
         }
+        let targets = DrawTargets::new(&self.ctx, spec, self.color_format)?;
+        if let Some(hdr) = &targets.hdr {
+            self.tonemap.set_source(hdr.view);
+        }
+        let drawn_into = (DrawTargets::draw_format(hdr, self.color_format), spec.samples);
+        if drawn_into != self.drawn_into {
+            let samples = vk::SampleCountFlags::from_raw(spec.samples);
+            let (ctx, module, field) = (&self.ctx, &self.module, &self.field);
+            self.ground.retarget(ctx, module, field, drawn_into.0, samples)?;
+            self.grass = GrassPass::new(ctx, module, field, drawn_into.0, samples)?;
+            self.drawn_into = drawn_into;
+        }
+        if spec.samples != samples {
+            log::warn!(
+                "{samples} samples per pixel asked, the device has {} at most: using that",
+                spec.samples
+            );
+        }
+        self.targets = Some(targets);
         Ok(())
     }
 
@@ -204,7 +240,8 @@ impl Renderer {
         input: &FrameInput,
     ) -> Result<()> {
         let target = input.target;
-        self.ensure_depth(target.extent)?;
+        let natural = input.uniforms.look.style == LOOK_NATURAL;
+        self.ensure_targets(target.extent, natural, input.uniforms.look.samples)?;
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             pass.update_textures(&self.pool, frame.textures)?;
         }
@@ -233,15 +270,26 @@ impl Renderer {
         }
         stamp(Mark::Start);
         self.begin_compute(rec, &uniforms);
+        let targets = self.targets.as_ref().context("draw targets")?;
         if occlusion {
-            let depth = self.depth.as_ref().context("depth image")?;
-            self.occlusion.record(rec, &self.field, &self.ground, depth);
+            self.occlusion
+                .record(rec, &self.field, &self.ground, &targets.depth);
         }
         stamp(Mark::Pyramid);
         self.record_compute(rec, queries, input.push);
         stamp(Mark::SimulateCull);
-        self.record_draw(rec, &target, &uniforms, &stamp, triangles);
-        stamp(Mark::Grass);
+        if natural && uniforms.look.shadows != 0 {
+            let balls = used_balls(&uniforms);
+            self.shadow
+                .record(rec, &self.field, &self.ground, &self.grass, balls);
+        }
+        stamp(Mark::Shadow);
+        self.record_draw(rec, targets, &target, &uniforms, &stamp, triangles);
+        stamp(Mark::Resolve);
+        if natural {
+            self.record_tone_map(rec, targets, &target, &uniforms)?;
+        }
+        stamp(Mark::ToneMap);
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             rec.memory_barrier(
                 (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
@@ -304,34 +352,43 @@ impl Renderer {
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 
-    /// Ground, then grass, into the target; [`Mark::Ground`] between them, the
-    /// grass's triangles counted into `triangles`.
+    /// Ground, then grass, into the draw's colour (the target, the HDR image or the
+    /// multisampled one, see [`targets`]); [`Mark::Ground`] and [`Mark::Grass`]
+    /// after each, the grass's triangles counted into `triangles`.
     fn record_draw(
         &self,
         rec: &Recorder,
+        targets: &DrawTargets,
         target: &Target,
         uniforms: &FrameUniforms,
         stamp: &dyn Fn(Mark),
         triangles: Option<vk::QueryPool>,
     ) {
-        let depth = self
-            .depth
+        let single = targets
+            .hdr
             .as_ref()
-            .map(|d| (d.image, d.view))
-            .unwrap_or_default();
+            .map_or((target.image, target.view), |h| (h.image, h.view));
+        let (color, resolve) = match &targets.color_ms {
+            Some(ms) => ((ms.image, ms.view), Some(single)),
+            None => (single, None),
+        };
+        let depth = targets.depth_ms.as_ref().unwrap_or(&targets.depth);
+        let depth = (depth.image, depth.view);
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        rec.image_barrier(
-            target.image,
-            vk::ImageAspectFlags::COLOR,
-            (
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            ),
-            (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
-            color_out,
-        );
+        for image in std::iter::once(color.0).chain(resolve.map(|r| r.0)) {
+            rec.image_barrier(
+                image,
+                vk::ImageAspectFlags::COLOR,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
+                (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
+                color_out,
+            );
+        }
         // After the pre-pass's copy (or the last frame's tests) is done with it.
         rec.image_barrier(
             depth.0,
@@ -343,10 +400,20 @@ impl Renderer {
             (depth_tests | S::COPY, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
             (depth_tests, depth_rw),
         );
-        rec.begin_rendering(Some((target.view, Some(SKY))), Some(depth.1), target.extent);
-        let used = (uniforms.forces.colliders as usize).min(uniforms.colliders.len());
-        let balls = &uniforms.colliders[..used];
-        self.ground.record(rec, &self.field, balls);
+        // The natural look's sky is drawn by the tone map where alpha leaves room.
+        let clear = if targets.hdr.is_some() {
+            [0.0; 4]
+        } else {
+            SKY
+        };
+        let extent = target.extent;
+        rec.begin_rendering_resolved(
+            Some((color.1, Some(clear))),
+            resolve.map(|r| r.1),
+            Some(depth.1),
+            extent,
+        );
+        self.ground.record(rec, &self.field, used_balls(uniforms));
         stamp(Mark::Ground);
         if let Some(pool) = triangles {
             rec.begin_query(pool);
@@ -355,7 +422,48 @@ impl Renderer {
         if let Some(pool) = triangles {
             rec.end_query(pool);
         }
+        stamp(Mark::Grass);
         rec.end_rendering();
+    }
+
+    /// The sky behind the HDR image and the tone map into the target.
+    fn record_tone_map(
+        &self,
+        rec: &Recorder,
+        targets: &DrawTargets,
+        target: &Target,
+        uniforms: &FrameUniforms,
+    ) -> Result<()> {
+        let hdr = targets.hdr.as_ref().context("HDR image")?;
+        let color = vk::ImageAspectFlags::COLOR;
+        rec.image_barrier(
+            hdr.image,
+            color,
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+            (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+        );
+        rec.image_barrier(
+            target.image,
+            color,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+        );
+        let camera = &uniforms.camera;
+        let push = ToneMapPush {
+            clip_to_world: camera.view_proj.inverse(),
+            camera: camera.position.extend(uniforms.look.exposure),
+            sun: uniforms.light.direction.extend(0.0),
+        };
+        self.tonemap.record(rec, target.view, target.extent, &push);
+        Ok(())
     }
 
     /// Leaves the target in its final layout.
@@ -377,6 +485,12 @@ impl Renderer {
             (dst, dst_access),
         );
     }
+}
+
+/// The collider balls in use this frame.
+fn used_balls(uniforms: &FrameUniforms) -> &[glam::Vec4] {
+    let used = (uniforms.forces.colliders as usize).min(uniforms.colliders.len());
+    &uniforms.colliders[..used]
 }
 
 impl Drop for Renderer {

@@ -21,17 +21,23 @@ pub enum Mark {
     Pyramid,
     /// After simulate, cull and the draw commands.
     SimulateCull,
+    /// After the sun's shadow map (natural look with shadows).
+    Shadow,
     /// After the ground and the ball.
     Ground,
-    /// After the grass.
+    /// After the grass (inside the rendering scope: before its resolve).
     Grass,
+    /// After the rendering scope ended: its multisample resolve, when there is one.
+    Resolve,
+    /// After the sky and the tone map (natural look).
+    ToneMap,
     /// After the overlay.
     Overlay,
 }
 
 impl Mark {
     /// Timestamps per frame.
-    pub const COUNT: u32 = 6;
+    pub const COUNT: u32 = 9;
 }
 
 /// How the compute pass sorted the blades of one frame: drawn, or removed by the
@@ -87,10 +93,16 @@ pub struct PassTimes {
     pub depth_pyramid: f64,
     /// Simulate, cull, compact and write the draws.
     pub simulate_cull: f64,
+    /// The sun's shadow map.
+    pub shadow: f64,
     /// Ground and ball.
     pub ground: f64,
     /// Grass.
     pub grass: f64,
+    /// The end of the draw's rendering scope: the multisample resolve.
+    pub resolve: f64,
+    /// Sky and tone map.
+    pub tone_map: f64,
     /// Overlay.
     pub overlay: f64,
     /// The whole frame on the GPU.
@@ -104,9 +116,12 @@ impl PassTimes {
         Self {
             depth_pyramid: at(Mark::Pyramid),
             simulate_cull: at(Mark::SimulateCull) - at(Mark::Pyramid),
-            ground: at(Mark::Ground) - at(Mark::SimulateCull),
+            shadow: at(Mark::Shadow) - at(Mark::SimulateCull),
+            ground: at(Mark::Ground) - at(Mark::Shadow),
             grass: at(Mark::Grass) - at(Mark::Ground),
-            overlay: at(Mark::Overlay) - at(Mark::Grass),
+            resolve: at(Mark::Resolve) - at(Mark::Grass),
+            tone_map: at(Mark::ToneMap) - at(Mark::Resolve),
+            overlay: at(Mark::Overlay) - at(Mark::ToneMap),
             total: at(Mark::Overlay),
         }
     }

@@ -50,9 +50,12 @@ impl Renderer {
         level: f32,
         repeats: u32,
     ) -> Result<Option<(f64, Option<u64>)>> {
-        self.ensure_depth(target.extent)?;
+        // Keeps the draw targets the frames use; the reference needs single-sample depth.
+        let spec = self.targets.as_ref().map(|t| (t.spec.hdr, t.spec.samples));
+        let (hdr, samples) = spec.unwrap_or((false, 1));
+        self.ensure_targets(target.extent, hdr, samples)?;
         let pass = ThroughputPass::new(&self.ctx, &self.module, &self.field, self.color_format)?;
-        let depth = self.depth.as_ref().context("depth image")?;
+        let depth = &self.targets.as_ref().context("draw targets")?.depth;
         let push = shared::reference::push(level, target.extent.width, target.extent.height);
         // Each image's barrier names its own kind of access only.
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);

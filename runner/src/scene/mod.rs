@@ -244,6 +244,7 @@ impl Scene {
     pub fn settings(&self) -> Settings {
         let mut settings = Settings::default();
         settings.cull.max_distance = (2.0 * self.bounds.1 * 1.5).max(40.0);
+        settings.look.scene = self.bounds;
         if let Some(centre) = self.gravity_centre {
             settings.gravity.centre = centre;
             settings.gravity.centre_blend = 1.0;

@@ -310,6 +310,17 @@ impl Context {
             .unwrap_or(0)
     }
 
+    /// The most samples per pixel, at most `wanted` (1, 2, 4 or 8), that colour
+    /// targets of the renderer's formats and depth targets both have.
+    pub fn supported_samples(&self, wanted: u32) -> u32 {
+        let limits = &self.properties.limits;
+        let both = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+        [8u32, 4, 2]
+            .into_iter()
+            .find(|&n| n <= wanted && both.contains(vk::SampleCountFlags::from_raw(n)))
+            .unwrap_or(1)
+    }
+
     /// Waits until the device is idle (before destroying what it may still use).
     pub fn wait_idle(&self) -> Result<()> {
         unsafe { self.device.device_wait_idle() }.context("wait for device idle")

@@ -31,6 +31,21 @@ impl Image {
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
     ) -> Result<Self> {
+        let one = vk::SampleCountFlags::TYPE_1;
+        Self::multisampled(ctx, name, extent, format, usage, aspect, one)
+    }
+
+    /// A device-local 2D image of `samples` samples per pixel with a view over
+    /// `aspect`.
+    pub fn multisampled(
+        ctx: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+        samples: vk::SampleCountFlags,
+    ) -> Result<Self> {
         let device = &ctx.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -42,7 +57,7 @@ impl Image {
             })
             .mip_levels(1)
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);

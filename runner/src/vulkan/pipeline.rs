@@ -167,7 +167,7 @@ impl Pipeline {
             .cull_mode(vk::CullModeFlags::NONE)
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+            .rasterization_samples(desc.samples);
         let has_depth = desc.depth_format != vk::Format::UNDEFINED;
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(has_depth)
@@ -247,6 +247,8 @@ pub struct GraphicsDesc<'a> {
     pub depth_format: vk::Format,
     /// Blend premultiplied-alpha colour over the target instead of replacing it.
     pub premultiplied_blend: bool,
+    /// Samples per pixel of the targets.
+    pub samples: vk::SampleCountFlags,
 }
 
 impl<'a> GraphicsDesc<'a> {
@@ -288,6 +290,7 @@ impl<'a> GraphicsDesc<'a> {
             color_format,
             depth_format,
             premultiplied_blend: false,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
     }
 }

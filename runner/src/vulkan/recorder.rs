@@ -183,10 +183,30 @@ impl<'a> Recorder<'a> {
         depth: Option<vk::ImageView>,
         extent: vk::Extent2D,
     ) {
+        self.begin_rendering_resolved(color, None, depth, extent);
+    }
+
+    /// [`Recorder::begin_rendering`], the colour (multisampled) averaged into `resolve`
+    /// (COLOR_ATTACHMENT_OPTIMAL) when rendering ends.
+    pub fn begin_rendering_resolved(
+        &self,
+        color: Option<(vk::ImageView, Option<[f32; 4]>)>,
+        resolve: Option<vk::ImageView>,
+        depth: Option<vk::ImageView>,
+        extent: vk::Extent2D,
+    ) {
         let color_attachment: Vec<_> = color
             .iter()
             .map(|&(view, clear)| {
-                vk::RenderingAttachmentInfo::default()
+                let info = vk::RenderingAttachmentInfo::default();
+                let info = match resolve {
+                    Some(target) => info
+                        .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                        .resolve_image_view(target)
+                        .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+                    None => info,
+                };
+                info
                     .image_view(view)
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(if clear.is_some() {

@@ -15,10 +15,20 @@ pub struct Sampler {
 impl Sampler {
     /// Linear filtering, coordinates clamped to the edge.
     pub fn linear_clamped(ctx: &Arc<Context>) -> Result<Self> {
+        Self::clamped(ctx, vk::Filter::LINEAR)
+    }
+
+    /// Nearest texel, coordinates clamped to the edge (depth maps, whose formats need
+    /// not filter).
+    pub fn nearest_clamped(ctx: &Arc<Context>) -> Result<Self> {
+        Self::clamped(ctx, vk::Filter::NEAREST)
+    }
+
+    fn clamped(ctx: &Arc<Context>, filter: vk::Filter) -> Result<Self> {
         let clamp = vk::SamplerAddressMode::CLAMP_TO_EDGE;
         let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
+            .mag_filter(filter)
+            .min_filter(filter)
             .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
             .address_mode_u(clamp)
             .address_mode_v(clamp)

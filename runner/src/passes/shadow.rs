@@ -1,0 +1,137 @@
+//! The sun's shadow map (natural look): the scene's surfaces, the collider balls and
+//! the visible grass at its fewest segments, depth only, from the sun
+//! (`shared::look::sun_view_proj`). Ground and grass fragments read it through
+//! binding 8 of the field's set.
+//!
+//! Grass is drawn from the compacted list of blades the camera keeps, at the level of
+//! detail `lod.fewest`: blades outside the view or removed by a test cast no shadow,
+//! and each blade costs one patch of one segment (2 triangles) in the map.
+
+use crate::field::Field;
+use crate::passes::DEPTH_FORMAT;
+use crate::passes::grass::GrassPass;
+use crate::passes::ground::GroundPass;
+use crate::shaders;
+use crate::vulkan::commands::CommandPool;
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules, vec4_vertex_input};
+use crate::vulkan::sampler::Sampler;
+use crate::vulkan::{Context, Image, Recorder};
+use anyhow::Result;
+use ash::vk;
+use glam::Vec4;
+use shared::layout::SurfaceVertex;
+use shared::settings::SHADOW_SIZE;
+use std::sync::Arc;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
+
+use shared::layout::BINDING_SHADOW_MAP;
+
+/// The shadow map and its pipelines.
+pub struct ShadowPass {
+    map: Image,
+    sampler: Sampler,
+    surfaces: Pipeline,
+    grass: Pipeline,
+}
+
+impl ShadowPass {
+    /// The map (left ready to be sampled, its contents undefined until the first
+    /// shadow pass) and its pipelines; points the field's binding 8 at it.
+    pub fn new(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        module: &ShaderModules,
+        field: &Field,
+    ) -> Result<Self> {
+        use vk::ImageUsageFlags as U;
+        use vk::ShaderStageFlags as St;
+        let extent = vk::Extent2D {
+            width: SHADOW_SIZE,
+            height: SHADOW_SIZE,
+        };
+        let map = Image::new(
+            ctx,
+            "shadow map",
+            extent,
+            DEPTH_FORMAT,
+            U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED,
+            vk::ImageAspectFlags::DEPTH,
+        )?;
+        pool.one_shot(|rec| {
+            rec.image_barrier(
+                map.image,
+                vk::ImageAspectFlags::DEPTH,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                ),
+                (S::NONE, A::NONE),
+                (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+            )
+        })?;
+        let sampler = Sampler::nearest_clamped(ctx)?;
+        field
+            .descriptors
+            .write_image(BINDING_SHADOW_MAP, map.view, sampler.sampler);
+        let none = vk::Format::UNDEFINED;
+        let input = vec4_vertex_input::<SurfaceVertex>();
+        let stages = [(St::VERTEX, shaders::SHADOW_SURFACE_VS)];
+        let surfaces = GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
+        let surfaces = Pipeline::graphics(ctx, &surfaces)?;
+        let stages = [
+            (St::VERTEX, shaders::GRASS_VS),
+            (St::TESSELLATION_CONTROL, shaders::GRASS_SHADOW_TCS),
+            (St::TESSELLATION_EVALUATION, shaders::GRASS_SHADOW_TES),
+        ];
+        let grass = GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
+        let grass = Pipeline::graphics(ctx, &grass)?;
+        Ok(Self {
+            map,
+            sampler,
+            surfaces,
+            grass,
+        })
+    }
+
+    /// Records the map: surfaces, `balls` and the visible grass; it is then ready
+    /// for the fragment stages to sample.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        field: &Field,
+        ground: &GroundPass,
+        grass: &GrassPass,
+        balls: &[Vec4],
+    ) {
+        let aspect = vk::ImageAspectFlags::DEPTH;
+        let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
+        let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        rec.image_barrier(
+            self.map.image,
+            aspect,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            (S::FRAGMENT_SHADER, A::NONE),
+            (tests, depth_rw),
+        );
+        rec.begin_rendering(None, Some(self.map.view), self.map.extent);
+        ground.record_with(&self.surfaces, rec, field, balls);
+        grass.record_with(&self.grass, rec, field);
+        rec.end_rendering();
+        rec.image_barrier(
+            self.map.image,
+            aspect,
+            (
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            (S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+            (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+        );
+        let _ = &self.sampler;
+    }
+}

@@ -1,0 +1,77 @@
+//! The natural look's last pass: one full-screen triangle that puts the sky behind the
+//! scene in the HDR image (where its alpha leaves room) and tone-maps it into the
+//! sRGB target (`shared::look::tone_map`, Narkowicz's ACES fit).
+
+use crate::shaders;
+use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
+use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModules};
+use crate::vulkan::sampler::Sampler;
+use crate::vulkan::{Context, Recorder};
+use anyhow::Result;
+use ash::vk;
+use shared::layout::ToneMapPush;
+use std::sync::Arc;
+
+/// The tone map's own set: the HDR image.
+pub const BINDINGS: [BindingSpec; 1] = [BindingSpec {
+    binding: 0,
+    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+    stages: vk::ShaderStageFlags::FRAGMENT,
+}];
+
+/// Push-constant range of the tone map's layout.
+pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
+    vk::ShaderStageFlags::FRAGMENT,
+    size_of::<ToneMapPush>() as u32,
+);
+
+/// The tone-map pipeline and the set naming its source.
+pub struct ToneMapPass {
+    set: DescriptorSet,
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    sampler: Sampler,
+}
+
+impl ToneMapPass {
+    /// The pipeline for a target of `format`.
+    pub fn new(ctx: &Arc<Context>, module: &ShaderModules, format: vk::Format) -> Result<Self> {
+        use vk::ShaderStageFlags as St;
+        let set = DescriptorSet::new(ctx, &BINDINGS)?;
+        let layout = PipelineLayout::new(ctx, set.layout, PUSH_CONSTANTS)?;
+        let stages = [
+            (St::VERTEX, shaders::TONEMAP_VS),
+            (St::FRAGMENT, shaders::TONEMAP_FS),
+        ];
+        let mut desc = GraphicsDesc::patches(module, &stages, &layout, format, vk::Format::UNDEFINED);
+        desc.patch_control_points = 0;
+        let pipeline = Pipeline::graphics(ctx, &desc)?;
+        Ok(Self {
+            set,
+            layout,
+            pipeline,
+            sampler: Sampler::linear_clamped(ctx)?,
+        })
+    }
+
+    /// Reads `hdr` (SHADER_READ_ONLY_OPTIMAL) from now on. No frame may be in flight.
+    pub fn set_source(&self, hdr: vk::ImageView) {
+        self.set.write_image(0, hdr, self.sampler.sampler);
+    }
+
+    /// Draws the sky and the tone-mapped image into `target`.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        target: vk::ImageView,
+        extent: vk::Extent2D,
+        push: &ToneMapPush,
+    ) {
+        rec.begin_rendering(Some((target, None)), None, extent);
+        let graphics = vk::PipelineBindPoint::GRAPHICS;
+        rec.bind_pipeline(graphics, self.pipeline.pipeline, self.layout.layout, self.set.set);
+        rec.push_constants(self.layout.layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(push));
+        rec.draw(0, 3);
+        rec.end_rendering();
+    }
+}

@@ -1,0 +1,37 @@
+//! The natural look's last pass: the sky behind the scene, then the tone map from the
+//! linear HDR image to the sRGB target (`shared::look::tone_map`).
+
+use shared::layout::ToneMapPush;
+use shared::look::{sky, tone_map};
+use spirv_std::glam::{Vec2, Vec4, Vec4Swizzles};
+use spirv_std::image::SampledImage;
+use spirv_std::{Image, spirv};
+
+/// One triangle over the whole screen; uv 0..1 across the image.
+#[spirv(vertex)]
+pub fn tonemap_vs(
+    #[spirv(vertex_index)] vertex: u32,
+    #[spirv(position)] out_position: &mut Vec4,
+    out_uv: &mut Vec2,
+) {
+    let uv = Vec2::new(((vertex << 1) & 2) as f32, (vertex & 2) as f32);
+    *out_position = (uv * 2.0 - Vec2::ONE).extend(0.0).extend(1.0);
+    *out_uv = uv;
+}
+
+/// The HDR pixel over the sky (its alpha is the share of the pixel the scene covers,
+/// the sky fills the rest), exposed and tone-mapped.
+#[spirv(fragment)]
+pub fn tonemap_fs(
+    uv: Vec2,
+    #[spirv(push_constant)] push: &ToneMapPush,
+    #[spirv(descriptor_set = 0, binding = 0)] hdr: &SampledImage<Image!(2D, type=f32, sampled)>,
+    out_color: &mut Vec4,
+) {
+    let pixel: Vec4 = hdr.sample_by_lod(uv, 0.0);
+    let clip = (uv * 2.0 - Vec2::ONE).extend(1.0).extend(1.0);
+    let far = push.clip_to_world * clip;
+    let dir = (far.xyz() / far.w - push.camera.xyz()).normalize_or_zero();
+    let radiance = pixel.xyz() + (1.0 - pixel.w).max(0.0) * sky(dir, push.sun.xyz());
+    *out_color = tone_map(radiance, push.camera.w).extend(1.0);
+}

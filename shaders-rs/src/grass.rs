@@ -10,7 +10,10 @@
 use crate::sun_shadow;
 use shared::Blade;
 use shared::layout::FrameUniforms;
-use shared::look::{LOOK_NATURAL, ambient_occlusion, blade_albedo, fog, rounded_normal, shade_leaf};
+use shared::look::{
+    LOOK_NATURAL, ambient_occlusion, blade_albedo, fog, rounded_normal, shade_leaf,
+    unpack_coverage,
+};
 use shared::lod::{screen_level, tess_levels};
 use shared::shade::blade_colour;
 use shared::shape::surface_point;
@@ -19,8 +22,7 @@ use spirv_std::image::SampledImage;
 use spirv_std::{Image, spirv};
 
 /// The blade this vertex stands for, as drawn: stored, or dressed by the natural look
-/// (`shared::look::dress`), with its tint and alpha and its width direction and
-/// local density.
+/// (`shared::look::dress`), with its tint, coverage and local density.
 #[allow(clippy::too_many_arguments)]
 #[spirv(vertex)]
 pub fn grass_vs(
@@ -33,21 +35,19 @@ pub fn grass_vs(
     out_v2: &mut Vec4,
     out_up: &mut Vec4,
     out_tint: &mut Vec4,
-    out_extra: &mut Vec4,
 ) {
     let id = visible[vertex as usize];
     let blade = blades[id as usize];
-    let (drawn, tint, extra) = if frame.look.style == LOOK_NATURAL {
+    let (drawn, tint) = if frame.look.style == LOOK_NATURAL {
         shared::look::dress(&blade, id, frame.camera.position, &frame.cull, &frame.look)
     } else {
-        (blade, Vec4::ONE, Vec4::ONE)
+        (blade, Vec4::ONE)
     };
     *out_v0 = drawn.v0;
     *out_v1 = drawn.v1;
     *out_v2 = drawn.v2;
     *out_up = drawn.up;
     *out_tint = tint;
-    *out_extra = extra;
 }
 
 fn blade_of(v0: Vec4, v1: Vec4, v2: Vec4, up: Vec4) -> Blade {
@@ -66,13 +66,11 @@ pub fn grass_tcs(
     in_v2: [Vec4; 1],
     in_up: [Vec4; 1],
     in_tint: [Vec4; 1],
-    in_extra: [Vec4; 1],
     out_v0: &mut [Vec4; 1],
     out_v1: &mut [Vec4; 1],
     out_v2: &mut [Vec4; 1],
     out_up: &mut [Vec4; 1],
     out_tint: &mut [Vec4; 1],
-    out_extra: &mut [Vec4; 1],
     out_level: &mut [f32; 1],
     #[spirv(tess_level_outer)] outer: &mut [f32; 4],
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
@@ -94,7 +92,6 @@ pub fn grass_tcs(
     out_v2[0] = in_v2[0];
     out_up[0] = in_up[0];
     out_tint[0] = in_tint[0];
-    out_extra[0] = in_extra[0];
     out_level[0] = level;
     let (o, i) = tess_levels(level);
     *outer = o;
@@ -112,7 +109,6 @@ pub fn grass_tes(
     in_v2: [Vec4; 1],
     in_up: [Vec4; 1],
     in_tint: [Vec4; 1],
-    in_extra: [Vec4; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
     out_normal: &mut Vec3,
@@ -120,7 +116,7 @@ pub fn grass_tes(
     out_uv: &mut Vec2,
     out_level: &mut f32,
     out_tint: &mut Vec4,
-    out_extra: &mut Vec4,
+    out_width_dir: &mut Vec3,
 ) {
     let blade = blade_of(in_v0[0], in_v1[0], in_v2[0], in_up[0]);
     let grass = &frame.grass;
@@ -131,7 +127,7 @@ pub fn grass_tes(
     *out_uv = coord.truncate();
     *out_level = in_level[0];
     *out_tint = in_tint[0];
-    *out_extra = in_extra[0];
+    *out_width_dir = blade.width_dir();
 }
 
 /// The paper look: Lambert plus ambient with the base-to-tip gradient, both faces
@@ -147,7 +143,7 @@ pub fn grass_fs(
     uv: Vec2,
     level: f32,
     tint: Vec4,
-    extra: Vec4,
+    width_dir: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &SampledImage<
         Image!(2D, type=f32, sampled),
@@ -163,14 +159,15 @@ pub fn grass_fs(
         return;
     }
     // The thin-blade coverage (`shared::look::coverage_mask`), made in the vertex stage.
-    out_mask[0] = tint.w as u32;
+    let (mask, density) = unpack_coverage(tint.w);
+    out_mask[0] = mask;
     let to_camera = camera - world;
     let distance = to_camera.length();
     let to_eye = to_camera / distance.max(1e-6);
     let facing = if n.dot(to_eye) < 0.0 { -n } else { n };
-    let rounded = rounded_normal(facing, extra.xyz(), uv.x);
+    let rounded = rounded_normal(facing, width_dir, uv.x);
     let albedo = blade_albedo(tint.xyz(), uv.y);
-    let occlusion = ambient_occlusion(uv.y, extra.w);
+    let occlusion = ambient_occlusion(uv.y, density);
     let sun = sun_shadow(frame, shadow_map, world);
     let to_light = frame.light.direction;
     let lit = shade_leaf(albedo, rounded, to_light, to_eye, occlusion, sun);
@@ -188,6 +185,7 @@ pub fn grass_shadow_tcs(
     in_v1: [Vec4; 1],
     in_v2: [Vec4; 1],
     in_up: [Vec4; 1],
+    in_tint: [Vec4; 1],
     out_v0: &mut [Vec4; 1],
     out_v1: &mut [Vec4; 1],
     out_v2: &mut [Vec4; 1],
@@ -200,7 +198,15 @@ pub fn grass_shadow_tcs(
     out_v2[0] = in_v2[0];
     out_up[0] = in_up[0];
     let (o, i) = tess_levels(frame.lod.fewest);
-    *outer = o;
+    // A blade that covers no sample on screen (a thin one left out) casts no shadow
+    // either: an outer level of 0 drops the patch.
+    let (mask, _) = unpack_coverage(in_tint[0].w);
+    let drop = if mask == 0 && frame.look.style == LOOK_NATURAL {
+        0.0
+    } else {
+        1.0
+    };
+    *outer = [o[0] * drop, o[1] * drop, o[2] * drop, o[3] * drop];
     *inner = i;
 }
 

@@ -57,7 +57,8 @@ pub fn ground_fs(
     let (albedo, occlusion) = natural_ground(material, world, n, distance, look);
     let to_light = frame.light.direction;
     let sun = sun_shadow(frame, shadow_map, world);
-    let lit = shade_ground(albedo, n, to_light, occlusion, sun);
+    // Under the canopy the blades hold back the sun as they hold back the sky.
+    let lit = shade_ground(albedo, n, to_light, occlusion, sun * occlusion);
     let dir = -to_camera / distance.max(1e-6);
     *out_color = fog(lit, distance, dir, to_light, look.fog_density).extend(1.0);
 }

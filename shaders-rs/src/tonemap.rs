@@ -2,7 +2,7 @@
 //! linear HDR image to the sRGB target (`shared::look::tone_map`).
 
 use shared::layout::ToneMapPush;
-use shared::look::{sky, tone_map};
+use shared::look::{meadow_to_horizon, sky, tone_map};
 use spirv_std::glam::{Vec2, Vec4, Vec4Swizzles};
 use spirv_std::image::SampledImage;
 use spirv_std::{Image, spirv};
@@ -19,8 +19,9 @@ pub fn tonemap_vs(
     *out_uv = uv;
 }
 
-/// The HDR pixel over the sky (its alpha is the share of the pixel the scene covers,
-/// the sky fills the rest), exposed and tone-mapped.
+/// The HDR pixel over the sky, or below the horizon over the meadow beyond the field
+/// (its alpha is the share of the pixel the scene covers; the rest shows what is
+/// behind), exposed and tone-mapped.
 #[spirv(fragment)]
 pub fn tonemap_fs(
     uv: Vec2,
@@ -32,6 +33,11 @@ pub fn tonemap_fs(
     let clip = (uv * 2.0 - Vec2::ONE).extend(1.0).extend(1.0);
     let far = push.clip_to_world * clip;
     let dir = (far.xyz() / far.w - push.camera.xyz()).normalize_or_zero();
-    let radiance = pixel.xyz() + (1.0 - pixel.w).max(0.0) * sky(dir, push.sun.xyz());
+    let sun = push.sun.xyz();
+    let behind = match meadow_to_horizon(push.camera.xyz(), dir, sun, push.ground) {
+        Some(meadow) => meadow,
+        None => sky(dir, sun),
+    };
+    let radiance = pixel.xyz() + (1.0 - pixel.w).max(0.0) * behind;
     *out_color = tone_map(radiance, push.camera.w).extend(1.0);
 }

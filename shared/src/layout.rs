@@ -217,6 +217,9 @@ pub struct ToneMapPush {
     pub camera: Vec4,
     /// Unit direction towards the sun (xyz); w unused.
     pub sun: Vec4,
+    /// The meadow beyond the field: the ground plane's height (x), fog density (y),
+    /// clump size (z), and 1 to draw it or 0 (w); see `look::meadow_to_horizon`.
+    pub ground: Vec4,
 }
 
 /// Push constants of the chunk pass: how the visible blades split into draws.

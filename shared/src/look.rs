@@ -49,12 +49,15 @@ pub struct LookParams {
     pub samples: u32,
     /// Factor on the radiance before the tone map.
     pub exposure: f32,
-    /// Padding to 16 bytes.
-    pub padding: [u32; 2],
+    /// Height of the ground plane that carries the field to the horizon.
+    pub ground_level: f32,
+    /// 1 where the scene is a ground under a sky (not a planet): below the horizon
+    /// the tone map draws the field from afar on the plane at `ground_level`.
+    pub ground_to_horizon: u32,
 }
 
 /// Sun radiance (linear, before exposure).
-pub const SUN: Vec3 = Vec3::new(3.2, 2.95, 2.6);
+pub const SUN: Vec3 = Vec3::new(2.6, 2.45, 2.2);
 /// Sky light on a surface facing up (linear, before exposure).
 pub const SKY_AMBIENT: Vec3 = Vec3::new(0.42, 0.55, 0.75);
 
@@ -192,15 +195,15 @@ pub fn dressed_blade(blade: &Blade, clump: &Clump, jitter: f32, width_scale: f32
 /// What the natural look draws of blade `id` seen from `camera`: the blade dressed by
 /// its clump, a per-blade jitter and the fades of the enabled culling tests (width to
 /// zero before the test removes it), widened to a pixel where it is thinner; its tint
-/// (rgb) and coverage (alpha); its width direction (xyz) and the field's local density
-/// (w) for the occlusion.
+/// (rgb) and, in w, its coverage mask and the field's local density for the
+/// occlusion ([`pack_coverage`]).
 pub fn dress(
     blade: &Blade,
     id: u32,
     camera: Vec3,
     cull: &crate::cull::CullParams,
     look: &LookParams,
-) -> (Blade, Vec4, Vec4) {
+) -> (Blade, Vec4) {
     use crate::cull::{DISTANCE, ORIENTATION, orientation_alignment, projected_distance};
     let clump = clump_at(blade.root(), look.clump_size, look.seed);
     let h1 = hash_unit(id ^ hash_u32(look.seed));
@@ -226,8 +229,20 @@ pub fn dress(
     let dressed = dressed_blade(blade, &clump, h1, scale);
     let h3 = hash_unit(hash_u32(id ^ 0x2545_f491));
     let mask = coverage_mask(alpha, look.samples, h3);
-    let tint = blade_tint(&clump, h1, h2).extend(mask as f32);
-    (dressed, tint, blade.width_dir().extend(density))
+    let tint = blade_tint(&clump, h1, h2).extend(pack_coverage(mask, density));
+    (dressed, tint)
+}
+
+/// One varying for a blade's coverage mask (0..255) and the local density (0..1):
+/// mask + density/2, exact for both (the mask is the whole part).
+pub fn pack_coverage(mask: u32, density: f32) -> f32 {
+    mask as f32 + 0.5 * density.clamp(0.0, 1.0)
+}
+
+/// The (mask, density) of [`pack_coverage`].
+pub fn unpack_coverage(packed: f32) -> (u32, f32) {
+    let mask = packed.floor();
+    (mask as u32, 2.0 * (packed - mask))
 }
 
 /// The samples a blade of coverage `alpha` covers in a pixel of `samples` samples:
@@ -250,11 +265,11 @@ pub fn coverage_mask(alpha: f32, samples: u32, h: f32) -> u32 {
 // ---- colour --------------------------------------------------------------------
 
 /// Fresh blade colour (linear albedo).
-pub const FRESH: Vec3 = Vec3::new(0.075, 0.21, 0.025);
+pub const FRESH: Vec3 = Vec3::new(0.045, 0.16, 0.018);
 /// Half-dry blade colour.
-pub const RIPE: Vec3 = Vec3::new(0.17, 0.24, 0.045);
+pub const RIPE: Vec3 = Vec3::new(0.11, 0.19, 0.03);
 /// Dry blade colour.
-pub const DRY: Vec3 = Vec3::new(0.36, 0.30, 0.12);
+pub const DRY: Vec3 = Vec3::new(0.30, 0.25, 0.09);
 
 /// The palette from fresh (0) through ripe to dry (1).
 pub fn palette(dryness: f32) -> Vec3 {
@@ -357,12 +372,48 @@ pub fn shade_ground(albedo: Vec3, normal: Vec3, to_light: Vec3, occlusion: f32, 
 /// colour by `cover` (0..1, 1 under grass).
 pub fn ground_under_grass(soil: Vec3, clump: &Clump, distance: f32, field_distance: f32) -> Vec3 {
     let tint = palette(clump.dryness * 0.8);
-    let roots = blade_albedo(tint, 0.1);
-    // The field from afar: blades seen from the side cover the ground, mid-height
-    // colour with the canopy's occlusion.
-    let far = blade_albedo(tint, 0.6) * 0.9;
+    let roots = blade_albedo(tint, 0.0) * 0.7;
     let t = smoothstep(0.35 * field_distance, field_distance, distance);
-    soil.lerp(roots, 0.8).lerp(far, t)
+    soil.lerp(roots, 0.75)
+        .lerp(field_from_afar(0.2 + 0.6 * clump.dryness), t)
+}
+
+/// The field seen from afar: blades seen from the side cover the ground, so its
+/// colour is their mid-height albedo, dimmed by the canopy's occlusion.
+pub fn field_from_afar(dryness: f32) -> Vec3 {
+    blade_albedo(palette(dryness * 0.8), 0.6) * 0.8
+}
+
+/// The meadow beyond the drawn field (natural look, ground scenes): where the view
+/// ray from `camera` along `dir` meets the plane y = `ground.x`, the field's colour
+/// from afar ([`field_from_afar`], its dryness from value noise over the clump size
+/// `ground.z` as on the drawn ground), lit by sky and sun, fogged with density
+/// `ground.y`. `None` when `ground.w` is 0 or the ray does not go down to the plane.
+pub fn meadow_to_horizon(camera: Vec3, dir: Vec3, sun: Vec3, ground: Vec4) -> Option<Vec3> {
+    use crate::shade::value_noise;
+    use spirv_std::glam::Vec2;
+    let below = camera.y - ground.x;
+    if ground.w == 0.0 || dir.y >= -1e-4 || below <= 0.0 {
+        return None;
+    }
+    let distance = below / -dir.y;
+    let p = camera + dir * distance;
+    let q = Vec2::new(p.x, p.z) / ground.z.max(1e-3) + 17.0;
+    let albedo = field_from_afar(0.2 + 0.6 * value_noise(q));
+    // The canopy seen from above the ground: the sky light and sun the blades' own
+    // occlusion and shadows leave (what the drawn field shows on average).
+    let lit = shade_ground(albedo, Vec3::Y, sun, 0.6, 0.55);
+    Some(fog(lit, distance, dir, sun, ground.y))
+}
+
+/// The tone map's `ground` vector of [`meadow_to_horizon`] from the look's block.
+pub fn horizon_ground(look: &LookParams) -> Vec4 {
+    Vec4::new(
+        look.ground_level,
+        look.fog_density,
+        look.clump_size,
+        look.ground_to_horizon as f32,
+    )
 }
 
 /// The natural look's ground: (albedo, sky occlusion) of `material` at `p` with normal
@@ -399,7 +450,10 @@ pub fn natural_ground(
         dryness: value_noise(q / look.clump_size.max(1e-3) + 17.0),
     };
     let albedo = ground_under_grass(soil, &clump, distance, look.field_distance);
-    (albedo, 0.55)
+    // Under the canopy the ground sees little sky; from afar, the field's colour
+    // already holds its occlusion.
+    let open = smoothstep(0.35 * look.field_distance, look.field_distance, distance);
+    (albedo, 0.45 + 0.55 * open)
 }
 
 /// 0 below `a`, 1 above `b`, the cubic 3t² − 2t³ between.
@@ -713,6 +767,17 @@ mod tests {
                     .sum();
                 let mean = bits as f32 / (n * samples) as f32;
                 assert!((mean - alpha).abs() < 0.01, "{samples}x at {alpha}: {mean}");
+            }
+        }
+    }
+
+    #[test]
+    fn coverage_and_density_share_a_varying() {
+        for mask in [0u32, 1, 5, 255] {
+            for density in [0.0f32, 0.125, 0.5, 0.99] {
+                let (m, d) = unpack_coverage(pack_coverage(mask, density));
+                assert_eq!(m, mask);
+                assert!((d - density).abs() < 1e-4, "{mask} {density}: {d}");
             }
         }
     }

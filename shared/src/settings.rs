@@ -92,6 +92,13 @@ pub struct LookSettings {
     /// The scene's bounding sphere (centre, radius): the shadow map covers it, or
     /// the part of it in front of the camera.
     pub scene: (Vec3, f32),
+    /// Height of the plane that carries the meadow to the horizon; `None` for
+    /// scenes that are not a ground under a sky (a planet).
+    pub ground_level: Option<f32>,
+    /// Unit direction towards the sun of the natural look: lower than the paper's
+    /// light (30° up), and ahead of the default camera, so blades are lit from
+    /// behind and their shadows fall towards the viewer.
+    pub sun: Vec3,
 }
 
 impl Default for LookSettings {
@@ -105,6 +112,8 @@ impl Default for LookSettings {
             clump_size: 1.6,
             seed: 1,
             scene: (Vec3::ZERO, 12.0),
+            ground_level: Some(0.0),
+            sun: Vec3::new(-0.75, 0.55, -0.55).normalize(),
         }
     }
 }
@@ -428,7 +437,7 @@ impl Settings {
                 position: eye.position,
                 focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
             },
-            light: self.light,
+            light: self.look_light(),
             forces: self.environment(used as u32),
             colliders,
             hiz: Default::default(),
@@ -454,12 +463,23 @@ impl Settings {
         }
     }
 
+    /// The light of the look: the paper's, or the natural look's sun.
+    pub fn look_light(&self) -> Light {
+        match self.look.style {
+            Look::Paper => self.light,
+            Look::Natural => Light {
+                direction: self.look.sun,
+                ..self.light
+            },
+        }
+    }
+
     /// The natural look's block: the shadow map around what the camera sees.
     pub fn look_params(&self, eye: &Viewpoint) -> LookParams {
         let look = &self.look;
         let (centre, radius) = shadow_sphere(look.scene, eye.position, eye.forward);
         LookParams {
-            shadow_view_proj: crate::look::sun_view_proj(self.light.direction, centre, radius),
+            shadow_view_proj: crate::look::sun_view_proj(look.sun, centre, radius),
             style: look.style as u32,
             shadows: u32::from(look.shadows && look.style == Look::Natural),
             seed: look.seed,
@@ -470,7 +490,8 @@ impl Settings {
             clump_size: look.clump_size,
             samples: look.msaa,
             exposure: look.exposure,
-            padding: [0; 2],
+            ground_level: look.ground_level.unwrap_or(0.0),
+            ground_to_horizon: u32::from(look.ground_level.is_some()),
         }
     }
 }

@@ -6,7 +6,7 @@ use ash::vk;
 use rspirv::dr::{Module, Operand};
 use rspirv::spirv::{BuiltIn, Decoration, ExecutionMode, ExecutionModel, Op, StorageClass};
 use runner::field::{BINDINGS, PUSH_CONSTANTS};
-use runner::passes::overlay;
+use runner::passes::{overlay, tonemap};
 use runner::shaders;
 use runner::vulkan::descriptors::BindingSpec;
 use shared::layout;
@@ -148,6 +148,17 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
             ExecutionModel::TessellationEvaluation,
         ),
         (shaders::THROUGHPUT_FS, ExecutionModel::Fragment),
+        (
+            shaders::GRASS_SHADOW_TCS,
+            ExecutionModel::TessellationControl,
+        ),
+        (
+            shaders::GRASS_SHADOW_TES,
+            ExecutionModel::TessellationEvaluation,
+        ),
+        (shaders::SHADOW_SURFACE_VS, ExecutionModel::Vertex),
+        (shaders::TONEMAP_VS, ExecutionModel::Vertex),
+        (shaders::TONEMAP_FS, ExecutionModel::Fragment),
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
@@ -217,6 +228,8 @@ fn runner_layout(name: &str) -> (&'static [BindingSpec], (vk::ShaderStageFlags, 
     if name == shaders::OVERLAY_VS || name == shaders::OVERLAY_FS {
         let push = size_of::<layout::OverlayPush>() as u32;
         (&overlay::BINDINGS, (vk::ShaderStageFlags::VERTEX, push))
+    } else if name == shaders::TONEMAP_VS || name == shaders::TONEMAP_FS {
+        (&tonemap::BINDINGS, tonemap::PUSH_CONSTANTS)
     } else {
         (&BINDINGS, PUSH_CONSTANTS)
     }
@@ -275,6 +288,10 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
                             n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
                             n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
+                            n if n == shaders::SHADOW_SURFACE_VS => {
+                                size_of::<layout::SurfacePush>()
+                            }
+                            n if n == shaders::TONEMAP_FS => size_of::<layout::ToneMapPush>(),
                             n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
@@ -357,13 +374,14 @@ fn frame_block_layout_matches_the_host_struct() {
     use shared::hiz::HiZLayout;
     use shared::layout::{CameraParams, FrameUniforms, GrassParams};
     use shared::lod::LodParams;
+    use shared::look::LookParams;
     use shared::shade::Light;
     use shared::simulate::Environment;
     use std::mem::offset_of;
 
     // Each member of the frame block: its offset, and the offsets of its own members
     // where it is a struct (none for arrays).
-    let expected: [(&str, usize, Vec<usize>); 8] = [
+    let expected: [(&str, usize, Vec<usize>); 9] = [
         (
             "camera",
             offset_of!(FrameUniforms, camera),
@@ -433,6 +451,25 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(CullParams, max_distance),
                 offset_of!(CullParams, buckets),
                 offset_of!(CullParams, enabled),
+            ],
+        ),
+        (
+            "look",
+            offset_of!(FrameUniforms, look),
+            vec![
+                offset_of!(LookParams, shadow_view_proj),
+                offset_of!(LookParams, style),
+                offset_of!(LookParams, shadows),
+                offset_of!(LookParams, seed),
+                offset_of!(LookParams, shadow_size),
+                offset_of!(LookParams, fog_density),
+                offset_of!(LookParams, field_distance),
+                offset_of!(LookParams, pixel_angle),
+                offset_of!(LookParams, clump_size),
+                offset_of!(LookParams, samples),
+                offset_of!(LookParams, exposure),
+                offset_of!(LookParams, ground_level),
+                offset_of!(LookParams, ground_to_horizon),
             ],
         ),
     ];

@@ -76,7 +76,9 @@ impl ShadowPass {
             .descriptors
             .write_image(BINDING_SHADOW_MAP, map.view, sampler.sampler);
         let none = vk::Format::UNDEFINED;
-        let input = vec4_vertex_input::<SurfaceVertex>();
+        // The position alone (location 0): the shadow's vertex stage reads no normal.
+        let mut input = vec4_vertex_input::<SurfaceVertex>();
+        input.1.truncate(1);
         let stages = [(St::VERTEX, shaders::SHADOW_SURFACE_VS)];
         let surfaces = GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
         let surfaces = Pipeline::graphics(ctx, &surfaces)?;

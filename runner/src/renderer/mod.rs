@@ -461,6 +461,7 @@ impl Renderer {
             clip_to_world: camera.view_proj.inverse(),
             camera: camera.position.extend(uniforms.look.exposure),
             sun: uniforms.light.direction.extend(0.0),
+            ground: shared::look::horizon_ground(&uniforms.look),
         };
         self.tonemap.record(rec, target.view, target.extent, &push);
         Ok(())

@@ -245,6 +245,10 @@ impl Scene {
         let mut settings = Settings::default();
         settings.cull.max_distance = (2.0 * self.bounds.1 * 1.5).max(40.0);
         settings.look.scene = self.bounds;
+        settings.look.ground_level = match self.gravity_centre {
+            Some(_) => None,
+            None => self.surface.bounds().map(|(min, _)| min.y),
+        };
         if let Some(centre) = self.gravity_centre {
             settings.gravity.centre = centre;
             settings.gravity.centre_blend = 1.0;

@@ -76,6 +76,10 @@ pub struct BenchArgs {
     /// Configurations, comma-separated [default: all].
     #[arg(long, value_delimiter = ',', value_enum)]
     pub configs: Vec<BenchConfig>,
+    /// Looks to time, comma-separated; with both, the report sets the natural look's
+    /// frame against the paper's [default: the one --look names].
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub looks: Vec<Look>,
     /// Camera preset.
     #[arg(long, value_enum, default_value_t = CameraPreset::Edge)]
     pub camera: CameraPreset,

@@ -99,6 +99,8 @@ fn the_viewer_draws_through_a_resize_storm() {
         eprintln!("skipped: no Xvfb");
         return;
     };
+    // The natural look with shadows and 4x MSAA: every image of the frame is made
+    // again at each size.
     let args = [
         "--frames",
         "150",
@@ -106,6 +108,10 @@ fn the_viewer_draws_through_a_resize_storm() {
         "--validation",
         "--blades",
         "256",
+        "--look",
+        "natural",
+        "--msaa",
+        "4",
     ];
     let (ok, log) = run_viewer(&x.display, &args, &[], Duration::from_secs(300));
     if !ok && !gpu_required() && log.contains("device") {

@@ -30,14 +30,18 @@ pub fn tonemap_fs(
     out_color: &mut Vec4,
 ) {
     let pixel: Vec4 = hdr.sample_by_lod(uv, 0.0);
-    let clip = (uv * 2.0 - Vec2::ONE).extend(1.0).extend(1.0);
-    let far = push.clip_to_world * clip;
-    let dir = (far.xyz() / far.w - push.camera.xyz()).normalize_or_zero();
-    let sun = push.sun.xyz();
-    let behind = match meadow_to_horizon(push.camera.xyz(), dir, sun, push.ground) {
-        Some(meadow) => meadow,
-        None => sky(dir, sun),
-    };
-    let radiance = pixel.xyz() + (1.0 - pixel.w).max(0.0) * behind;
+    let open = (1.0 - pixel.w).max(0.0);
+    let mut radiance = pixel.xyz();
+    if open > 0.0 {
+        let clip = (uv * 2.0 - Vec2::ONE).extend(1.0).extend(1.0);
+        let far = push.clip_to_world * clip;
+        let dir = (far.xyz() / far.w - push.camera.xyz()).normalize_or_zero();
+        let sun = push.sun.xyz();
+        let behind = match meadow_to_horizon(push.camera.xyz(), dir, sun, push.ground) {
+            Some(meadow) => meadow,
+            None => sky(dir, sun),
+        };
+        radiance += open * behind;
+    }
     *out_color = tone_map(radiance, push.camera.w).extend(1.0);
 }

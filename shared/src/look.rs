@@ -402,7 +402,7 @@ pub fn meadow_to_horizon(camera: Vec3, dir: Vec3, sun: Vec3, ground: Vec4) -> Op
     let albedo = field_from_afar(0.2 + 0.6 * value_noise(q));
     // The canopy seen from above the ground: the sky light and sun the blades' own
     // occlusion and shadows leave (what the drawn field shows on average).
-    let lit = shade_ground(albedo, Vec3::Y, sun, 0.6, 0.55);
+    let lit = shade_ground(albedo, Vec3::Y, sun, 0.45, 0.55);
     Some(fog(lit, distance, dir, sun, ground.y))
 }
 
@@ -516,7 +516,12 @@ pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
     let below = Vec3::new(0.30, 0.32, 0.30).lerp(horizon, (1.0 + dir.y * 8.0).clamp(0.0, 1.0));
     let base = if dir.y < 0.0 { below } else { base };
     let cos = dir.dot(sun).clamp(-1.0, 1.0);
-    let glow = cos.max(0.0).powf(64.0) * 0.6 + cos.max(0.0).powf(6.0) * 0.12;
+    // cos⁶ and cos⁶⁴ by squaring (a software device pays for powf per pixel).
+    let c2 = cos.max(0.0) * cos.max(0.0);
+    let c4 = c2 * c2;
+    let c8 = c4 * c4;
+    let c64 = c8 * c8 * c8 * c8 * c8 * c8 * c8 * c8;
+    let glow = c64 * 0.6 + c4 * c2 * 0.12;
     let disc = smoothstep((SUN_RADIUS * 1.2).cos(), SUN_RADIUS.cos(), cos) * 40.0;
     base + SUN * (glow + disc) / SUN.x
 }
@@ -525,7 +530,9 @@ pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
 pub fn fog_colour(dir: Vec3, sun: Vec3) -> Vec3 {
     let horizon = Vec3::new(0.62, 0.74, 0.92);
     let cos = dir.dot(sun).max(0.0);
-    horizon + Vec3::new(0.9, 0.75, 0.5) * cos.powf(8.0) * 0.5
+    let c2 = cos * cos;
+    let c4 = c2 * c2;
+    horizon + Vec3::new(0.9, 0.75, 0.5) * (c4 * c4 * 0.5)
 }
 
 /// Aerial perspective: `colour` at `distance` along `dir` fogged towards the sky,

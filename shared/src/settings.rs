@@ -108,7 +108,7 @@ impl Default for LookSettings {
             shadows: true,
             msaa: 1,
             exposure: 1.0,
-            fog_density: 0.004,
+            fog_density: 0.0025,
             clump_size: 1.6,
             seed: 1,
             scene: (Vec3::ZERO, 12.0),
@@ -118,8 +118,11 @@ impl Default for LookSettings {
     }
 }
 
-/// Side of the sun's shadow map in texels.
+/// Side of the sun's shadow map in texels on a GPU.
 pub const SHADOW_SIZE: u32 = 2048;
+/// Side of the sun's shadow map on a software device, whose rasteriser pays for
+/// every texel cleared and drawn.
+pub const SHADOW_SIZE_SOFTWARE: u32 = 1024;
 
 /// Farthest the shadow map reaches from the camera, in units: beyond, the sun's map
 /// would spread too thin over a large field.

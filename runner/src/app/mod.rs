@@ -139,11 +139,7 @@ pub fn prepare(
     }
     log::info!("scene {}: {} blades", scene.name, scene.blade_count());
     let mut settings = settings(common, &scene);
-    settings.look.msaa = common.msaa.unwrap_or(if ctx.is_software() {
-        DEFAULT_MSAA_SOFTWARE
-    } else {
-        DEFAULT_MSAA_GPU
-    });
+    settings.look.msaa = msaa(common, ctx);
     Ok((scene, settings))
 }
 
@@ -179,6 +175,15 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s.look.msaa = common.msaa.unwrap_or(1);
     s.look.seed = common.seed as u32;
     s
+}
+
+/// Samples per pixel: `--msaa`, else the device's default.
+pub fn msaa(common: &Common, ctx: &Context) -> u32 {
+    common.msaa.unwrap_or(if ctx.is_software() {
+        DEFAULT_MSAA_SOFTWARE
+    } else {
+        DEFAULT_MSAA_GPU
+    })
 }
 
 /// Samples per pixel on a GPU when `--msaa` is not given.

@@ -3,7 +3,7 @@
 
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
-use shared::settings::{BladeShape, Settings, View, WindField};
+use shared::settings::{BladeShape, Look, Settings, View, WindField};
 use std::collections::VecDeque;
 use winit::event::WindowEvent;
 use winit::window::Window;
@@ -167,8 +167,11 @@ fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) 
                 let rows = [
                     ("uploads + depth pyramid", t.depth_pyramid),
                     ("simulate + cull", t.simulate_cull),
+                    ("shadow map", t.shadow),
                     ("ground", t.ground),
                     ("grass", t.grass),
+                    ("MSAA resolve", t.resolve),
+                    ("sky + tone map", t.tone_map),
                     ("overlay", t.overlay),
                     ("GPU total", t.total),
                 ];
@@ -216,6 +219,9 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
 
 /// The culling tests, LOD, view, wind, forces, shape and ball.
 fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
+    egui::CollapsingHeader::new("Look (keys N, H, M)")
+        .default_open(true)
+        .show(ui, |ui| look(ui, s));
     egui::CollapsingHeader::new("Culling (keys 1-4)")
         .default_open(true)
         .show(ui, |ui| culling(ui, s));
@@ -227,6 +233,43 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
         .show(ui, |ui| forces(ui, s, ball_on));
     ui.label("O hides this panel");
 }
+
+fn look(ui: &mut egui::Ui, s: &mut Settings) {
+    let look = &mut s.look;
+    ui.horizontal(|ui| {
+        ui.label("look (N)");
+        for style in Look::ALL {
+            ui.radio_value(&mut look.style, style, format!("{style:?}"));
+        }
+    });
+    let natural = look.style == Look::Natural;
+    ui.add_enabled(natural, egui::Checkbox::new(&mut look.shadows, "sun shadows (H)"));
+    ui.horizontal(|ui| {
+        ui.label("MSAA (M)");
+        for n in MSAA_CHOICES {
+            ui.radio_value(&mut look.msaa, n, format!("{n}x"));
+        }
+    });
+    ui.add_enabled(
+        natural,
+        egui::Slider::new(&mut look.exposure, 0.05..=8.0)
+            .logarithmic(true)
+            .text("exposure"),
+    );
+    ui.add_enabled(
+        natural,
+        egui::Slider::new(&mut look.fog_density, 0.0..=0.05).text("fog density"),
+    );
+    ui.add_enabled(
+        natural,
+        egui::Slider::new(&mut look.clump_size, 0.2..=20.0)
+            .logarithmic(true)
+            .text("clump size"),
+    );
+}
+
+/// The samples per pixel the overlay and the M key offer.
+pub const MSAA_CHOICES: [u32; 4] = [1, 2, 4, 8];
 
 fn culling(ui: &mut egui::Ui, s: &mut Settings) {
     let c = &mut s.cull;

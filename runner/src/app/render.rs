@@ -49,11 +49,15 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     log::info!("last frame: {}", describe(&report.counts));
     if let Some(t) = report.times {
         log::info!(
-            "GPU ms: uploads + depth pyramid {:.3}, simulate+cull {:.3}, ground {:.3}, grass {:.3}, total {:.3}",
+            "GPU ms: uploads + depth pyramid {:.3}, simulate+cull {:.3}, shadow map {:.3}, \
+             ground {:.3}, grass {:.3}, resolve {:.3}, sky + tone map {:.3}, total {:.3}",
             t.depth_pyramid,
             t.simulate_cull,
+            t.shadow,
             t.ground,
             t.grass,
+            t.resolve,
+            t.tone_map,
             t.total
         );
     }

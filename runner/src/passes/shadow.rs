@@ -20,7 +20,7 @@ use anyhow::Result;
 use ash::vk;
 use glam::Vec4;
 use shared::layout::SurfaceVertex;
-use shared::settings::SHADOW_SIZE;
+use shared::settings::{SHADOW_SIZE, SHADOW_SIZE_SOFTWARE};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -47,9 +47,14 @@ impl ShadowPass {
     ) -> Result<Self> {
         use vk::ImageUsageFlags as U;
         use vk::ShaderStageFlags as St;
+        let side = if ctx.is_software() {
+            SHADOW_SIZE_SOFTWARE
+        } else {
+            SHADOW_SIZE
+        };
         let extent = vk::Extent2D {
-            width: SHADOW_SIZE,
-            height: SHADOW_SIZE,
+            width: side,
+            height: side,
         };
         let map = Image::new(
             ctx,
@@ -95,6 +100,11 @@ impl ShadowPass {
             surfaces,
             grass,
         })
+    }
+
+    /// Side of the map in texels.
+    pub fn size(&self) -> u32 {
+        self.map.extent.width
     }
 
     /// Records the map: surfaces, `balls` and the visible grass; it is then ready

@@ -254,6 +254,7 @@ impl Renderer {
         } else {
             Default::default()
         };
+        uniforms.look.shadow_size = self.shadow.size();
         let stamps = queries.timestamps.as_ref().map(|t| t.pool);
         let stamp = |mark: Mark| {
             if let Some(pool) = stamps {

@@ -22,7 +22,7 @@ use crate::scene::{BladeCount, Scene};
 use crate::vulkan::Context;
 use anyhow::{Context as _, Result};
 use glam::Vec3;
-use report::{print_references, print_table, write_csv};
+use report::{print_looks, print_references, print_table, write_csv};
 use shared::layout::FrameUniforms;
 use shared::settings::Settings;
 use shared::simulate::SimClock;
@@ -96,7 +96,12 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     } else {
         args.configs.clone()
     };
-    let total = counts.len() * configs.len();
+    let looks = if args.looks.is_empty() {
+        vec![common.look]
+    } else {
+        args.looks.clone()
+    };
+    let total = counts.len() * configs.len() * looks.len();
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut points = Vec::new();
     let mut references = References::default();
@@ -116,29 +121,36 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             common.seed,
             |_| Ok(()),
         )?;
-        let base = super::settings(common, &scene);
+        let mut base = super::settings(common, &scene);
+        base.look.msaa = super::msaa(common, &ctx);
         let camera = camera(&scene, args.camera);
         let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
         let mut driver = FrameDriver::new(&ctx, renderer)?;
         let eye = camera.viewpoint(offscreen.size());
-        let uniforms = |config| {
-            let mut settings = base;
-            configure(&mut settings, config);
-            settings.uniforms(&eye, scene.blade_count(), &[])
-        };
-        let first = points.len();
-        for &config in &configs {
-            progress.show(points.len(), &format!("{config:?} at {n} blades"));
-            let frames = (&mut driver, &mut offscreen);
-            let point = measure(frames, uniforms(config), args, config, n)?;
-            points.push(point);
-        }
-        // The blades as the sweep left them, without culling or LOD, then each
-        // configuration in the same state.
-        unculled = still(&mut driver, &mut offscreen, uniforms(BenchConfig::None))?;
-        for point in &mut points[first..] {
-            view = still(&mut driver, &mut offscreen, uniforms(point.config))?;
-            point.difference = mean_difference(&view, &unculled);
+        for &look in &looks {
+            let uniforms = |config| {
+                let mut settings = base;
+                settings.look.style = look;
+                configure(&mut settings, config);
+                settings.uniforms(&eye, scene.blade_count(), &[])
+            };
+            let first = points.len();
+            for &config in &configs {
+                let what = format!("{config:?}, {look:?} look, at {n} blades");
+                progress.show(points.len(), &what);
+                let frames = (&mut driver, &mut offscreen);
+                let mut point = measure(frames, uniforms(config), args, config, n)?;
+                point.look = look;
+                point.samples = ctx.supported_samples(base.look.msaa);
+                points.push(point);
+            }
+            // The blades as the sweep left them, without culling or LOD, then each
+            // configuration in the same state.
+            unculled = still(&mut driver, &mut offscreen, uniforms(BenchConfig::None))?;
+            for point in &mut points[first..] {
+                view = still(&mut driver, &mut offscreen, uniforms(point.config))?;
+                point.difference = mean_difference(&view, &unculled);
+            }
         }
         if Some(&n) == counts.last() {
             progress.show(points.len(), "references");
@@ -148,6 +160,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     progress.done(total);
     let device = ctx.device_name();
     print_table(&device, args, &points);
+    print_looks(&points);
     print_references(counts.last().copied().unwrap_or(0), &references, &points);
     write_csv(&args.out, &device, common, args, &points, &references)
         .with_context(|| format!("write {}", args.out.display()))?;
@@ -156,7 +169,13 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         "{device}, {}x{}, camera {:?}",
         args.width, args.height, args.camera
     );
-    let mut written = charts::write(&args.out, &title, &points).context("draw the charts")?;
+    // The charts show the first look's points.
+    let charted: Vec<Point> = points
+        .iter()
+        .filter(|p| p.look == looks[0])
+        .cloned()
+        .collect();
+    let mut written = charts::write(&args.out, &title, &charted).context("draw the charts")?;
     let (w, h) = (args.width, args.height);
     for (pixels, extension) in [(&view, "view.png"), (&unculled, "unculled.png")] {
         let path = args.out.with_extension(extension);
@@ -205,6 +224,8 @@ fn measure(
     let triangles = (!triangles.is_empty()).then(|| Spread::of(&triangles).median);
     let pass = |f: fn(&PassTimes) -> f64| Spread::of(&times.iter().map(f).collect::<Vec<_>>());
     Ok(Point {
+        look: shared::settings::Look::default(),
+        samples: 1,
         config,
         blades,
         drawn: Spread::of(&drawn).median,
@@ -212,8 +233,11 @@ fn measure(
         gpu: pass(|t| t.total),
         pyramid: pass(|t| t.depth_pyramid),
         simulate_cull: pass(|t| t.simulate_cull),
+        shadow: pass(|t| t.shadow),
         ground: pass(|t| t.ground),
         grass: pass(|t| t.grass),
+        resolve: pass(|t| t.resolve),
+        tone_map: pass(|t| t.tone_map),
         triangles,
         difference: 0.0,
     })

@@ -57,7 +57,8 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
         args.width, args.height, args.camera, args.frames
     );
     println!(
-        "{:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6}",
+        "{:<8} {:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6}",
+        "look",
         "config",
         "blades",
         "drawn",
@@ -71,7 +72,8 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
     let cell = |s: Spread| format!("{:.3} ({:.3})", s.median, s.p95);
     for p in points {
         println!(
-            "{:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2}",
+            "{:<8} {:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2}",
+            format!("{:?}", p.look),
             format!("{:?}", p.config),
             p.blades,
             p.drawn,
@@ -82,6 +84,49 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
             cell(p.cpu),
             p.difference
         );
+    }
+}
+
+/// With both looks measured: for each count and configuration, the natural look's GPU
+/// frame against the paper's, and the natural look's passes.
+pub fn print_looks(points: &[Point]) {
+    use shared::settings::Look;
+    let pairs: Vec<(&Point, &Point)> = points
+        .iter()
+        .filter(|p| p.look == Look::Paper)
+        .filter_map(|paper| {
+            points
+                .iter()
+                .find(|n| {
+                    n.look == Look::Natural && n.config == paper.config && n.blades == paper.blades
+                })
+                .map(|natural| (paper, natural))
+        })
+        .collect();
+    if pairs.is_empty() {
+        return;
+    }
+    println!(
+        "natural against paper look (GPU ms, medians): {:<20} {:>9} {:>8} {:>8} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>9}",
+        "config", "blades", "paper", "natural", "ratio", "shadow", "ground", "grass", "resolve", "tone map"
+    );
+    for (paper, natural) in pairs {
+        let ratio = natural.gpu.median / paper.gpu.median.max(1e-9);
+        let line = format!(
+            "{:<20} {:>9} {:>8.3} {:>8.3} {:>6.2} | {:>7.3} {:>7.3} {:>7.3} {:>7.3} {:>9.3}",
+            format!("{:?}", paper.config),
+            paper.blades,
+            paper.gpu.median,
+            natural.gpu.median,
+            ratio,
+            natural.shadow.median,
+            natural.ground.median,
+            natural.grass.median,
+            natural.resolve.median,
+            natural.tone_map.median
+        );
+        println!("  {line}");
+        log::info!("looks: {line}");
     }
 }
 
@@ -100,7 +145,8 @@ pub fn write_csv(
          cpu_ms_median,cpu_ms_p95,gpu_ms_median,gpu_ms_p95,\
          uploads_pyramid_ms_median,simulate_cull_ms_median,simulate_cull_ms_p95,\
          ground_ms_median,grass_ms_median,grass_ms_p95,triangles,mean_difference,\
-         simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms\n",
+         simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms,\
+         look,msaa,shadow_ms_median,resolve_ms_median,tone_map_ms_median\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -110,7 +156,7 @@ pub fn write_csv(
             .filter(|_| r.triangles_per_s > 0.0)
             .map(|t| r.grass_ms(p.drawn, t));
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4}\n",
             common.scene,
             args.camera,
             args.width,
@@ -134,6 +180,11 @@ pub fn write_csv(
             compute_gbs(p),
             optional(r.copy_gbs, 0),
             optional(reference_ms, 4),
+            p.look,
+            p.samples,
+            p.shadow.median,
+            p.resolve.median,
+            p.tone_map.median,
         );
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {

@@ -3,6 +3,7 @@
 //! pass. No renderer and no printing.
 
 use crate::cli::BenchConfig;
+use shared::settings::Look;
 
 /// The median and 95th percentile of some samples.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -36,6 +37,10 @@ impl Spread {
 /// One measured point of the sweep.
 #[derive(Clone, Debug)]
 pub struct Point {
+    /// The look.
+    pub look: Look,
+    /// Samples per pixel.
+    pub samples: u32,
     /// Configuration.
     pub config: BenchConfig,
     /// Blades in the field.
@@ -50,10 +55,16 @@ pub struct Point {
     pub pyramid: Spread,
     /// Simulate, cull, compact.
     pub simulate_cull: Spread,
+    /// The sun's shadow map.
+    pub shadow: Spread,
     /// Ground.
     pub ground: Spread,
     /// Grass.
     pub grass: Spread,
+    /// The multisample resolve.
+    pub resolve: Spread,
+    /// Sky and tone map.
+    pub tone_map: Spread,
     /// Triangles the grass draw generated (median; pipeline statistics, where the
     /// device has them).
     pub triangles: Option<f64>,

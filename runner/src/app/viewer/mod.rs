@@ -66,7 +66,7 @@ pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: 
 arrows: roll the ball, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
-O: overlay on/off, Esc: quit";
+N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, O: overlay on/off, Esc: quit";
 
 /// Arrow keys held down.
 #[derive(Default)]
@@ -386,6 +386,20 @@ impl Running {
                 "s" | "S" => {
                     s.shape = s.shape.next();
                     log::info!("blade shape: {:?}", s.shape);
+                }
+                "n" | "N" => {
+                    s.look.style = s.look.style.next();
+                    log::info!("look: {:?}", s.look.style);
+                }
+                "h" | "H" => {
+                    s.look.shadows = !s.look.shadows;
+                    log::info!("shadows {}", if s.look.shadows { "on" } else { "off" });
+                }
+                "m" | "M" => {
+                    let choices = crate::app::overlay::MSAA_CHOICES;
+                    let at = choices.iter().position(|&n| n == s.look.msaa);
+                    s.look.msaa = choices[at.map_or(0, |i| (i + 1) % choices.len())];
+                    log::info!("MSAA {}x", s.look.msaa);
                 }
                 "1" | "2" | "3" | "4" => {
                     let test = c.as_str().parse::<usize>().map_or(0, |n| n - 1);

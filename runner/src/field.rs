@@ -237,6 +237,30 @@ impl Field {
         })
     }
 
+    /// Replaces the blades by `blades` (as many as before) at rest, with no collision
+    /// strength left. No frame may be in flight.
+    pub fn replace_blades(
+        &mut self,
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        blades: &[Blade],
+    ) -> Result<()> {
+        if blades.len() as u32 != self.blade_count {
+            bail!(
+                "{} blades cannot replace a field of {}",
+                blades.len(),
+                self.blade_count
+            );
+        }
+        use vk::BufferUsageFlags as U;
+        let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
+        self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        self.descriptors
+            .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
+        pool.one_shot(|rec| rec.fill_buffer(self.strengths.buffer, 0))
+    }
+
     fn pyramid_buffer(ctx: &Arc<Context>, floats: u32) -> Result<Buffer> {
         use vk::BufferUsageFlags as U;
         Buffer::new(

@@ -127,9 +127,10 @@ pub fn prepare(
     file: Option<SceneFile>,
 ) -> Result<(Scene, Settings)> {
     let count = blade_count(common, ctx);
-    let scene = Scene::build(&common.scene_kind(), file, count, common.seed, |n| {
+    let mut scene = Scene::build(&common.scene_kind(), file, count, common.seed, |n| {
         Field::check_limits(ctx, n)
     })?;
+    scene.rescale(scene.scale_for(common.look));
     if scene.degenerate > 0 {
         log::warn!(
             "scene {}: skipped {} degenerate (zero-area) triangles",

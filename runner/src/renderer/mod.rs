@@ -183,6 +183,12 @@ impl Renderer {
         Ok(())
     }
 
+    /// Replaces the field's blades by `blades` (as many), at rest.
+    pub fn replace_blades(&mut self, blades: &[Blade]) -> Result<()> {
+        self.ctx.wait_idle()?;
+        self.field.replace_blades(&self.ctx, &self.pool, blades)
+    }
+
     /// The depth pyramid's layout for the current target (empty before the first
     /// frame).
     pub fn hiz(&self) -> shared::hiz::HiZLayout {

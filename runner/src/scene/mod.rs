@@ -11,7 +11,7 @@ use glam::Vec3;
 use shared::Blade;
 use shared::generate::{DENSITY, side_for};
 use shared::mesh::bvh::IndexedMesh;
-use shared::mesh::{SurfaceMesh, scatter};
+use shared::mesh::{SurfaceMesh, scatter_scaled};
 use shared::settings::Settings;
 use std::path::PathBuf;
 
@@ -79,6 +79,22 @@ pub struct Scene {
     pub bounds: (Vec3, f32),
     /// Zero-area triangles skipped while loading.
     pub degenerate: usize,
+    /// Factor on the blades' size in the natural look (`natural_blade_scale`): 1 on
+    /// the built-in scenes (the course's units), smaller on loaded ones (metres).
+    pub natural_scale: f32,
+    /// Factor the current blades were grown with.
+    pub blade_scale: f32,
+    /// Seed of the blades.
+    pub seed: u64,
+}
+
+/// The blade scale of the natural look on a loaded scene of radius `radius`: glTF
+/// units are metres, and meadow grass stands 0.35 to 0.7 m (0.28 times the course's
+/// 1.3 to 2.5 units), but never taller than 8 % of the scene's radius, so a small
+/// object (a torus of a metre) gets a lawn, not fur.
+pub fn natural_blade_scale(radius: f32) -> f32 {
+    let tallest = shared::generate::HEIGHT.1;
+    (0.08 * radius / tallest).clamp(1e-3, 0.28)
 }
 
 /// True when every vertex of `mesh` lies on one plane with the same normal: such a
@@ -184,9 +200,17 @@ impl Scene {
             .map(|p| p.distance(centre))
             .fold(0.0, f32::max);
         let radius = reach + shared::generate::HEIGHT.1;
+        let natural_scale = if matches!(kind, SceneKind::Meadow | SceneKind::File(_)) {
+            natural_blade_scale(reach)
+        } else {
+            1.0
+        };
         Ok(Self {
             name,
-            blades: scatter(&surface, blades, seed),
+            blades: scatter_scaled(&surface, blades, seed, 1.0),
+            natural_scale,
+            blade_scale: 1.0,
+            seed,
             surface,
             bare,
             solid: IndexedMesh::new(solid),
@@ -195,6 +219,24 @@ impl Scene {
             bounds: (centre, radius),
             degenerate,
         })
+    }
+
+    /// Grows the blades again (same seed, same roots) at `scale` times the course's
+    /// size; nothing happens when they already are.
+    pub fn rescale(&mut self, scale: f32) {
+        if scale != self.blade_scale {
+            let count = self.blades.len() as u32;
+            self.blades = scatter_scaled(&self.surface, count, self.seed, scale);
+            self.blade_scale = scale;
+        }
+    }
+
+    /// The blade scale `look` asks for on this scene.
+    pub fn scale_for(&self, look: shared::settings::Look) -> f32 {
+        match look {
+            shared::settings::Look::Paper => 1.0,
+            shared::settings::Look::Natural => self.natural_scale,
+        }
     }
 
     /// A plane with `count` blades from `seed` (the course scene).
@@ -245,9 +287,13 @@ impl Scene {
         let mut settings = Settings::default();
         settings.cull.max_distance = (2.0 * self.bounds.1 * 1.5).max(40.0);
         settings.look.scene = self.bounds;
-        settings.look.ground_level = match self.gravity_centre {
-            Some(_) => None,
-            None => self.surface.bounds().map(|(min, _)| min.y),
+        // A ground under a sky (not a planet, not a closed object such as a torus)
+        // goes on to the horizon in the natural look.
+        let ground = self.gravity_centre.is_none() && self.surface.mean_upness() > 0.5;
+        settings.look.ground_level = if ground {
+            self.surface.bounds().map(|(min, _)| min.y)
+        } else {
+            None
         };
         if let Some(centre) = self.gravity_centre {
             settings.gravity.centre = centre;
@@ -260,5 +306,19 @@ impl Scene {
     /// flat plane. Without occluders the occlusion test's depth pre-pass is skipped.
     pub fn has_occluders(&self) -> bool {
         !self.bare.is_empty() || !is_flat(&self.surface)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loaded_scenes_get_grass_of_their_size() {
+        // A 24 m meadow: meadow grass, 0.28 times the course's blades (0.7 m at most).
+        assert!((natural_blade_scale(17.0) - 0.28).abs() < 1e-6);
+        // A torus of a metre: blades at most 8 % of its radius.
+        let torus = natural_blade_scale(1.4);
+        assert!((torus * shared::generate::HEIGHT.1 - 0.08 * 1.4).abs() < 1e-6);
     }
 }

@@ -66,6 +66,23 @@ impl SurfaceMesh {
         }
     }
 
+    /// The area-weighted mean of the triangles' upward facing (their unit normal's y):
+    /// near 1 for a terrain, near 0 for a closed object (a torus, a planet).
+    pub fn mean_upness(&self) -> f32 {
+        let (mut up, mut area) = (0.0f64, 0.0f64);
+        for i in 0..self.triangles.len() {
+            if let Some([a, b, c]) = self.corners(i) {
+                let n = (b - a).cross(c - a);
+                let w = f64::from(n.length()) * 0.5;
+                if w.is_finite() && w > 0.0 {
+                    up += f64::from(n.normalize().y) * w;
+                    area += w;
+                }
+            }
+        }
+        if area > 0.0 { (up / area) as f32 } else { 0.0 }
+    }
+
     /// Smallest and largest corner of the box around the vertices; `None` when there
     /// are none.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
@@ -198,14 +215,22 @@ pub fn scatter_roots(mesh: &SurfaceMesh, count: u32, seed: u64) -> Vec<(u32, Sur
 /// vertex normal there, orientation, height, width and stiffness drawn like
 /// [`crate::generate::square_field`] (same ranges). Same seed, same blades.
 pub fn scatter(mesh: &SurfaceMesh, count: u32, seed: u64) -> Vec<Blade> {
+    scatter_scaled(mesh, count, seed, 1.0)
+}
+
+/// [`scatter`] with blades `scale` times as tall and as wide, and `1/scale` times as
+/// stiff, so they bend by the same share of their height under the same forces: the
+/// recovery's displacement at equilibrium is force over stiffness (paper eq. 4).
+/// Scale 1 is [`scatter`] exactly.
+pub fn scatter_scaled(mesh: &SurfaceMesh, count: u32, seed: u64, scale: f32) -> Vec<Blade> {
     let mut rng = SplitMix64::new(seed ^ ATTRIBUTE_STREAM);
     scatter_roots(mesh, count, seed)
         .into_iter()
         .map(|(_, root)| {
             let orientation = rng.range(0.0, core::f32::consts::TAU);
-            let height = rng.range(HEIGHT.0, HEIGHT.1);
-            let width = rng.range(WIDTH.0, WIDTH.1);
-            let stiffness = rng.range(STIFFNESS.0, STIFFNESS.1);
+            let height = rng.range(HEIGHT.0, HEIGHT.1) * scale;
+            let width = rng.range(WIDTH.0, WIDTH.1) * scale;
+            let stiffness = rng.range(STIFFNESS.0, STIFFNESS.1) / scale;
             Blade::at_rest(
                 root.position,
                 root.normal,

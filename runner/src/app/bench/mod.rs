@@ -114,7 +114,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         } else {
             None
         };
-        let scene = Scene::build(
+        let mut scene = Scene::build(
             &common.scene_kind(),
             file,
             BladeCount::Total(n),
@@ -124,10 +124,12 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         let mut base = super::settings(common, &scene);
         base.look.msaa = super::msaa(common, &ctx);
         let camera = camera(&scene, args.camera);
-        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
-        let mut driver = FrameDriver::new(&ctx, renderer)?;
         let eye = camera.viewpoint(offscreen.size());
         for &look in &looks {
+            // Each look on its own field, grown at its blade size.
+            scene.rescale(scene.scale_for(look));
+            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
+            let mut driver = FrameDriver::new(&ctx, renderer)?;
             let uniforms = |config| {
                 let mut settings = base;
                 settings.look.style = look;
@@ -151,10 +153,10 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 view = still(&mut driver, &mut offscreen, uniforms(point.config))?;
                 point.difference = mean_difference(&view, &unculled);
             }
-        }
-        if Some(&n) == counts.last() {
-            progress.show(points.len(), "references");
-            references = measure_references(&mut driver.renderer, &offscreen, n)?;
+            if Some(&n) == counts.last() && look == looks[0] {
+                progress.show(points.len(), "references");
+                references = measure_references(&mut driver.renderer, &offscreen, n)?;
+            }
         }
     }
     progress.done(total);

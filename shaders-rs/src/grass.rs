@@ -16,7 +16,7 @@ use shared::look::{
 };
 use shared::lod::{screen_level, tess_levels};
 use shared::shade::blade_colour;
-use shared::shape::surface_point;
+use shared::shape::{shape_min_level, surface_point};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::image::SampledImage;
 use spirv_std::{Image, spirv};
@@ -86,7 +86,8 @@ pub fn grass_tcs(
         lod.pixels_per_segment,
         lod.most,
         lod.fewest,
-    );
+    )
+    .max(shape_min_level(frame.grass.shape));
     out_v0[0] = in_v0[0];
     out_v1[0] = in_v1[0];
     out_v2[0] = in_v2[0];
@@ -199,13 +200,11 @@ pub fn grass_shadow_tcs(
     out_up[0] = in_up[0];
     let (o, i) = tess_levels(frame.lod.fewest);
     // A blade that covers no sample on screen (a thin one left out) casts no shadow
-    // either: an outer level of 0 drops the patch.
+    // either, nor one outside the map: an outer level of 0 drops the patch.
     let (mask, _) = unpack_coverage(in_tint[0].w);
-    let drop = if mask == 0 && frame.look.style == LOOK_NATURAL {
-        0.0
-    } else {
-        1.0
-    };
+    let blade = blade_of(in_v0[0], in_v1[0], in_v2[0], in_up[0]);
+    let inside = shared::look::in_shadow_map(frame.look.shadow_view_proj, &blade);
+    let drop = if mask == 0 || !inside { 0.0 } else { 1.0 };
     *outer = [o[0] * drop, o[1] * drop, o[2] * drop, o[3] * drop];
     *inner = i;
 }

@@ -578,6 +578,16 @@ pub fn sun_view_proj(to_sun: Vec3, centre: Vec3, radius: f32) -> Mat4 {
     .transpose()
 }
 
+/// True when some of `blade` (its root, midpoint or tip) falls inside the shadow map
+/// of `view_proj`: the others cast no shadow anyone reads.
+pub fn in_shadow_map(view_proj: Mat4, blade: &Blade) -> bool {
+    let inside = |p: Vec3| {
+        let c = shadow_coord(view_proj, p);
+        c.x >= 0.0 && c.x <= 1.0 && c.y >= 0.0 && c.y <= 1.0
+    };
+    inside(blade.root()) || inside(blade.midpoint()) || inside(blade.tip())
+}
+
 /// Where `p` falls in the shadow map: (u, v) in 0..1 and its depth, from the map's
 /// `view_proj`.
 pub fn shadow_coord(view_proj: Mat4, p: Vec3) -> Vec3 {
@@ -824,6 +834,10 @@ mod tests {
         assert!(shadow_coord(m, to_sun * 5.0).z < c.z);
         let across = shadow_coord(m, to_sun.cross(Vec3::Y).normalize() * 9.0);
         assert!(across.x > 0.0 && across.x < 1.0 && across.y > 0.0 && across.y < 1.0);
+        let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 9.0);
+        assert!(in_shadow_map(m, &b));
+        let far = Blade::at_rest(Vec3::new(30.0, 0.0, 0.0), Vec3::Y, 0.0, 2.0, 0.1, 9.0);
+        assert!(!in_shadow_map(m, &far));
         // A map holding depth 0.4 everywhere shadows a point at depth 0.5 and lights
         // one at 0.3; outside the map is lit.
         let map = |_: i32, _: i32| 0.4;

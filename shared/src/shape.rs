@@ -14,13 +14,30 @@ pub const SHAPE_TRIANGLE: u32 = 1;
 pub const SHAPE_QUADRATIC: u32 = 2;
 /// τ = ½ + (u − ½)(1 − max(v − k, 0)/(1 − k)): full width up to k, then a triangle.
 pub const SHAPE_TRIANGLE_TIP: u32 = 3;
-/// τ = ½ + (u − ½)·(1 − v)·(0.4 + 0.6·(1 − fract(3v))): the paper's fifth shape, a
+/// τ = ½ + (u − ½)·(1 − v)·(0.25 + 0.75·(1 − fract(3v))): the paper's fifth shape, a
 /// dandelion leaf narrowing to the tip with three lobes whose teeth point back to the
 /// root. PAPER.md gives no formula for it; this one is ours (see [`shape_tau`]).
 pub const SHAPE_DANDELION: u32 = 4;
 
 /// Lobes of the dandelion leaf.
 pub const DANDELION_LOBES: f32 = 3.0;
+
+/// How many times its blade's width a leaf of `shape` spans: a dandelion leaf is far
+/// broader than a blade of grass (3 times), every other shape 1.
+pub fn shape_width(shape: u32) -> f32 {
+    if shape == SHAPE_DANDELION { 3.0 } else { 1.0 }
+}
+
+/// The fewest segments along a leaf of `shape` whatever its size on screen: the
+/// dandelion's lobes need every segment there is ([`crate::lod::MAX_LEVEL`]); other
+/// shapes 1.
+pub fn shape_min_level(shape: u32) -> f32 {
+    if shape == SHAPE_DANDELION {
+        crate::lod::MAX_LEVEL
+    } else {
+        1.0
+    }
+}
 
 /// The shape function τ(u, v) for `shape` (one of the `SHAPE_*` constants);
 /// `tip_start` is k of the triangle-tip shape.
@@ -37,7 +54,7 @@ pub fn shape_tau(shape: u32, u: f32, v: f32, tip_start: f32) -> f32 {
         // points back towards the root (a runcinate leaf).
         let lobe = v * DANDELION_LOBES;
         let tooth = 1.0 - (lobe - lobe.floor());
-        0.5 + (u - 0.5) * (1.0 - v) * (0.4 + 0.6 * tooth)
+        0.5 + (u - 0.5) * (1.0 - v) * (0.25 + 0.75 * tooth)
     } else {
         u
     }
@@ -61,7 +78,7 @@ pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) 
     let b = v1 + v * (v2 - v1);
     let c = a + v * (b - a);
     let t1 = blade.width_dir();
-    let half = 0.5 * blade.width() * t1;
+    let half = 0.5 * shape_width(shape) * blade.width() * t1;
     let tau = shape_tau(shape, u, v, tip_start);
     let position = (1.0 - tau) * (c - half) + tau * (c + half);
     // An upright blade has v1 = v2, so b − a vanishes at the tip: fall back to up.
@@ -109,6 +126,16 @@ mod tests {
         assert!(above - below > 0.15, "{below} {above}");
         // Triangle-tip keeps the full width below k.
         assert_eq!(shape_tau(SHAPE_TRIANGLE_TIP, 1.0, 0.4, 0.5), 1.0);
+    }
+
+    #[test]
+    fn the_dandelion_is_broad_and_finely_cut() {
+        let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.2, 10.0);
+        let leaf = surface_point(&b, 1.0, 0.0, SHAPE_DANDELION, 0.5).position;
+        let blade = surface_point(&b, 1.0, 0.0, SHAPE_QUAD, 0.5).position;
+        assert!((leaf.x - 3.0 * blade.x).abs() < 1e-6);
+        assert_eq!(shape_min_level(SHAPE_DANDELION), crate::lod::MAX_LEVEL);
+        assert_eq!(shape_min_level(SHAPE_QUAD), 1.0);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! `grass soak`: thousands of frames headless with the validation layer on, every
-//! switch cycled (culling tests, LOD, view, wind, blade shape, frame times from 0.1 ms
+//! switch cycled (culling tests, LOD, view, wind, blade shape, look, MSAA, shadows,
+//! frame times from 0.1 ms
 //! to 2 s, two image sizes), a ball circling through the grass; it reads host and
 //! device memory as it goes and fails unless both stay flat and the layer says nothing.
 
@@ -11,7 +12,7 @@ use crate::collider::Ball;
 use crate::renderer::Renderer;
 use anyhow::{Result, bail};
 use glam::{Vec2, Vec3Swizzles};
-use shared::settings::{BladeShape, CullTests, Settings, View, WindField};
+use shared::settings::{BladeShape, CullTests, Look, Settings, View, WindField};
 
 /// Phases (changes of the switches) between two memory readings.
 pub const PHASES_PER_READING: u32 = 4;
@@ -139,7 +140,9 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
 }
 
 /// The switches of phase `phase`: every subset of the culling tests in turn, LOD on
-/// and off, each view, wind and shape.
+/// and off, each view, wind and shape; both looks, 1 and 4 samples, shadows on and
+/// off. Phases 3 mod 4 (where the memory is read) always have the natural look at 4
+/// samples, so the draw's images are the same at every reading.
 pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     let mut s = *base;
     let p = phase as usize;
@@ -148,6 +151,9 @@ pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     s.view = View::ALL[p % View::ALL.len()];
     s.wind.field = WindField::ALL[p % WindField::ALL.len()];
     s.shape = BladeShape::ALL[(p / 2) % BladeShape::ALL.len()];
+    s.look.style = Look::ALL[(p / 2) % 2];
+    s.look.msaa = if p % 2 == 1 { 4 } else { 1 };
+    s.look.shadows = (p / 4) % 2 == 0;
     s
 }
 

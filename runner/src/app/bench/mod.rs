@@ -24,7 +24,7 @@ use anyhow::{Context as _, Result};
 use glam::Vec3;
 use report::{print_looks, print_references, print_table, write_csv};
 use shared::layout::FrameUniforms;
-use shared::settings::Settings;
+use shared::settings::{Look, Settings};
 use shared::simulate::SimClock;
 use std::time::Instant;
 
@@ -130,9 +130,16 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             scene.rescale(scene.scale_for(look));
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
             let mut driver = FrameDriver::new(&ctx, renderer)?;
+            // The paper look as the paper (and every figure before the natural look)
+            // drew it: one sample per pixel.
+            let msaa = match look {
+                Look::Paper => 1,
+                Look::Natural => base.look.msaa,
+            };
             let uniforms = |config| {
                 let mut settings = base;
                 settings.look.style = look;
+                settings.look.msaa = msaa;
                 configure(&mut settings, config);
                 settings.uniforms(&eye, scene.blade_count(), &[])
             };
@@ -143,7 +150,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 let frames = (&mut driver, &mut offscreen);
                 let mut point = measure(frames, uniforms(config), args, config, n)?;
                 point.look = look;
-                point.samples = ctx.supported_samples(base.look.msaa);
+                point.samples = ctx.supported_samples(msaa);
                 points.push(point);
             }
             // The blades as the sweep left them, without culling or LOD, then each

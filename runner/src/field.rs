@@ -13,6 +13,7 @@ use shared::layout::{
     self, ChunkPush, CopyPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush, ThroughputPush,
 };
 use shared::lod::blades_per_chunk;
+use shared::look::DressedBlade;
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -41,14 +42,14 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 9] = [
+pub const BINDINGS: [BindingSpec; 10] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
         stages: UNIFORM_STAGES,
     },
-    // The grass draw's vertex stage reads the blades through their index.
-    storage_in(layout::BINDING_BLADES, vk::ShaderStageFlags::VERTEX),
+    // The paper look's tessellation stages read the blades through their index.
+    storage_in(layout::BINDING_BLADES, TESSELLATION),
     storage_in(layout::BINDING_VISIBLE, vk::ShaderStageFlags::VERTEX),
     storage(layout::BINDING_COUNTERS),
     storage(layout::BINDING_DRAWS),
@@ -61,7 +62,16 @@ pub const BINDINGS: [BindingSpec; 9] = [
         ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
+    // The visible blades as the natural look draws them, read by its tessellation
+    // stages.
+    storage_in(layout::BINDING_DRESSED, TESSELLATION),
 ];
+
+/// Both tessellation stages.
+const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
+);
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
 /// blocks, the surface draw's model matrix and the throughput reference's grid, so every
@@ -102,6 +112,8 @@ pub struct Field {
     pub counters: Buffer,
     /// One `VkDrawIndirectCommand` per chunk.
     pub draws: Buffer,
+    /// The visible blades as the natural look draws them (`look::DressedBlade`).
+    pub dressed: Buffer,
     /// The frame's uniform block, updated by a transfer at the start of each frame.
     pub uniforms: Buffer,
     /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
@@ -112,14 +124,18 @@ pub struct Field {
     pub layout: PipelineLayout,
 }
 
-/// Device memory per blade: the blade, its collision strength and its index.
-pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64 + 4 + 4;
+/// Device memory per blade: the blade, its collision strength, its index and its
+/// slot in the dressed buffer.
+pub const DEVICE_BYTES_PER_BLADE: u64 =
+    size_of::<Blade>() as u64 + 4 + 4 + size_of::<DressedBlade>() as u64;
 
 impl Field {
     /// Fails with a message naming the limit when `count` blades cannot fit this
     /// device's buffers; checked before any blade is generated.
     pub fn check_limits(ctx: &Context, count: u64) -> Result<()> {
-        let bytes = count * size_of::<Blade>() as u64;
+        // The largest buffer: the dressed blades, one per blade at most.
+        let per_blade = size_of::<DressedBlade>() as u64;
+        let bytes = count * per_blade;
         let limits = &ctx.properties.limits;
         if count == 0 {
             bail!("the field needs at least one blade");
@@ -129,7 +145,7 @@ impl Field {
                 "{count} blades need {bytes} bytes, more than this device's \
                  maxStorageBufferRange ({} bytes, {} blades); ask for fewer with --blades or --density",
                 limits.max_storage_buffer_range,
-                limits.max_storage_buffer_range / size_of::<Blade>() as u32
+                limits.max_storage_buffer_range / per_blade as u32
             );
         }
         // The blades, their strengths and their indices on the device; the host keeps
@@ -182,6 +198,11 @@ impl Field {
             u64::from(count) * 4,
             U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
+        let dressed = device_buffer(
+            "dressed blades",
+            u64::from(count) * size_of::<DressedBlade>() as u64,
+            U::STORAGE_BUFFER,
+        )?;
         let counters = device_buffer(
             "counters",
             (layout::COUNTER_COUNT * 4) as u64,
@@ -219,6 +240,8 @@ impl Field {
         for (spec, buffer) in BINDINGS.iter().zip(bound) {
             descriptors.write_buffer(spec.binding, spec.ty, buffer.buffer);
         }
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        descriptors.write_buffer(layout::BINDING_DRESSED, storage, dressed.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {
@@ -230,6 +253,7 @@ impl Field {
             visible,
             counters,
             draws,
+            dressed,
             uniforms,
             pyramid,
             descriptors,

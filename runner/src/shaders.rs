@@ -27,10 +27,18 @@ pub const GRASS_TCS: &str = "grass::grass_tcs";
 pub const GRASS_TES: &str = "grass::grass_tes";
 /// Grass fragment stage.
 pub const GRASS_FS: &str = "grass::grass_fs";
+/// The natural look's grass: vertex stage (the visible slot).
+pub const NATURAL_VS: &str = "grass::natural_vs";
+/// The natural look's grass: tessellation control (LOD of the dressed blade).
+pub const NATURAL_TCS: &str = "grass::natural_tcs";
+/// The natural look's grass: tessellation evaluation (the dressed blade's surface).
+pub const NATURAL_TES: &str = "grass::natural_tes";
+/// The natural look's grass: fragment stage.
+pub const NATURAL_FS: &str = "grass::natural_fs";
 /// The grass from the sun (shadow map): tessellation control at the fewest segments.
-pub const GRASS_SHADOW_TCS: &str = "grass::grass_shadow_tcs";
+pub const GRASS_SHADOW_TCS: &str = "grass::shadow_tcs";
 /// The grass from the sun: tessellation evaluation into the shadow map.
-pub const GRASS_SHADOW_TES: &str = "grass::grass_shadow_tes";
+pub const GRASS_SHADOW_TES: &str = "grass::shadow_tes";
 /// The tone map's full-screen triangle.
 pub const TONEMAP_VS: &str = "tonemap::tonemap_vs";
 /// Sky and tone map.

@@ -10,6 +10,7 @@ use shared::layout::{
     CopyPush, FrameUniforms, HiZPush, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
 use shared::lod::chunk_range;
+use shared::look::{DressedBlade, LOOK_NATURAL, dress};
 use shared::simulate::simulate;
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::{UVec3, Vec4};
@@ -21,7 +22,9 @@ use spirv_std::spirv;
 /// (the blade and its collision strength η are read and written back), then the cull
 /// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
 /// device counter once; a visible blade's index (4 bytes, not its 64) lands at the
-/// workgroup's base (one device atomic) plus its place within the workgroup.
+/// workgroup's base (one device atomic) plus its place within the workgroup. In the
+/// natural look the blade as drawn (`shared::look::dress`) goes to the same slot of
+/// the dressed buffer.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn simulate_cull(
@@ -35,6 +38,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &mut [DressedBlade],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     if local < COUNTER_COUNT as u32 {
@@ -46,6 +50,7 @@ pub fn simulate_cull(
     let in_field = index < frame.grass.blades;
     let mut outcome = KEPT;
     let mut place = 0;
+    let mut kept = Blade::default();
     if in_field {
         let i = index as usize;
         let (blade, strength) = simulate(
@@ -57,6 +62,7 @@ pub fn simulate_cull(
         );
         blades[i] = blade;
         strengths[i] = strength;
+        kept = blade;
         outcome = cull_outcome(
             &blade,
             index,
@@ -99,7 +105,14 @@ pub fn simulate_cull(
     workgroup_memory_barrier_with_group_sync();
 
     if in_field && outcome == KEPT {
-        visible[(tally[COUNTER_VISIBLE] + place) as usize] = index;
+        let slot = (tally[COUNTER_VISIBLE] + place) as usize;
+        visible[slot] = index;
+        // The natural look's draw reads the blade as it draws it, made once here.
+        if frame.look.style == LOOK_NATURAL {
+            let camera = frame.camera.position;
+            let (blade, tint) = dress(&kept, index, camera, &frame.cull, &frame.look);
+            dressed[slot] = DressedBlade { blade, tint };
+        }
     }
 }
 

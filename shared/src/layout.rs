@@ -58,6 +58,11 @@ pub const BINDING_SCRATCH: u32 = 7;
 /// fragment stages of the natural look.
 pub const BINDING_SHADOW_MAP: u32 = 8;
 
+/// Binding of the visible blades as the natural look draws them (storage,
+/// `look::DressedBlade` per slot of the visible list): written by the compute pass,
+/// read by the natural look's grass stages.
+pub const BINDING_DRESSED: u32 = 9;
+
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
 /// Index of the blades removed by the orientation test.

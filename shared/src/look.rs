@@ -192,6 +192,18 @@ pub fn dressed_blade(blade: &Blade, clump: &Clump, jitter: f32, width_scale: f32
     out
 }
 
+/// A visible blade as the natural look draws it, written by the compute pass for the
+/// draw (80 bytes): the dressed blade and its tint, coverage and density
+/// ([`dress`]).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct DressedBlade {
+    /// The blade as drawn.
+    pub blade: Blade,
+    /// Tint (rgb); coverage mask and local density ([`pack_coverage`]) in w.
+    pub tint: Vec4,
+}
+
 /// What the natural look draws of blade `id` seen from `camera`: the blade dressed by
 /// its clump, a per-blade jitter and the fades of the enabled culling tests (width to
 /// zero before the test removes it), widened to a pixel where it is thinner; its tint

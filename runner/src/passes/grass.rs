@@ -9,13 +9,16 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
+use shared::look::LOOK_NATURAL;
 use shared::shade::VIEW_WIREFRAME;
 use std::sync::Arc;
 
-/// The tessellated grass pipelines.
+/// The tessellated grass pipelines, filled and wireframe, of each look.
 pub struct GrassPass {
     filled: Pipeline,
     wireframe: Pipeline,
+    natural: Pipeline,
+    natural_wireframe: Pipeline,
 }
 
 impl GrassPass {
@@ -45,16 +48,33 @@ impl GrassPass {
         let filled = Pipeline::graphics(ctx, &desc)?;
         desc.polygon_mode = vk::PolygonMode::LINE;
         let wireframe = Pipeline::graphics(ctx, &desc)?;
-        Ok(Self { filled, wireframe })
+        let stages = [
+            (St::VERTEX, shaders::NATURAL_VS),
+            (St::TESSELLATION_CONTROL, shaders::NATURAL_TCS),
+            (St::TESSELLATION_EVALUATION, shaders::NATURAL_TES),
+            (St::FRAGMENT, shaders::NATURAL_FS),
+        ];
+        desc.stages = &stages;
+        desc.polygon_mode = vk::PolygonMode::FILL;
+        let natural = Pipeline::graphics(ctx, &desc)?;
+        desc.polygon_mode = vk::PolygonMode::LINE;
+        let natural_wireframe = Pipeline::graphics(ctx, &desc)?;
+        Ok(Self {
+            filled,
+            wireframe,
+            natural,
+            natural_wireframe,
+        })
     }
 
     /// Records the draw inside the frame's rendering scope, in `view`
-    /// (`shade::VIEW_*`).
-    pub fn record(&self, rec: &Recorder, field: &Field, view: u32) {
-        let pipeline = if view == VIEW_WIREFRAME {
-            &self.wireframe
-        } else {
-            &self.filled
+    /// (`shade::VIEW_*`) and the look `style` (`look::LOOK_*`).
+    pub fn record(&self, rec: &Recorder, field: &Field, view: u32, style: u32) {
+        let pipeline = match (style == LOOK_NATURAL, view == VIEW_WIREFRAME) {
+            (false, false) => &self.filled,
+            (false, true) => &self.wireframe,
+            (true, false) => &self.natural,
+            (true, true) => &self.natural_wireframe,
         };
         self.record_with(pipeline, rec, field);
     }

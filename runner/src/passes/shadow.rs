@@ -88,7 +88,7 @@ impl ShadowPass {
         let surfaces = GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
         let surfaces = Pipeline::graphics(ctx, &surfaces)?;
         let stages = [
-            (St::VERTEX, shaders::GRASS_VS),
+            (St::VERTEX, shaders::NATURAL_VS),
             (St::TESSELLATION_CONTROL, shaders::GRASS_SHADOW_TCS),
             (St::TESSELLATION_EVALUATION, shaders::GRASS_SHADOW_TES),
         ];

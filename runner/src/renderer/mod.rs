@@ -425,7 +425,8 @@ impl Renderer {
         if let Some(pool) = triangles {
             rec.begin_query(pool);
         }
-        self.grass.record(rec, &self.field, uniforms.grass.view);
+        let (view, style) = (uniforms.grass.view, uniforms.look.style);
+        self.grass.record(rec, &self.field, view, style);
         if let Some(pool) = triangles {
             rec.end_query(pool);
         }

@@ -77,8 +77,9 @@ pub struct BenchArgs {
     #[arg(long, value_delimiter = ',', value_enum)]
     pub configs: Vec<BenchConfig>,
     /// Looks to time, comma-separated; with both, the report sets the natural look's
-    /// frame against the paper's. The paper look is timed at one sample per pixel (as
-    /// the paper drew it), the natural one at --msaa [default: the one --look names].
+    /// frame against the paper's. Without --msaa the paper look is timed at one sample
+    /// per pixel (as the paper drew it), the natural one at the device's default
+    /// [default: the one --look names].
     #[arg(long, value_delimiter = ',', value_enum)]
     pub looks: Vec<Look>,
     /// Camera preset.

@@ -15,8 +15,8 @@ use shared::Blade;
 use shared::layout::FrameUniforms;
 use shared::lod::{screen_level, tess_levels};
 use shared::look::{
-    DressedBlade, ambient_occlusion, blade_albedo, fog, rounded_normal, shade_leaf,
-    unpack_coverage,
+    DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal,
+    shade_leaf, unpack_coverage,
 };
 use shared::shade::{VIEW_SHADED, blade_colour};
 use shared::shape::{shape_min_level, surface_point};
@@ -169,7 +169,7 @@ pub fn natural_tes(
     *out_uv = coord.truncate();
     *out_level = in_level[0];
     *out_tint = drawn.tint;
-    *out_width_dir = blade.width_dir();
+    *out_width_dir = p.width_dir;
 }
 
 /// The natural look: the blade's tint and drier tip, its leaf rounded across the
@@ -216,8 +216,8 @@ pub fn natural_fs(
 }
 
 /// The sun's shadow map: the natural look's grass at its fewest segments (the
-/// tessellation level `lod.fewest`); a blade that covers no sample on screen, or lies
-/// outside the map, is dropped (outer level 0).
+/// tessellation level `lod.fewest`); a blade that covers no sample on screen, lies
+/// outside the map or farther than `look.caster_distance` is dropped (outer level 0).
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn shadow_tcs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
@@ -231,8 +231,10 @@ pub fn shadow_tcs(
     let drawn = &dressed[in_slot[0] as usize];
     let (o, i) = tess_levels(frame.lod.fewest);
     let (mask, _) = unpack_coverage(drawn.tint.w);
-    let inside = shared::look::in_shadow_map(frame.look.shadow_view_proj, &drawn.blade);
-    let keep = if mask == 0 || !inside { 0.0 } else { 1.0 };
+    let look = &frame.look;
+    let camera = frame.camera.position;
+    let casts = casts_shadow(look.shadow_view_proj, &drawn.blade, camera, look.caster_distance);
+    let keep = if mask == 0 || !casts { 0.0 } else { 1.0 };
     *outer = [o[0] * keep, o[1] * keep, o[2] * keep, o[3] * keep];
     *inner = i;
 }

@@ -87,6 +87,8 @@ pub struct LookSettings {
     pub fog_density: f32,
     /// Clump size in scene units.
     pub clump_size: f32,
+    /// Farthest a blade casts a shadow from the camera, scene units.
+    pub caster_distance: f32,
     /// The field's seed (clumps and colours).
     pub seed: u32,
     /// The scene's bounding sphere (centre, radius): the shadow map covers it, or
@@ -110,6 +112,7 @@ impl Default for LookSettings {
             exposure: 1.0,
             fog_density: 0.0025,
             clump_size: 1.6,
+            caster_distance: 24.0,
             seed: 1,
             scene: (Vec3::ZERO, 12.0),
             ground_level: Some(0.0),
@@ -491,6 +494,8 @@ impl Settings {
             field_distance: self.cull.max_distance,
             pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,
             clump_size: look.clump_size,
+            caster_distance: look.caster_distance,
+            padding: [0; 3],
             samples: look.msaa,
             exposure: look.exposure,
             ground_level: look.ground_level.unwrap_or(0.0),

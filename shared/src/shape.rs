@@ -67,6 +67,8 @@ pub struct SurfacePoint {
     pub position: Vec3,
     /// Unit normal n = normalize(t0 × t1) (one of the two faces).
     pub normal: Vec3,
+    /// The width direction t1.
+    pub width_dir: Vec3,
 }
 
 /// The blade surface at (u across the width, v along the height), both in 0..1:
@@ -91,6 +93,7 @@ pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) 
     SurfacePoint {
         position,
         normal: t0.cross(t1).normalize_or_zero(),
+        width_dir: t1,
     }
 }
 

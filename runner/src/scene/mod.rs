@@ -287,6 +287,9 @@ impl Scene {
         let mut settings = Settings::default();
         settings.cull.max_distance = (2.0 * self.bounds.1 * 1.5).max(40.0);
         settings.look.scene = self.bounds;
+        // Clumps and shadow casters in the blades' own measure.
+        settings.look.clump_size *= self.natural_scale;
+        settings.look.caster_distance *= self.natural_scale;
         // A ground under a sky (not a planet, not a closed object such as a torus)
         // goes on to the horizon in the natural look.
         let ground = self.gravity_centre.is_none() && self.surface.mean_upness() > 0.5;

@@ -131,10 +131,10 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
             let mut driver = FrameDriver::new(&ctx, renderer)?;
             // The paper look as the paper (and every figure before the natural look)
-            // drew it: one sample per pixel.
-            let msaa = match look {
-                Look::Paper => 1,
-                Look::Natural => base.look.msaa,
+            // drew it, one sample per pixel, unless --msaa says.
+            let msaa = match (look, common.msaa) {
+                (Look::Paper, None) => 1,
+                _ => base.look.msaa,
             };
             let uniforms = |config| {
                 let mut settings = base;

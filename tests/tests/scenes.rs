@@ -40,7 +40,7 @@ fn each_blade_shape_matches_its_reference_and_differs_from_the_others() {
     let Some(_gpu) = device_available("each_blade_shape_matches_its_reference") else {
         return;
     };
-    let shapes = ["quad", "triangle", "quadratic", "triangle-tip"];
+    let shapes = ["quad", "triangle", "quadratic", "triangle-tip", "dandelion"];
     let images: Vec<RgbaImage> = shapes
         .iter()
         .map(|shape| {

@@ -110,7 +110,7 @@ impl Default for LookSettings {
             shadows: true,
             msaa: 1,
             exposure: 1.0,
-            fog_density: 0.0025,
+            fog_density: 0.0012,
             clump_size: 1.6,
             caster_distance: 24.0,
             seed: 1,

@@ -42,7 +42,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 10] = [
+pub const BINDINGS: [BindingSpec; 11] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -59,12 +59,18 @@ pub const BINDINGS: [BindingSpec; 10] = [
     // The sun's shadow map (`passes::shadow`), read by the lit fragment stages.
     BindingSpec {
         binding: layout::BINDING_SHADOW_MAP,
-        ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        ty: vk::DescriptorType::SAMPLED_IMAGE,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
     // The visible blades as the natural look draws them, read by its tessellation
     // stages.
     storage_in(layout::BINDING_DRESSED, TESSELLATION),
+    // The shadow map's comparison sampler.
+    BindingSpec {
+        binding: layout::BINDING_SHADOW_SAMPLER,
+        ty: vk::DescriptorType::SAMPLER,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
 ];
 
 /// Both tessellation stages.

@@ -10,7 +10,7 @@
 //! of length 1. The tessellation levels get their `Patch` decoration from the runner's
 //! build script.
 
-use crate::sun_shadow;
+use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
 use shared::layout::FrameUniforms;
 use shared::lod::{screen_level, tess_levels};
@@ -21,8 +21,7 @@ use shared::look::{
 use shared::shade::{VIEW_SHADED, blade_colour};
 use shared::shape::{shape_min_level, surface_point};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
-use spirv_std::image::SampledImage;
-use spirv_std::{Image, spirv};
+use spirv_std::{Sampler, spirv};
 
 /// The index of the visible blade this vertex stands for.
 #[spirv(vertex)]
@@ -121,7 +120,8 @@ pub fn natural_vs(#[spirv(vertex_index)] vertex: u32, out_slot: &mut u32) {
     *out_slot = vertex;
 }
 
-/// The natural look's level of detail, from the blade as drawn.
+/// The natural look's level of detail, from the blade as drawn; thin blades their
+/// coverage leaves out are dropped.
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn natural_tcs(
@@ -134,10 +134,15 @@ pub fn natural_tcs(
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
     out_slot[0] = in_slot[0];
-    let level = level_of(&dressed[in_slot[0] as usize].blade, frame);
+    let drawn = &dressed[in_slot[0] as usize];
+    let level = level_of(&drawn.blade, frame);
     out_level[0] = level;
     let (o, i) = tess_levels(level);
-    *outer = o;
+    // A thin blade its coverage left out (`shared::look::dress`) is dropped: an
+    // outer level of 0 culls the patch.
+    let (mask, _) = unpack_coverage(drawn.tint.w);
+    let keep = if mask == 0 { 0.0 } else { 1.0 };
+    *outer = [o[0] * keep, o[1] * keep, o[2] * keep, o[3] * keep];
     *inner = i;
 }
 
@@ -174,8 +179,7 @@ pub fn natural_tes(
 
 /// The natural look: the blade's tint and drier tip, its leaf rounded across the
 /// width, sky light with ambient occlusion, the sun (direct, through the leaf,
-/// specular) with its shadow, fog; a blade thinner than a pixel covers part of its
-/// samples. The LOD and wireframe views as in the paper look.
+/// specular) with its shadow, fog. The LOD and wireframe views as in the paper look.
 #[allow(clippy::too_many_arguments)]
 #[spirv(fragment)]
 pub fn natural_fs(
@@ -186,17 +190,13 @@ pub fn natural_fs(
     tint: Vec4,
     width_dir: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &SampledImage<
-        Image!(2D, type=f32, sampled),
-    >,
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
+    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
-    #[spirv(sample_mask)] out_mask: &mut [u32; 1],
 ) {
     let n = normal.normalize_or_zero();
     let (view, camera) = (frame.grass.view, frame.camera.position);
-    // The thin-blade coverage (`shared::look::coverage_mask`), made in the compute pass.
-    let (mask, density) = unpack_coverage(tint.w);
-    out_mask[0] = mask;
+    let (_, density) = unpack_coverage(tint.w);
     if view != VIEW_SHADED {
         *out_color = blade_colour(view, n, world, camera, frame.light, uv.y, level).extend(1.0);
         return;
@@ -208,7 +208,7 @@ pub fn natural_fs(
     let rounded = rounded_normal(facing, width_dir, uv.x);
     let albedo = blade_albedo(tint.xyz(), uv.y);
     let occlusion = ambient_occlusion(uv.y, density);
-    let sun = sun_shadow(frame, shadow_map, world);
+    let sun = sun_shadow(frame, shadow_map, shadow_sampler, world);
     let to_light = frame.light.direction;
     let lit = shade_leaf(albedo, rounded, to_light, to_eye, occlusion, sun);
     let fogged = fog(lit, distance, -to_eye, to_light, frame.look.fog_density);

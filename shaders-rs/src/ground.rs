@@ -2,11 +2,10 @@
 //! with the soil texture generated in the fragment stage.
 
 use shared::layout::{FrameUniforms, SurfacePush};
-use crate::sun_shadow;
+use crate::{ShadowMap, sun_shadow};
 use shared::look::{LOOK_NATURAL, fog, natural_ground, shade_ground};
 use shared::shade::{lambert, surface_albedo};
-use spirv_std::Image;
-use spirv_std::image::SampledImage;
+use spirv_std::Sampler;
 use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
 
@@ -40,9 +39,8 @@ pub fn ground_fs(
     normal: Vec3,
     #[spirv(flat)] material: u32,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &SampledImage<
-        Image!(2D, type=f32, sampled),
-    >,
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
+    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
 ) {
     let n = normal.normalize_or_zero();
@@ -56,7 +54,7 @@ pub fn ground_fs(
     let look = &frame.look;
     let (albedo, occlusion) = natural_ground(material, world, n, distance, look);
     let to_light = frame.light.direction;
-    let sun = sun_shadow(frame, shadow_map, world);
+    let sun = sun_shadow(frame, shadow_map, shadow_sampler, world);
     // Under the canopy the blades hold back the sun as they hold back the sky.
     let lit = shade_ground(albedo, n, to_light, occlusion, sun * occlusion);
     let dir = -to_camera / distance.max(1e-6);

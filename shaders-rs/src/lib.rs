@@ -14,29 +14,25 @@ pub mod throughput;
 pub mod tonemap;
 
 use shared::layout::FrameUniforms;
-use shared::look::{shadow_coord, shadow_factor};
-use spirv_std::glam::{Vec2, Vec4};
-use spirv_std::image::SampledImage;
-use spirv_std::Image;
+use shared::look::{on_shadow_map, shadow_bias, shadow_coord};
+use spirv_std::Sampler;
+use spirv_std::glam::Vec3;
 
-/// The sun's light reaching `world`: 1 lit, 0 in shadow, from the shadow map (four
-/// texels, bilinear weights: `shared::look::shadow_factor`); 1 with shadows off.
-pub fn sun_shadow(
-    frame: &FrameUniforms,
-    map: &SampledImage<Image!(2D, type=f32, sampled)>,
-    world: spirv_std::glam::Vec3,
-) -> f32 {
+/// The shadow map as the fragment stages declare it: a sampled depth image.
+pub type ShadowMap = spirv_std::Image!(2D, type=f32, sampled, depth);
+
+/// The sun's light reaching `world`: 1 lit, 0 in shadow, from one fetch of the shadow
+/// map through its comparison sampler (the texture unit tests the four nearest texels
+/// and weighs them bilinearly: `shared::look::shadow_factor`); 1 with shadows off.
+pub fn sun_shadow(frame: &FrameUniforms, map: &ShadowMap, sampler: &Sampler, world: Vec3) -> f32 {
     let look = &frame.look;
     if look.shadows == 0 {
         return 1.0;
     }
     let coord = shadow_coord(look.shadow_view_proj, world);
-    let size = look.shadow_size;
-    let texel = |x: i32, y: i32| {
-        let uv = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / size as f32;
-        let d: Vec4 = map.sample_by_lod(uv, 0.0);
-        d.x
-    };
-    // Two texels of depth: the map's depth range is 4 radii deep.
-    shadow_factor(coord, size, 2.0 / size as f32, texel)
+    if !on_shadow_map(coord) {
+        return 1.0;
+    }
+    let reference = coord.z - shadow_bias(look.shadow_size);
+    map.sample_depth_reference_by_lod(*sampler, coord.truncate(), reference, 0.0)
 }

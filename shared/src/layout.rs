@@ -54,9 +54,12 @@ pub const BINDING_PYRAMID: u32 = 6;
 /// bound only while the reference runs.
 pub const BINDING_SCRATCH: u32 = 7;
 
-/// Binding of the sun's shadow map (combined image sampler, depth), read by the lit
-/// fragment stages of the natural look.
+/// Binding of the sun's shadow map (sampled depth image), read by the lit fragment
+/// stages of the natural look.
 pub const BINDING_SHADOW_MAP: u32 = 8;
+/// Binding of the shadow map's comparison sampler (the depth test and the bilinear
+/// weights of `look::shadow_factor` in the texture unit, one fetch).
+pub const BINDING_SHADOW_SAMPLER: u32 = 10;
 
 /// Binding of the visible blades as the natural look draws them (storage,
 /// `look::DressedBlade` per slot of the visible list): written by the compute pass,

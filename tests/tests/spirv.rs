@@ -272,7 +272,11 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                         let ty_expected = match class {
                             StorageClass::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
                             StorageClass::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
-                            _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                            _ => match type_def(&m, ty).class.opcode {
+                                Op::TypeImage => vk::DescriptorType::SAMPLED_IMAGE,
+                                Op::TypeSampler => vk::DescriptorType::SAMPLER,
+                                _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                            },
                         };
                         assert_eq!(spec.ty, ty_expected, "{name}: type of binding {binding}");
                         assert!(

@@ -3,6 +3,8 @@
 //! (`shared::look::sun_view_proj`). Ground and grass fragments read it through
 //! binding 8 of the field's set.
 //!
+//! The fragment stages read it with one fetch through a comparison sampler.
+//!
 //! Grass is drawn from the compacted list of blades the camera keeps, at the level of
 //! detail `lod.fewest`: blades outside the view or removed by a test cast no shadow,
 //! and each blade costs one patch of one segment (2 triangles) in the map.
@@ -26,7 +28,7 @@ use std::sync::Arc;
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
-use shared::layout::BINDING_SHADOW_MAP;
+use shared::layout::{BINDING_SHADOW_MAP, BINDING_SHADOW_SAMPLER};
 
 /// The shadow map and its pipelines.
 pub struct ShadowPass {
@@ -76,10 +78,10 @@ impl ShadowPass {
                 (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
             )
         })?;
-        let sampler = Sampler::nearest_clamped(ctx)?;
-        field
-            .descriptors
-            .write_image(BINDING_SHADOW_MAP, map.view, sampler.sampler);
+        let sampler = Sampler::shadow_compare(ctx, DEPTH_FORMAT)?;
+        let set = &field.descriptors;
+        set.write_sampled_image(BINDING_SHADOW_MAP, map.view);
+        set.write_sampler(BINDING_SHADOW_SAMPLER, sampler.sampler);
         let none = vk::Format::UNDEFINED;
         // The position alone (location 0): the shadow's vertex stage reads no normal.
         let mut input = vec4_vertex_input::<SurfaceVertex>();

@@ -115,6 +115,38 @@ impl DescriptorSet {
     }
 }
 
+impl DescriptorSet {
+    /// Points `binding` (a sampled image) at `view`, in SHADER_READ_ONLY_OPTIMAL.
+    pub fn write_sampled_image(&self, binding: u32, view: vk::ImageView) {
+        let info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+            .image_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// Points `binding` (a sampler) at `sampler`.
+    pub fn write_sampler(&self, binding: u32, sampler: vk::Sampler) {
+        let info = [vk::DescriptorImageInfo {
+            sampler,
+            image_view: vk::ImageView::null(),
+            image_layout: vk::ImageLayout::UNDEFINED,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::SAMPLER)
+            .image_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+}
+
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         unsafe {

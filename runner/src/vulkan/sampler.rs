@@ -18,10 +18,37 @@ impl Sampler {
         Self::clamped(ctx, vk::Filter::LINEAR)
     }
 
-    /// Nearest texel, coordinates clamped to the edge (depth maps, whose formats need
-    /// not filter).
-    pub fn nearest_clamped(ctx: &Arc<Context>) -> Result<Self> {
-        Self::clamped(ctx, vk::Filter::NEAREST)
+    /// A depth-comparison sampler for shadow maps of `format`: LESS_OR_EQUAL against
+    /// the reference, coordinates clamped, bilinear over the four nearest results
+    /// where the format can be filtered (else the nearest texel's).
+    pub fn shadow_compare(ctx: &Arc<Context>, format: vk::Format) -> Result<Self> {
+        let features = unsafe {
+            ctx.instance
+                .get_physical_device_format_properties(ctx.physical, format)
+        }
+        .optimal_tiling_features;
+        let filter = if features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR) {
+            vk::Filter::LINEAR
+        } else {
+            vk::Filter::NEAREST
+        };
+        let clamp = vk::SamplerAddressMode::CLAMP_TO_EDGE;
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(filter)
+            .min_filter(filter)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(clamp)
+            .address_mode_v(clamp)
+            .address_mode_w(clamp)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
+            .max_lod(0.0);
+        let sampler = unsafe { ctx.device.create_sampler(&info, None) }
+            .context("create shadow sampler")?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            sampler,
+        })
     }
 
     fn clamped(ctx: &Arc<Context>, filter: vk::Filter) -> Result<Self> {

@@ -3,8 +3,7 @@
 
 use shared::layout::ToneMapPush;
 use shared::look::{meadow_to_horizon, sky, tone_map};
-use spirv_std::glam::{Vec2, Vec4, Vec4Swizzles};
-use spirv_std::image::SampledImage;
+use spirv_std::glam::{UVec2, Vec2, Vec4, Vec4Swizzles};
 use spirv_std::{Image, spirv};
 
 /// One triangle over the whole screen; uv 0..1 across the image.
@@ -21,15 +20,18 @@ pub fn tonemap_vs(
 
 /// The HDR pixel over the sky, or below the horizon over the meadow beyond the field
 /// (its alpha is the share of the pixel the scene covers; the rest shows what is
-/// behind), exposed and tone-mapped.
+/// behind), exposed and tone-mapped. The HDR image has the target's size: each pixel
+/// fetches its own texel (no sampler, which a software rasteriser pays dearly for).
 #[spirv(fragment)]
 pub fn tonemap_fs(
+    #[spirv(frag_coord)] frag: Vec4,
     uv: Vec2,
     #[spirv(push_constant)] push: &ToneMapPush,
-    #[spirv(descriptor_set = 0, binding = 0)] hdr: &SampledImage<Image!(2D, type=f32, sampled)>,
+    #[spirv(descriptor_set = 0, binding = 0)] hdr: &Image!(2D, type=f32, sampled),
     out_color: &mut Vec4,
 ) {
-    let pixel: Vec4 = hdr.sample_by_lod(uv, 0.0);
+    let texel = UVec2::new(frag.x as u32, frag.y as u32);
+    let pixel: Vec4 = hdr.fetch(texel);
     let open = (1.0 - pixel.w).max(0.0);
     let mut radiance = pixel.xyz();
     if open > 0.0 {

@@ -5,7 +5,6 @@
 use crate::shaders;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModules};
-use crate::vulkan::sampler::Sampler;
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
@@ -15,7 +14,7 @@ use std::sync::Arc;
 /// The tone map's own set: the HDR image.
 pub const BINDINGS: [BindingSpec; 1] = [BindingSpec {
     binding: 0,
-    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+    ty: vk::DescriptorType::SAMPLED_IMAGE,
     stages: vk::ShaderStageFlags::FRAGMENT,
 }];
 
@@ -30,7 +29,6 @@ pub struct ToneMapPass {
     set: DescriptorSet,
     layout: PipelineLayout,
     pipeline: Pipeline,
-    sampler: Sampler,
 }
 
 impl ToneMapPass {
@@ -50,13 +48,13 @@ impl ToneMapPass {
             set,
             layout,
             pipeline,
-            sampler: Sampler::linear_clamped(ctx)?,
         })
     }
 
-    /// Reads `hdr` (SHADER_READ_ONLY_OPTIMAL) from now on. No frame may be in flight.
+    /// Reads `hdr` (SHADER_READ_ONLY_OPTIMAL, the target's size) from now on. No frame
+    /// may be in flight.
     pub fn set_source(&self, hdr: vk::ImageView) {
-        self.set.write_image(0, hdr, self.sampler.sampler);
+        self.set.write_sampled_image(0, hdr);
     }
 
     /// Draws the sky and the tone-mapped image into `target`.

@@ -42,7 +42,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 11] = [
+pub const BINDINGS: [BindingSpec; 12] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -71,6 +71,8 @@ pub const BINDINGS: [BindingSpec; 11] = [
         ty: vk::DescriptorType::SAMPLER,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
+    // Each blade's clump, made by the clump pass, read by the compute pass.
+    storage(layout::BINDING_CLUMPS),
 ];
 
 /// Both tessellation stages.
@@ -120,6 +122,8 @@ pub struct Field {
     pub draws: Buffer,
     /// The visible blades as the natural look draws them (`look::DressedBlade`).
     pub dressed: Buffer,
+    /// Each blade's clump (`look::Clump::pack`).
+    pub clumps: Buffer,
     /// The frame's uniform block, updated by a transfer at the start of each frame.
     pub uniforms: Buffer,
     /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
@@ -130,10 +134,10 @@ pub struct Field {
     pub layout: PipelineLayout,
 }
 
-/// Device memory per blade: the blade, its collision strength, its index and its
-/// slot in the dressed buffer.
+/// Device memory per blade: the blade, its collision strength, its index, its slot
+/// in the dressed buffer and its clump.
 pub const DEVICE_BYTES_PER_BLADE: u64 =
-    size_of::<Blade>() as u64 + 4 + 4 + size_of::<DressedBlade>() as u64;
+    size_of::<Blade>() as u64 + 4 + 4 + size_of::<DressedBlade>() as u64 + 16;
 
 impl Field {
     /// Fails with a message naming the limit when `count` blades cannot fit this
@@ -209,6 +213,7 @@ impl Field {
             u64::from(count) * size_of::<DressedBlade>() as u64,
             U::STORAGE_BUFFER,
         )?;
+        let clumps = device_buffer("clumps", u64::from(count) * 16, U::STORAGE_BUFFER)?;
         let counters = device_buffer(
             "counters",
             (layout::COUNTER_COUNT * 4) as u64,
@@ -248,6 +253,7 @@ impl Field {
         }
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         descriptors.write_buffer(layout::BINDING_DRESSED, storage, dressed.buffer);
+        descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {
@@ -260,6 +266,7 @@ impl Field {
             counters,
             draws,
             dressed,
+            clumps,
             uniforms,
             pyramid,
             descriptors,

@@ -17,6 +17,8 @@ pub const SIMULATE_CULL: &str = "compute::simulate_cull";
 pub const COPY_BLADES: &str = "compute::copy_blades";
 /// Compute: one level of the occluders' depth pyramid.
 pub const BUILD_HIZ: &str = "compute::build_hiz";
+/// Compute: each blade's clump, when the field or the clumps' settings change.
+pub const CLUMP_BLADES: &str = "compute::clump_blades";
 /// Compute: one indirect draw command per chunk of visible blades.
 pub const WRITE_DRAWS: &str = "compute::write_draws";
 /// Grass vertex stage.

@@ -10,7 +10,7 @@ use shared::layout::{
     CopyPush, FrameUniforms, HiZPush, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
 use shared::lod::chunk_range;
-use shared::look::{DressedBlade, LOOK_NATURAL, dress};
+use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress};
 use shared::simulate::simulate;
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::{UVec3, Vec4};
@@ -39,6 +39,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &mut [DressedBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     if local < COUNTER_COUNT as u32 {
@@ -110,9 +111,29 @@ pub fn simulate_cull(
         // The natural look's draw reads the blade as it draws it, made once here.
         if frame.look.style == LOOK_NATURAL {
             let camera = frame.camera.position;
-            let (blade, tint) = dress(&kept, index, camera, &frame.cull, &frame.look);
+            let clump = Clump::unpack(clumps[index as usize]);
+            let (blade, tint) = dress(&kept, &clump, index, camera, &frame.cull, &frame.look);
             dressed[slot] = DressedBlade { blade, tint };
         }
+    }
+}
+
+/// One thread per blade: the clump of its root (`shared::look::clump_at`, 27 cells of
+/// a Voronoi blend), run when the field, the seed or the clump size changes rather
+/// than every frame.
+#[spirv(compute(threads(64)))]
+pub fn clump_blades(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &mut [Vec4],
+) {
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    if index < frame.grass.blades {
+        let look = &frame.look;
+        let root = blades[index as usize].v0.truncate();
+        clumps[index as usize] = clump_at(root, look.clump_size, look.seed).pack();
     }
 }
 

@@ -66,6 +66,11 @@ pub const BINDING_SHADOW_SAMPLER: u32 = 10;
 /// read by the natural look's grass stages.
 pub const BINDING_DRESSED: u32 = 9;
 
+/// Binding of the blades' clumps (storage, `vec4` per blade, `look::Clump::pack`):
+/// written by the clump pass when the field, the seed or the clump size changes, read
+/// by the compute pass.
+pub const BINDING_CLUMPS: u32 = 11;
+
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
 /// Index of the blades removed by the orientation test.

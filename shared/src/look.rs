@@ -106,6 +106,24 @@ pub struct Clump {
     pub dryness: f32,
 }
 
+impl Clump {
+    /// The clump as one `vec4` of the clump buffer: lean (x, z), height, dryness.
+    /// The lean is horizontal (its y part is dropped; blades lean across their own
+    /// `up` only, see [`dressed_blade`]).
+    pub fn pack(&self) -> Vec4 {
+        Vec4::new(self.lean.x, self.lean.z, self.height, self.dryness)
+    }
+
+    /// The clump of [`Clump::pack`].
+    pub fn unpack(v: Vec4) -> Self {
+        Self {
+            lean: Vec3::new(v.x, 0.0, v.y),
+            height: v.z,
+            dryness: v.w,
+        }
+    }
+}
+
 /// Sharpness of the blend between clumps: weights fall by e per 1/`CLUMP_SHARPNESS`
 /// cell sizes of extra distance, so a clump's inside is its own and its borders blend.
 pub const CLUMP_SHARPNESS: f32 = 9.0;
@@ -196,7 +214,7 @@ pub struct DressedBlade {
 }
 
 /// What the natural look draws of blade `id` seen from `camera`: the blade dressed by
-/// its clump, a per-blade jitter and the fades of the enabled culling tests (width to
+/// its `clump` (`clump_at` of its root, made once per field by the clump pass), a per-blade jitter and the fades of the enabled culling tests (width to
 /// zero before the test removes it), widened to a pixel where it is thinner; its tint
 /// (rgb) and, in w, whether it is drawn (a blade thinner than a pixel is drawn a
 /// pixel wide with the probability of its coverage, by a per-blade hash: the same
@@ -204,13 +222,13 @@ pub struct DressedBlade {
 /// ([`pack_coverage`]).
 pub fn dress(
     blade: &Blade,
+    clump: &Clump,
     id: u32,
     camera: Vec3,
     cull: &crate::cull::CullParams,
     look: &LookParams,
 ) -> (Blade, Vec4) {
     use crate::cull::{DISTANCE, ORIENTATION, orientation_alignment, projected_distance};
-    let clump = clump_at(blade.root(), look.clump_size, look.seed);
     let h1 = hash_unit(id ^ hash_u32(look.seed));
     let h2 = hash_unit(hash_u32(id) ^ 0x9e37_79b9);
     let dproj = projected_distance(blade, camera);
@@ -231,13 +249,13 @@ pub fn dress(
     } else {
         0.0
     };
-    let dressed = dressed_blade(blade, &clump, h1, scale);
+    let dressed = dressed_blade(blade, clump, h1, scale);
     let h3 = hash_unit(hash_u32(id ^ 0x2545_f491));
     // Whole blades, one "sample": a fragment stage writing a per-sample mask made
     // the H100's grass draw 3.8 ms slower at 4x MSAA (1,048,576 blades, edge camera),
     // so a thin blade is drawn a pixel wide with probability alpha, or not at all.
     let mask = coverage_mask(alpha, 1, h3);
-    let tint = blade_tint(&clump, h1, h2).extend(pack_coverage(mask, density));
+    let tint = blade_tint(clump, h1, h2).extend(pack_coverage(mask, density));
     (dressed, tint)
 }
 
@@ -681,6 +699,14 @@ mod tests {
         }
         // Yet clumps differ: the height factor spans much of its range.
         assert!(hi - lo > 0.3, "{lo}..{hi}");
+    }
+
+    #[test]
+    fn a_clump_packs_into_one_vec4() {
+        let c = clump_at(Vec3::new(1.0, 0.0, 2.0), 1.6, 3);
+        let back = Clump::unpack(c.pack());
+        assert_eq!((back.lean.x, back.lean.z), (c.lean.x, c.lean.z));
+        assert_eq!((back.height, back.dryness, back.lean.y), (c.height, c.dryness, 0.0));
     }
 
     #[test]

@@ -158,6 +158,7 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         ),
         (shaders::SHADOW_SURFACE_VS, ExecutionModel::Vertex),
         (shaders::NATURAL_VS, ExecutionModel::Vertex),
+        (shaders::CLUMP_BLADES, ExecutionModel::GLCompute),
         (shaders::NATURAL_TCS, ExecutionModel::TessellationControl),
         (
             shaders::NATURAL_TES,
@@ -325,6 +326,7 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
+        (shaders::CLUMP_BLADES, layout::SIMULATE_WORKGROUP),
     ] {
         let m = module_of(name);
         let function = entry_points(&m)[name].2;

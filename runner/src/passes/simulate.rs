@@ -21,6 +21,7 @@ pub struct SimulatePass {
     simulate: Pipeline,
     write_draws: Pipeline,
     copy: Pipeline,
+    clumps: Pipeline,
 }
 
 impl SimulatePass {
@@ -31,6 +32,7 @@ impl SimulatePass {
             simulate: Pipeline::compute(ctx, &field.layout, module, shaders::SIMULATE_CULL)?,
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
+            clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
         })
     }
 
@@ -57,6 +59,19 @@ impl SimulatePass {
         };
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(push.count, COPY_WORKGROUP));
+    }
+
+    /// Records the clump pass: every blade's clump from the frame block's seed and
+    /// clump size, ready for the compute pass. The uniform update must come before.
+    pub fn record_clumps(&self, rec: &Recorder, field: &Field) {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        rec.bind_pipeline(compute, self.clumps.pipeline, layout, set);
+        rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_READ),
+        );
     }
 
     /// Records the pass. The counter reset and the uniform update must come before,

@@ -124,6 +124,8 @@ pub struct Renderer {
     targets: Option<DrawTargets>,
     /// (colour format, samples) the ground and grass pipelines draw into.
     drawn_into: (vk::Format, u32),
+    /// (seed, clump size) the clump buffer was made for; `None` when it is stale.
+    clumped: Option<(u32, f32)>,
     pool: CommandPool,
     module: ShaderModules,
 }
@@ -168,6 +170,7 @@ impl Renderer {
             color_format,
             targets: None,
             drawn_into: (color_format, 1),
+            clumped: None,
             pool,
             module,
         })
@@ -186,6 +189,7 @@ impl Renderer {
     /// Replaces the field's blades by `blades` (as many), at rest.
     pub fn replace_blades(&mut self, blades: &[Blade]) -> Result<()> {
         self.ctx.wait_idle()?;
+        self.clumped = None;
         self.field.replace_blades(&self.ctx, &self.pool, blades)
     }
 
@@ -283,6 +287,11 @@ impl Renderer {
                 .record(rec, &self.field, &self.ground, &targets.depth);
         }
         stamp(Mark::Pyramid);
+        let clumps = (uniforms.look.seed, uniforms.look.clump_size);
+        if natural && self.clumped != Some(clumps) {
+            self.simulate.record_clumps(rec, &self.field);
+            self.clumped = Some(clumps);
+        }
         self.record_compute(rec, queries, input.push);
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {

@@ -125,7 +125,7 @@ impl Default for LookSettings {
 pub const SHADOW_SIZE: u32 = 2048;
 /// Side of the sun's shadow map on a software device, whose rasteriser pays for
 /// every texel cleared and drawn.
-pub const SHADOW_SIZE_SOFTWARE: u32 = 1024;
+pub const SHADOW_SIZE_SOFTWARE: u32 = 512;
 
 /// Farthest the shadow map reaches from the camera, in units: beyond, the sun's map
 /// would spread too thin over a large field.

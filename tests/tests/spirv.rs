@@ -303,7 +303,9 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             n if n == shaders::SHADOW_SURFACE_VS => {
                                 size_of::<layout::SurfacePush>()
                             }
-                            n if n == shaders::TONEMAP_FS => size_of::<layout::ToneMapPush>(),
+                            n if n == shaders::TONEMAP_FS || n == shaders::TONEMAP_VS => {
+                                size_of::<layout::ToneMapPush>()
+                            }
                             n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),

@@ -20,7 +20,9 @@ pub const BINDINGS: [BindingSpec; 1] = [BindingSpec {
 
 /// Push-constant range of the tone map's layout.
 pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
-    vk::ShaderStageFlags::FRAGMENT,
+    vk::ShaderStageFlags::from_raw(
+        vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+    ),
     size_of::<ToneMapPush>() as u32,
 );
 

@@ -15,8 +15,8 @@ use shared::Blade;
 use shared::layout::FrameUniforms;
 use shared::lod::{screen_level, tess_levels};
 use shared::look::{
-    DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal,
-    shade_leaf, unpack_coverage,
+    DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal, shade_leaf,
+    unpack_coverage,
 };
 use shared::shade::{VIEW_SHADED, blade_colour};
 use shared::shape::{shape_min_level, surface_point};
@@ -233,7 +233,12 @@ pub fn shadow_tcs(
     let (mask, _) = unpack_coverage(drawn.tint.w);
     let look = &frame.look;
     let camera = frame.camera.position;
-    let casts = casts_shadow(look.shadow_view_proj, &drawn.blade, camera, look.caster_distance);
+    let casts = casts_shadow(
+        look.shadow_view_proj,
+        &drawn.blade,
+        camera,
+        look.caster_distance,
+    );
     let keep = if mask == 0 || !casts { 0.0 } else { 1.0 };
     *outer = [o[0] * keep, o[1] * keep, o[2] * keep, o[3] * keep];
     *inner = i;

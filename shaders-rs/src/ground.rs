@@ -1,8 +1,8 @@
 //! The surfaces: the scene's ground mesh (soil and rock) and the collider ball, lit,
 //! with the soil texture generated in the fragment stage.
 
-use shared::layout::{FrameUniforms, SurfacePush};
 use crate::{ShadowMap, sun_shadow};
+use shared::layout::{FrameUniforms, SurfacePush};
 use shared::look::{LOOK_NATURAL, fog, natural_ground, shade_ground};
 use shared::shade::{lambert, surface_albedo};
 use spirv_std::Sampler;

@@ -387,7 +387,8 @@ pub fn shade_leaf(
     let diffuse = facing.dot(to_light).max(0.0);
     let through = translucency(facing, to_light, to_eye);
     let sky = SKY_AMBIENT * (0.6 + 0.4 * facing.y.max(0.0)) * occlusion;
-    let direct = albedo * (diffuse + 1.4 * through) + Vec3::splat(soft_specular(facing, to_light, to_eye));
+    let direct =
+        albedo * (diffuse + 1.4 * through) + Vec3::splat(soft_specular(facing, to_light, to_eye));
     albedo * sky + SUN * direct * sun
 }
 
@@ -651,16 +652,15 @@ pub fn shadow_bias(size: u32) -> f32 {
 /// texels a side; outside the map everything is lit. This is what the shaders' one
 /// fetch through a comparison sampler (compare op LESS_OR_EQUAL, linear filter)
 /// computes in the texture unit; the host runs it here.
-pub fn shadow_factor(
-    coord: Vec3,
-    size: u32,
-    bias: f32,
-    texel: impl Fn(i32, i32) -> f32,
-) -> f32 {
+pub fn shadow_factor(coord: Vec3, size: u32, bias: f32, texel: impl Fn(i32, i32) -> f32) -> f32 {
     if !on_shadow_map(coord) {
         return 1.0;
     }
-    let p = Vec3::new(coord.x * size as f32 - 0.5, coord.y * size as f32 - 0.5, 0.0);
+    let p = Vec3::new(
+        coord.x * size as f32 - 0.5,
+        coord.y * size as f32 - 0.5,
+        0.0,
+    );
     let base = p.floor();
     let f = p - base;
     let (x, y) = (base.x as i32, base.y as i32);
@@ -690,9 +690,16 @@ mod tests {
         let mut last = clump_at(Vec3::ZERO, 1.6, 5);
         let step = 1.6 / 400.0;
         for i in 1..(40.0 / step) as i32 {
-            let c = clump_at(Vec3::new(i as f32 * step, 0.0, 0.3 * i as f32 * step), 1.6, 5);
+            let c = clump_at(
+                Vec3::new(i as f32 * step, 0.0, 0.3 * i as f32 * step),
+                1.6,
+                5,
+            );
             assert!((c.height - last.height).abs() < 0.02, "height jumps at {i}");
-            assert!((c.dryness - last.dryness).abs() < 0.03, "dryness jumps at {i}");
+            assert!(
+                (c.dryness - last.dryness).abs() < 0.03,
+                "dryness jumps at {i}"
+            );
             assert!((c.lean - last.lean).length() < 0.02, "lean jumps at {i}");
             (lo, hi) = (lo.min(c.height), hi.max(c.height));
             last = c;
@@ -706,7 +713,10 @@ mod tests {
         let c = clump_at(Vec3::new(1.0, 0.0, 2.0), 1.6, 3);
         let back = Clump::unpack(c.pack());
         assert_eq!((back.lean.x, back.lean.z), (c.lean.x, c.lean.z));
-        assert_eq!((back.height, back.dryness, back.lean.y), (c.height, c.dryness, 0.0));
+        assert_eq!(
+            (back.height, back.dryness, back.lean.y),
+            (c.height, c.dryness, 0.0)
+        );
     }
 
     #[test]
@@ -745,7 +755,11 @@ mod tests {
         let facing = Vec3::Z;
         let eye = Vec3::Z;
         // The sun on the viewer's side: nothing comes through.
-        for l in [Vec3::Z, Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 0.99, 0.14)] {
+        for l in [
+            Vec3::Z,
+            Vec3::new(0.6, 0.0, 0.8),
+            Vec3::new(0.0, 0.99, 0.14),
+        ] {
             assert_eq!(translucency(facing, l.normalize(), eye), 0.0);
         }
         // Behind the blade: light through it, most when looking into the sun.
@@ -801,7 +815,7 @@ mod tests {
                 } else {
                     let fade = distance_fade(d, dmax, n, id);
                     // 0.01 units before the cut, the blade is thinner than 1/50.
-                    assert!(fade >= 0.0 && fade <= 1.0);
+                    assert!((0.0..=1.0).contains(&fade));
                     if cull_distance(
                         &Blade::at_rest(Vec3::new(d + 0.01, 0.0, 0.0), Vec3::Y, 0.0, 2.0, 0.1, 9.0),
                         id,

@@ -6,8 +6,8 @@ use crate::collide::MAX_COLLIDERS;
 use crate::cull::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
 use crate::layout::{CameraParams, FrameUniforms, GrassParams};
 use crate::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
-use crate::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
 use crate::look::{LOOK_NATURAL, LOOK_PAPER, LookParams};
+use crate::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
 use crate::shape::{
     SHAPE_DANDELION, SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP,
 };

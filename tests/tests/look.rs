@@ -190,7 +190,10 @@ fn the_far_edge_of_the_field_is_not_a_line() {
         let tips = row(glam::Vec3::new(0.0, shared::generate::HEIGHT.1, -half));
         let beyond = band_colour(&image, tips.saturating_sub(EDGE_BAND)..tips);
         let field = band_colour(&image, ground..ground + EDGE_BAND);
-        let d = (0..3).map(|c| (beyond[c] - field[c]).powi(2)).sum::<f64>().sqrt();
+        let d = (0..3)
+            .map(|c| (beyond[c] - field[c]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         println!("{look}: beyond the far edge {beyond:.0?}, in front of it {field:.0?}: {d:.1}");
         (d, image)
     };

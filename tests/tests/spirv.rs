@@ -160,10 +160,7 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::NATURAL_VS, ExecutionModel::Vertex),
         (shaders::CLUMP_BLADES, ExecutionModel::GLCompute),
         (shaders::NATURAL_TCS, ExecutionModel::TessellationControl),
-        (
-            shaders::NATURAL_TES,
-            ExecutionModel::TessellationEvaluation,
-        ),
+        (shaders::NATURAL_TES, ExecutionModel::TessellationEvaluation),
         (shaders::NATURAL_FS, ExecutionModel::Fragment),
         (shaders::TONEMAP_VS, ExecutionModel::Vertex),
         (shaders::TONEMAP_FS, ExecutionModel::Fragment),

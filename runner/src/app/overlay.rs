@@ -243,7 +243,10 @@ fn look(ui: &mut egui::Ui, s: &mut Settings) {
         }
     });
     let natural = look.style == Look::Natural;
-    ui.add_enabled(natural, egui::Checkbox::new(&mut look.shadows, "sun shadows (H)"));
+    ui.add_enabled(
+        natural,
+        egui::Checkbox::new(&mut look.shadows, "sun shadows (H)"),
+    );
     ui.horizontal(|ui| {
         ui.label("MSAA (M)");
         for n in MSAA_CHOICES {

@@ -153,7 +153,7 @@ pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     s.shape = BladeShape::ALL[(p / 2) % BladeShape::ALL.len()];
     s.look.style = Look::ALL[(p / 2) % 2];
     s.look.msaa = if p % 2 == 1 { 4 } else { 1 };
-    s.look.shadows = (p / 4) % 2 == 0;
+    s.look.shadows = (p / 4).is_multiple_of(2);
     s
 }
 

@@ -160,13 +160,7 @@ impl GroundPass {
 
     /// Records the ground and `balls` with `pipeline` (one taking the surface
     /// vertices).
-    pub fn record_with(
-        &self,
-        pipeline: &Pipeline,
-        rec: &Recorder,
-        field: &Field,
-        balls: &[Vec4],
-    ) {
+    pub fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field, balls: &[Vec4]) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
         let layout = field.layout.layout;
         rec.bind_pipeline(graphics, pipeline.pipeline, layout, field.descriptors.set);

@@ -87,7 +87,8 @@ impl ShadowPass {
         let mut input = vec4_vertex_input::<SurfaceVertex>();
         input.1.truncate(1);
         let stages = [(St::VERTEX, shaders::SHADOW_SURFACE_VS)];
-        let surfaces = GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
+        let surfaces =
+            GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
         let surfaces = Pipeline::graphics(ctx, &surfaces)?;
         let stages = [
             (St::VERTEX, shaders::NATURAL_VS),

@@ -43,7 +43,8 @@ impl ToneMapPass {
             (St::VERTEX, shaders::TONEMAP_VS),
             (St::FRAGMENT, shaders::TONEMAP_FS),
         ];
-        let mut desc = GraphicsDesc::patches(module, &stages, &layout, format, vk::Format::UNDEFINED);
+        let mut desc =
+            GraphicsDesc::patches(module, &stages, &layout, format, vk::Format::UNDEFINED);
         desc.patch_control_points = 0;
         let pipeline = Pipeline::graphics(ctx, &desc)?;
         Ok(Self {
@@ -69,8 +70,17 @@ impl ToneMapPass {
     ) {
         rec.begin_rendering(Some((target, None)), None, extent);
         let graphics = vk::PipelineBindPoint::GRAPHICS;
-        rec.bind_pipeline(graphics, self.pipeline.pipeline, self.layout.layout, self.set.set);
-        rec.push_constants(self.layout.layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(push));
+        rec.bind_pipeline(
+            graphics,
+            self.pipeline.pipeline,
+            self.layout.layout,
+            self.set.set,
+        );
+        rec.push_constants(
+            self.layout.layout,
+            PUSH_CONSTANTS.0,
+            bytemuck::bytes_of(push),
+        );
         rec.draw(0, 3);
         rec.end_rendering();
     }

@@ -29,10 +29,10 @@ use shared::Blade;
 use shared::cull::OCCLUSION;
 use shared::layout::{FrameUniforms, SimulatePush, ToneMapPush};
 use shared::look::LOOK_NATURAL;
-use targets::{DrawTargets, TargetSpec};
 use shared::mesh::SurfaceMesh;
 use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use std::sync::Arc;
+use targets::{DrawTargets, TargetSpec};
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
@@ -221,11 +221,15 @@ impl Renderer {
         if let Some(hdr) = &targets.hdr {
             self.tonemap.set_source(hdr.view);
         }
-        let drawn_into = (DrawTargets::draw_format(hdr, self.color_format), spec.samples);
+        let drawn_into = (
+            DrawTargets::draw_format(hdr, self.color_format),
+            spec.samples,
+        );
         if drawn_into != self.drawn_into {
             let samples = vk::SampleCountFlags::from_raw(spec.samples);
             let (ctx, module, field) = (&self.ctx, &self.module, &self.field);
-            self.ground.retarget(ctx, module, field, drawn_into.0, samples)?;
+            self.ground
+                .retarget(ctx, module, field, drawn_into.0, samples)?;
             self.grass = GrassPass::new(ctx, module, field, drawn_into.0, samples)?;
             self.drawn_into = drawn_into;
         }
@@ -417,11 +421,7 @@ impl Renderer {
             (depth_tests, depth_rw),
         );
         // The natural look's sky is drawn by the tone map where alpha leaves room.
-        let clear = if targets.hdr.is_some() {
-            [0.0; 4]
-        } else {
-            SKY
-        };
+        let clear = if targets.hdr.is_some() { [0.0; 4] } else { SKY };
         let extent = target.extent;
         rec.begin_rendering_resolved(
             Some((color.1, Some(clear))),

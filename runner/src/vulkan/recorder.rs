@@ -206,8 +206,7 @@ impl<'a> Recorder<'a> {
                         .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
                     None => info,
                 };
-                info
-                    .image_view(view)
+                info.image_view(view)
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(if clear.is_some() {
                         vk::AttachmentLoadOp::CLEAR

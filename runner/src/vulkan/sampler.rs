@@ -43,8 +43,8 @@ impl Sampler {
             .compare_enable(true)
             .compare_op(vk::CompareOp::LESS_OR_EQUAL)
             .max_lod(0.0);
-        let sampler = unsafe { ctx.device.create_sampler(&info, None) }
-            .context("create shadow sampler")?;
+        let sampler =
+            unsafe { ctx.device.create_sampler(&info, None) }.context("create shadow sampler")?;
         Ok(Self {
             ctx: ctx.clone(),
             sampler,

@@ -411,14 +411,17 @@ mod hierarchy {
 
 #[test]
 fn upness_tells_a_terrain_from_a_closed_object() {
-    let mut flat = SurfaceMesh::default();
-    flat.positions = vec![Vec3::ZERO, Vec3::Z, Vec3::X];
-    flat.normals = vec![Vec3::Y; 3];
-    flat.triangles = vec![[0, 1, 2]];
+    let flat = SurfaceMesh {
+        positions: vec![Vec3::ZERO, Vec3::Z, Vec3::X],
+        normals: vec![Vec3::Y; 3],
+        triangles: vec![[0, 1, 2]],
+    };
     assert!((flat.mean_upness() - 1.0).abs() < 1e-6);
     // A closed box: every face has its opposite, the mean is zero.
     let mut closed = flat.clone();
-    closed.positions.extend([Vec3::Y, Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 1.0)]);
+    closed
+        .positions
+        .extend([Vec3::Y, Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 1.0)]);
     closed.normals.extend([-Vec3::Y; 3]);
     closed.triangles.push([3, 4, 5]);
     assert!(closed.mean_upness().abs() < 1e-6);
@@ -427,10 +430,15 @@ fn upness_tells_a_terrain_from_a_closed_object() {
 
 #[test]
 fn scaled_blades_are_the_same_blades_resized() {
-    let mut mesh = SurfaceMesh::default();
-    mesh.positions = vec![Vec3::ZERO, Vec3::new(0.0, 0.0, 4.0), Vec3::new(4.0, 0.0, 0.0)];
-    mesh.normals = vec![Vec3::Y; 3];
-    mesh.triangles = vec![[0, 1, 2]];
+    let mesh = SurfaceMesh {
+        positions: vec![
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::new(4.0, 0.0, 0.0),
+        ],
+        normals: vec![Vec3::Y; 3],
+        triangles: vec![[0, 1, 2]],
+    };
     let one = scatter(&mesh, 50, 9);
     assert_eq!(scatter_scaled(&mesh, 50, 9, 1.0), one);
     let small = scatter_scaled(&mesh, 50, 9, 0.25);

@@ -108,7 +108,16 @@ pub fn print_looks(points: &[Point]) {
     }
     println!(
         "natural against paper look (GPU ms, medians): {:<20} {:>9} {:>8} {:>8} {:>6} | {:>7} {:>7} {:>7} {:>7} {:>9}",
-        "config", "blades", "paper", "natural", "ratio", "shadow", "ground", "grass", "resolve", "tone map"
+        "config",
+        "blades",
+        "paper",
+        "natural",
+        "ratio",
+        "shadow",
+        "ground",
+        "grass",
+        "resolve",
+        "tone map"
     );
     for (paper, natural) in pairs {
         let ratio = natural.gpu.median / paper.gpu.median.max(1e-9);

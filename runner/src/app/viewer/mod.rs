@@ -250,7 +250,10 @@ impl Running {
         if scale != self.scene.blade_scale {
             self.scene.rescale(scale);
             log::info!("blades grown again at {scale} times the course's size");
-            self.gpu.driver.renderer.replace_blades(&self.scene.blades)?;
+            self.gpu
+                .driver
+                .renderer
+                .replace_blades(&self.scene.blades)?;
         }
         // Simulated time and the ball follow the wall clock.
         let dt = self.pace.tick();

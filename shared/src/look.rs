@@ -537,6 +537,13 @@ pub fn thin_coverage(width: f32, min_width: f32) -> (f32, f32) {
 /// Angular radius of the sun disc, radians (about 1.5× the real sun, so it reads).
 pub const SUN_RADIUS: f32 = 0.012;
 
+/// cos of [`SUN_RADIUS`] and of 1.2 times it, as constants (1 − x²/2, exact to f32
+/// at these angles): a per-pixel cos costs a software device dearly.
+const SUN_COS: (f32, f32) = (
+    1.0 - 0.5 * SUN_RADIUS * SUN_RADIUS,
+    1.0 - 0.72 * SUN_RADIUS * SUN_RADIUS,
+);
+
 /// Sky radiance towards `dir` (unit) with the sun towards `sun` (unit): a gradient
 /// from a pale horizon to a deep zenith, a glow around the sun, the sun disc, and a
 /// dim ground colour below the horizon.
@@ -554,7 +561,7 @@ pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
     let c8 = c4 * c4;
     let c64 = c8 * c8 * c8 * c8 * c8 * c8 * c8 * c8;
     let glow = c64 * 0.6 + c4 * c2 * 0.12;
-    let disc = smoothstep((SUN_RADIUS * 1.2).cos(), SUN_RADIUS.cos(), cos) * 40.0;
+    let disc = smoothstep(SUN_COS.1, SUN_COS.0, cos) * 40.0;
     base + SUN * (glow + disc) / SUN.x
 }
 
@@ -887,6 +894,8 @@ mod tests {
         let at_sun = sky(sun, sun);
         let away = sky(Vec3::new(-0.3, 0.5, -0.8).normalize(), sun);
         assert!(at_sun.x > 10.0 * away.x, "{at_sun} {away}");
+        assert!((SUN_COS.0 - SUN_RADIUS.cos()).abs() < 1e-7);
+        assert!((SUN_COS.1 - (1.2 * SUN_RADIUS).cos()).abs() < 1e-7);
         // Deeper blue overhead than at the horizon; darker below it.
         let zenith = sky(Vec3::Y, sun);
         let horizon = sky(Vec3::X, sun);

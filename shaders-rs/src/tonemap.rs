@@ -2,35 +2,50 @@
 //! linear HDR image to the sRGB target (`shared::look::tone_map`).
 
 use shared::layout::ToneMapPush;
-use shared::look::{meadow_to_horizon, sky, tone_map};
+use shared::layout::TONEMAP_GRID;
+use shared::look::{meadow_to_horizon, sky_gradient, sun_disc, tone_map};
 use spirv_std::glam::{UVec2, Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Image, spirv};
 
-/// One triangle over the whole screen, with the view ray from the camera through
-/// each corner (on the far plane): linear across the screen, so the fragment stage
-/// gets each pixel's ray by interpolation instead of a matrix product.
+/// One vertex of the grid over the screen (`layout::TONEMAP_GRID`): its view ray
+/// (from the camera to the far plane; linear across the screen, so interpolation
+/// gives each pixel its own) and what lies behind the scene there, the sky's gradient
+/// or the meadow beyond the field (smooth enough to interpolate over a cell).
 #[spirv(vertex)]
 pub fn tonemap_vs(
     #[spirv(vertex_index)] vertex: u32,
     #[spirv(push_constant)] push: &ToneMapPush,
     #[spirv(position)] out_position: &mut Vec4,
     out_ray: &mut Vec3,
+    out_behind: &mut Vec3,
 ) {
-    let uv = Vec2::new(((vertex << 1) & 2) as f32, (vertex & 2) as f32);
-    let clip = (uv * 2.0 - Vec2::ONE).extend(0.0).extend(1.0);
-    *out_position = clip;
-    let far = push.clip_to_world * Vec4::new(clip.x, clip.y, 1.0, 1.0);
-    *out_ray = far.xyz() / far.w - push.camera.xyz();
+    let (columns, rows) = TONEMAP_GRID;
+    let cell = vertex / 6;
+    let corner = [(0, 0), (1, 0), (0, 1), (0, 1), (1, 0), (1, 1)][(vertex % 6) as usize];
+    let x = (cell % columns + corner.0) as f32 / columns as f32;
+    let y = (cell / columns + corner.1) as f32 / rows as f32;
+    let clip = Vec2::new(2.0 * x - 1.0, 2.0 * y - 1.0);
+    *out_position = clip.extend(0.0).extend(1.0);
+    let far = push.clip_to_world * clip.extend(1.0).extend(1.0);
+    let ray = far.xyz() / far.w - push.camera.xyz();
+    let dir = ray.normalize_or_zero();
+    let sun = push.sun.xyz();
+    *out_ray = ray;
+    *out_behind = match meadow_to_horizon(push.camera.xyz(), dir, sun, push.ground) {
+        Some(meadow) => meadow,
+        None => sky_gradient(dir, sun),
+    };
 }
 
-/// The HDR pixel over the sky, or below the horizon over the meadow beyond the field
-/// (its alpha is the share of the pixel the scene covers; the rest shows what is
-/// behind), exposed and tone-mapped. The HDR image has the target's size: each pixel
-/// fetches its own texel (no sampler, which a software rasteriser pays dearly for).
+/// The HDR pixel over what lies behind it (its alpha is the share of the pixel the
+/// scene covers; the rest shows the sky or the meadow, with the sun disc), exposed and
+/// tone-mapped. The HDR image has the target's size: each pixel fetches its own texel
+/// (no sampler, which a software rasteriser pays dearly for).
 #[spirv(fragment)]
 pub fn tonemap_fs(
     #[spirv(frag_coord)] frag: Vec4,
     ray: Vec3,
+    behind: Vec3,
     #[spirv(push_constant)] push: &ToneMapPush,
     #[spirv(descriptor_set = 0, binding = 0)] hdr: &Image!(2D, type=f32, sampled),
     out_color: &mut Vec4,
@@ -40,13 +55,8 @@ pub fn tonemap_fs(
     let open = (1.0 - pixel.w).max(0.0);
     let mut radiance = pixel.xyz();
     if open > 0.0 {
-        let dir = ray.normalize_or_zero();
-        let sun = push.sun.xyz();
-        let behind = match meadow_to_horizon(push.camera.xyz(), dir, sun, push.ground) {
-            Some(meadow) => meadow,
-            None => sky(dir, sun),
-        };
-        radiance += open * behind;
+        let disc = sun_disc(ray.normalize_or_zero(), push.sun.xyz());
+        radiance += open * (behind + disc);
     }
     *out_color = tone_map(radiance, push.camera.w).extend(1.0);
 }

@@ -219,6 +219,14 @@ pub struct CopyPush {
     pub count: u32,
 }
 
+/// The tone map's grid of cells over the screen (columns, rows): the sky and the
+/// meadow beyond the field are evaluated at the cells' corners and interpolated, the
+/// sun disc and the tone map per pixel.
+pub const TONEMAP_GRID: (u32, u32) = (32, 18);
+
+/// Vertices of the tone map's draw: two triangles per cell of [`TONEMAP_GRID`].
+pub const TONEMAP_VERTICES: u32 = 6 * TONEMAP_GRID.0 * TONEMAP_GRID.1;
+
 /// Push constants of the tone-map pass: what it needs to draw the sky behind the
 /// scene and to expose the image.
 #[repr(C)]

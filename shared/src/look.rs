@@ -546,8 +546,14 @@ const SUN_COS: (f32, f32) = (
 
 /// Sky radiance towards `dir` (unit) with the sun towards `sun` (unit): a gradient
 /// from a pale horizon to a deep zenith, a glow around the sun, the sun disc, and a
-/// dim ground colour below the horizon.
+/// dim ground colour below the horizon: [`sky_gradient`] + [`sun_disc`].
 pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
+    sky_gradient(dir, sun) + sun_disc(dir, sun)
+}
+
+/// The sky without its disc: smooth enough over the screen for the tone map to
+/// evaluate it at the corners of a coarse grid and interpolate.
+pub fn sky_gradient(dir: Vec3, sun: Vec3) -> Vec3 {
     let zenith = Vec3::new(0.16, 0.34, 0.78);
     let horizon = Vec3::new(0.62, 0.74, 0.92);
     let up = dir.y.max(0.0);
@@ -561,8 +567,13 @@ pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
     let c8 = c4 * c4;
     let c64 = c8 * c8 * c8 * c8 * c8 * c8 * c8 * c8;
     let glow = c64 * 0.6 + c4 * c2 * 0.12;
-    let disc = smoothstep(SUN_COS.1, SUN_COS.0, cos) * 40.0;
-    base + SUN * (glow + disc) / SUN.x
+    base + SUN * glow / SUN.x
+}
+
+/// The sun disc alone (a few pixels wide: evaluated per pixel).
+pub fn sun_disc(dir: Vec3, sun: Vec3) -> Vec3 {
+    let cos = dir.dot(sun).clamp(-1.0, 1.0);
+    SUN * (smoothstep(SUN_COS.1, SUN_COS.0, cos) * 40.0) / SUN.x
 }
 
 /// The sky without the sun disc, what fog takes on towards `dir`.

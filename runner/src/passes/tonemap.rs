@@ -1,6 +1,8 @@
-//! The natural look's last pass: one full-screen triangle that puts the sky behind the
-//! scene in the HDR image (where its alpha leaves room) and tone-maps it into the
-//! sRGB target (`shared::look::tone_map`, Narkowicz's ACES fit).
+//! The natural look's last pass: a grid of cells over the screen that puts the sky
+//! (or the meadow beyond the field) behind the scene in the HDR image, where its alpha
+//! leaves room, and tone-maps it into the sRGB target (`shared::look::tone_map`,
+//! Narkowicz's ACES fit). The sky is evaluated at the grid's corners and
+//! interpolated; the sun disc and the tone map run per pixel.
 
 use crate::shaders;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
@@ -81,7 +83,7 @@ impl ToneMapPass {
             PUSH_CONSTANTS.0,
             bytemuck::bytes_of(push),
         );
-        rec.draw(0, 3);
+        rec.draw(0, shared::layout::TONEMAP_VERTICES);
         rec.end_rendering();
     }
 }

@@ -101,47 +101,40 @@ impl DescriptorSet {
     /// Points `binding` (a combined image sampler) at `view`, in
     /// SHADER_READ_ONLY_OPTIMAL, sampled through `sampler`.
     pub fn write_image(&self, binding: u32, view: vk::ImageView, sampler: vk::Sampler) {
-        let info = [vk::DescriptorImageInfo {
-            sampler,
-            image_view: view,
-            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-            .image_info(&info);
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+        let ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        self.write_image_info(binding, ty, view, sampler);
     }
-}
 
-impl DescriptorSet {
     /// Points `binding` (a sampled image) at `view`, in SHADER_READ_ONLY_OPTIMAL.
     pub fn write_sampled_image(&self, binding: u32, view: vk::ImageView) {
-        let info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: view,
-            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-            .image_info(&info);
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+        let ty = vk::DescriptorType::SAMPLED_IMAGE;
+        self.write_image_info(binding, ty, view, vk::Sampler::null());
     }
 
     /// Points `binding` (a sampler) at `sampler`.
     pub fn write_sampler(&self, binding: u32, sampler: vk::Sampler) {
+        let ty = vk::DescriptorType::SAMPLER;
+        self.write_image_info(binding, ty, vk::ImageView::null(), sampler);
+    }
+
+    /// One image descriptor of type `ty`: `view` (if any) in SHADER_READ_ONLY_OPTIMAL
+    /// and `sampler` (if any).
+    fn write_image_info(
+        &self,
+        binding: u32,
+        ty: vk::DescriptorType,
+        view: vk::ImageView,
+        sampler: vk::Sampler,
+    ) {
         let info = [vk::DescriptorImageInfo {
             sampler,
-            image_view: vk::ImageView::null(),
-            image_layout: vk::ImageLayout::UNDEFINED,
+            image_view: view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::SAMPLER)
+            .descriptor_type(ty)
             .image_info(&info);
         unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }

@@ -15,7 +15,7 @@ pub struct Sampler {
 impl Sampler {
     /// Linear filtering, coordinates clamped to the edge.
     pub fn linear_clamped(ctx: &Arc<Context>) -> Result<Self> {
-        Self::clamped(ctx, vk::Filter::LINEAR)
+        Self::clamped(ctx, vk::Filter::LINEAR, None)
     }
 
     /// A depth-comparison sampler for shadow maps of `format`: LESS_OR_EQUAL against
@@ -32,26 +32,16 @@ impl Sampler {
         } else {
             vk::Filter::NEAREST
         };
-        let clamp = vk::SamplerAddressMode::CLAMP_TO_EDGE;
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(filter)
-            .min_filter(filter)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(clamp)
-            .address_mode_v(clamp)
-            .address_mode_w(clamp)
-            .compare_enable(true)
-            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
-            .max_lod(0.0);
-        let sampler =
-            unsafe { ctx.device.create_sampler(&info, None) }.context("create shadow sampler")?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            sampler,
-        })
+        Self::clamped(ctx, filter, Some(vk::CompareOp::LESS_OR_EQUAL))
     }
 
-    fn clamped(ctx: &Arc<Context>, filter: vk::Filter) -> Result<Self> {
+    /// A sampler of `filter`, coordinates clamped to the edge, one mip level, comparing
+    /// against a reference with `compare` if given.
+    fn clamped(
+        ctx: &Arc<Context>,
+        filter: vk::Filter,
+        compare: Option<vk::CompareOp>,
+    ) -> Result<Self> {
         let clamp = vk::SamplerAddressMode::CLAMP_TO_EDGE;
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(filter)
@@ -60,6 +50,8 @@ impl Sampler {
             .address_mode_u(clamp)
             .address_mode_v(clamp)
             .address_mode_w(clamp)
+            .compare_enable(compare.is_some())
+            .compare_op(compare.unwrap_or(vk::CompareOp::NEVER))
             .max_lod(0.0);
         let sampler =
             unsafe { ctx.device.create_sampler(&info, None) }.context("create sampler")?;

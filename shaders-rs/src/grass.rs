@@ -147,7 +147,8 @@ pub fn natural_tcs(
 }
 
 /// The natural look's blade surface, with its tint, coverage and width direction for
-/// the fragment stage.
+/// the fragment stage: the same at every vertex of a blade, so flat (no
+/// interpolation to set up per triangle).
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn natural_tes(
@@ -161,8 +162,8 @@ pub fn natural_tes(
     out_world: &mut Vec3,
     out_uv: &mut Vec2,
     out_level: &mut f32,
-    out_tint: &mut Vec4,
-    out_width_dir: &mut Vec3,
+    #[spirv(flat)] out_tint: &mut Vec4,
+    #[spirv(flat)] out_width_dir: &mut Vec3,
 ) {
     let drawn = &dressed[in_slot[0] as usize];
     let blade = &drawn.blade;
@@ -187,8 +188,8 @@ pub fn natural_fs(
     world: Vec3,
     uv: Vec2,
     level: f32,
-    tint: Vec4,
-    width_dir: Vec3,
+    #[spirv(flat)] tint: Vec4,
+    #[spirv(flat)] width_dir: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
     #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,

@@ -227,9 +227,13 @@ pub struct Common {
     /// occlusion, sun shadows, sky and fog, in linear HDR with a tone map.
     #[arg(long, global = true, value_enum, default_value_t = Look::Natural)]
     pub look: Look,
-    /// No sun shadows (natural look).
+    /// No sun shadows (natural look) [default: shadows on a GPU, none on a software
+    /// device].
     #[arg(long, global = true)]
     pub no_shadows: bool,
+    /// Sun shadows also on a software device (natural look).
+    #[arg(long, global = true, conflicts_with = "no_shadows")]
+    pub shadows: bool,
     /// Samples per pixel, 1, 2, 4 or 8 (lowered to what the device has) [default: 4
     /// on a GPU, 1 on a software device].
     #[arg(long, global = true, value_parser = parse_msaa)]

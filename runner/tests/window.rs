@@ -110,6 +110,7 @@ fn the_viewer_draws_through_a_resize_storm() {
         "256",
         "--look",
         "natural",
+        "--shadows",
         "--msaa",
         "4",
     ];

@@ -33,8 +33,8 @@ fn the_natural_look_of_each_scene_matches_its_reference() {
     ];
     for (scene, shape, msaa) in cases {
         let (report, image) = render_image(&format!(
-            "--look natural --scene {scene} --shape {shape} --msaa {msaa} --blades 2048 \
-             --frames 20 --width {SIZE} --height {SIZE} --wind calm"
+            "--look natural --shadows --scene {scene} --shape {shape} --msaa {msaa} \
+             --blades 2048 --frames 20 --width {SIZE} --height {SIZE} --wind calm"
         ));
         let green = image
             .pixels()
@@ -61,8 +61,9 @@ fn the_natural_trail_matches_its_reference() {
         return;
     };
     let (_, trail) = render_image(
-        "--look natural --blades 2048 --frames 200 --width 192 --height 192 --wind calm \
-         --pitch 50 --collider-speed 3 --collider-radius 1.5 --collider-path -5,-2;2,-2",
+        "--look natural --shadows --blades 2048 --frames 200 --width 192 --height 192 \
+         --wind calm --pitch 50 --collider-speed 3 --collider-radius 1.5 \
+         --collider-path -5,-2;2,-2",
     );
     check_reference("natural_trail", &trail);
 }
@@ -77,7 +78,7 @@ fn shadows_darken_the_walls_shade_and_not_the_sky() {
     };
     let args = "--look natural --scene walls --blades 2048 --frames 10 --width 256 \
                 --height 256 --wind calm";
-    let (_, lit) = render_image(args);
+    let (_, lit) = render_image(&format!("{args} --shadows"));
     let (_, unlit) = render_image(&format!("{args} --no-shadows"));
     let (w, h) = (lit.width(), lit.height());
     let (mut darker, mut brighter) = (0u32, 0u32);
@@ -130,7 +131,8 @@ fn msaa_lowers_the_edge_energy() {
     let Some(_gpu) = device_available("msaa_lowers_the_edge_energy") else {
         return;
     };
-    let args = "--look natural --blades 4096 --frames 10 --width 256 --height 256 --wind calm";
+    let args =
+        "--look natural --shadows --blades 4096 --frames 10 --width 256 --height 256 --wind calm";
     let (_, one) = render_image(&format!("{args} --msaa 1"));
     let (_, four) = render_image(&format!("{args} --msaa 4"));
     let (e1, e4) = (edge_energy(&one), edge_energy(&four));
@@ -180,7 +182,7 @@ fn the_far_edge_of_the_field_is_not_a_line() {
          --pitch 25 --zoom 1.3"
     );
     let contrast = |look: &str| {
-        let (report, image) = render_image(&format!("--look {look} {args}"));
+        let (report, image) = render_image(&format!("--look {look} --shadows {args}"));
         let half = 0.5 * shared::generate::side_for(blades);
         let row = |p: glam::Vec3| {
             let clip = report.view_proj * p.extend(1.0);

@@ -140,7 +140,7 @@ pub fn prepare(
     }
     log::info!("scene {}: {} blades", scene.name, scene.blade_count());
     let mut settings = settings(common, &scene);
-    settings.look.msaa = msaa(common, ctx);
+    device_defaults(&mut settings, common, ctx);
     Ok((scene, settings))
 }
 
@@ -176,6 +176,18 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s.look.msaa = common.msaa.unwrap_or(1);
     s.look.seed = common.seed as u32;
     s
+}
+
+/// What the command line leaves to the device: samples per pixel ([`msaa`]) and sun
+/// shadows (`--shadows`, `--no-shadows`, else on a GPU only: lavapipe spends about a
+/// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
+pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) {
+    settings.look.msaa = msaa(common, ctx);
+    settings.look.shadows = if common.no_shadows {
+        false
+    } else {
+        common.shadows || !ctx.is_software()
+    };
 }
 
 /// Samples per pixel: `--msaa`, else the device's default.

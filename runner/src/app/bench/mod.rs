@@ -122,7 +122,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             |_| Ok(()),
         )?;
         let mut base = super::settings(common, &scene);
-        base.look.msaa = super::msaa(common, &ctx);
+        super::device_defaults(&mut base, common, &ctx);
         let camera = camera(&scene, args.camera);
         let eye = camera.viewpoint(offscreen.size());
         for &look in &looks {

@@ -13,7 +13,7 @@
 use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
 use shared::layout::FrameUniforms;
-use shared::lod::{screen_level, tess_levels};
+use shared::lod::{screen_level, tess_levels, tess_levels_if};
 use shared::look::{
     DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal, shade_leaf,
     unpack_coverage,
@@ -137,12 +137,10 @@ pub fn natural_tcs(
     let drawn = &dressed[in_slot[0] as usize];
     let level = level_of(&drawn.blade, frame);
     out_level[0] = level;
-    let (o, i) = tess_levels(level);
-    // A thin blade its coverage left out (`shared::look::dress`) is dropped: an
-    // outer level of 0 culls the patch.
+    // A thin blade its coverage left out (`shared::look::dress`) is dropped.
     let (mask, _) = unpack_coverage(drawn.tint.w);
-    let keep = if mask == 0 { 0.0 } else { 1.0 };
-    *outer = [o[0] * keep, o[1] * keep, o[2] * keep, o[3] * keep];
+    let (o, i) = tess_levels_if(level, mask != 0);
+    *outer = o;
     *inner = i;
 }
 
@@ -230,7 +228,6 @@ pub fn shadow_tcs(
 ) {
     out_slot[0] = in_slot[0];
     let drawn = &dressed[in_slot[0] as usize];
-    let (o, i) = tess_levels(frame.lod.fewest);
     let (mask, _) = unpack_coverage(drawn.tint.w);
     let look = &frame.look;
     let camera = frame.camera.position;
@@ -240,8 +237,8 @@ pub fn shadow_tcs(
         camera,
         look.caster_distance,
     );
-    let keep = if mask == 0 || !casts { 0.0 } else { 1.0 };
-    *outer = [o[0] * keep, o[1] * keep, o[2] * keep, o[3] * keep];
+    let (o, i) = tess_levels_if(frame.lod.fewest, mask != 0 && casts);
+    *outer = o;
     *inner = i;
 }
 

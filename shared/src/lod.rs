@@ -73,6 +73,17 @@ pub fn tess_levels(segments: f32) -> ([f32; 4], [f32; 2]) {
     ([segments, 1.0, segments, 1.0], [1.0, segments])
 }
 
+/// [`tess_levels`], or outer levels of 0 when the patch is not to be drawn: the
+/// tessellator then drops it.
+pub fn tess_levels_if(segments: f32, keep: bool) -> ([f32; 4], [f32; 2]) {
+    let (outer, inner) = tess_levels(segments);
+    if keep {
+        (outer, inner)
+    } else {
+        ([0.0; 4], inner)
+    }
+}
+
 /// Vertices one blade produces at `segments` vertical segments: a 2 × (segments + 1)
 /// grid.
 pub fn vertices_per_blade(segments: u32) -> u32 {
@@ -104,6 +115,14 @@ pub fn chunk_range(visible: u32, chunk: u32, chunk_size: u32) -> (u32, u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_patch_not_kept_has_no_outer_levels() {
+        assert_eq!(tess_levels_if(5.0, true), tess_levels(5.0));
+        let (outer, inner) = tess_levels_if(5.0, false);
+        assert_eq!(outer, [0.0; 4]);
+        assert_eq!(inner, tess_levels(5.0).1);
+    }
 
     #[test]
     fn focal_length_by_hand() {

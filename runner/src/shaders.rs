@@ -13,6 +13,8 @@ pub fn module(entry: &str) -> Option<&'static [u8]> {
 
 /// Compute: simulate, cull and compact.
 pub const SIMULATE_CULL: &str = "compute::simulate_cull";
+/// Compute: simulate, cull and compact, and dress the visible blades (natural look).
+pub const SIMULATE_CULL_NATURAL: &str = "compute::simulate_cull_natural";
 /// Compute: the bandwidth reference, a plain copy of every blade.
 pub const COPY_BLADES: &str = "compute::copy_blades";
 /// Compute: one level of the occluders' depth pyramid.

@@ -10,7 +10,7 @@ use shared::layout::{
     CopyPush, FrameUniforms, HiZPush, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
 use shared::lod::chunk_range;
-use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress};
+use shared::look::{Clump, DressedBlade, clump_at, dress};
 use shared::simulate::simulate;
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::{UVec3, Vec4};
@@ -18,16 +18,60 @@ use spirv_std::indirect_command::DrawIndirectCommand;
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
+/// The per-blade buffers the simulate-and-cull pass reads and writes.
+pub struct BladeBuffers<'a> {
+    blades: &'a mut [Blade],
+    visible: &'a mut [u32],
+    counters: &'a mut [u32],
+    strengths: &'a mut [f32],
+    pyramid: &'a [f32],
+}
+
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
 /// (the blade and its collision strength η are read and written back), then the cull
 /// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
 /// device counter once; a visible blade's index (4 bytes, not its 64) lands at the
-/// workgroup's base (one device atomic) plus its place within the workgroup. In the
-/// natural look the blade as drawn (`shared::look::dress`) goes to the same slot of
-/// the dressed buffer.
+/// workgroup's base (one device atomic) plus its place within the workgroup. The
+/// paper look's entry point: nothing of the natural look is compiled in.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn simulate_cull(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &SimulatePush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
+    #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+) {
+    let buffers = BladeBuffers {
+        blades,
+        visible,
+        counters,
+        strengths,
+        pyramid,
+    };
+    simulate_and_cull(
+        id,
+        local,
+        workgroups,
+        frame,
+        push,
+        buffers,
+        tally,
+        |_, _, _| {},
+    );
+}
+
+/// [`simulate_cull`] for the natural look: each visible blade as drawn
+/// (`shared::look::dress`, from its clump) also goes to its slot of the dressed buffer.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn simulate_cull_natural(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(local_invocation_index)] local: u32,
     #[spirv(num_workgroups)] workgroups: UVec3,
@@ -42,6 +86,44 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
+    let buffers = BladeBuffers {
+        blades,
+        visible,
+        counters,
+        strengths,
+        pyramid,
+    };
+    let camera = frame.camera.position;
+    let dress_into = move |slot: usize, index: u32, kept: &Blade| {
+        let clump = Clump::unpack(clumps[index as usize]);
+        let (blade, tint) = dress(kept, &clump, index, camera, &frame.cull, &frame.look);
+        dressed[slot] = DressedBlade { blade, tint };
+    };
+    simulate_and_cull(
+        id, local, workgroups, frame, push, buffers, tally, dress_into,
+    );
+}
+
+/// The body of both simulate-and-cull entry points; `on_kept(slot, index, blade)`
+/// runs for each visible blade after its index went to `visible[slot]`.
+#[allow(clippy::too_many_arguments)]
+fn simulate_and_cull(
+    id: UVec3,
+    local: u32,
+    workgroups: UVec3,
+    frame: &FrameUniforms,
+    push: &SimulatePush,
+    buffers: BladeBuffers,
+    tally: &mut [u32; COUNTER_COUNT],
+    mut on_kept: impl FnMut(usize, u32, &Blade),
+) {
+    let BladeBuffers {
+        blades,
+        visible,
+        counters,
+        strengths,
+        pyramid,
+    } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
     }
@@ -108,13 +190,7 @@ pub fn simulate_cull(
     if in_field && outcome == KEPT {
         let slot = (tally[COUNTER_VISIBLE] + place) as usize;
         visible[slot] = index;
-        // The natural look's draw reads the blade as it draws it, made once here.
-        if frame.look.style == LOOK_NATURAL {
-            let camera = frame.camera.position;
-            let clump = Clump::unpack(clumps[index as usize]);
-            let (blade, tint) = dress(&kept, &clump, index, camera, &frame.cull, &frame.look);
-            dressed[slot] = DressedBlade { blade, tint };
-        }
+        on_kept(slot, index, &kept);
     }
 }
 

@@ -33,7 +33,7 @@ pub struct LookParams {
     pub shadows: u32,
     /// The field's seed: clumps and colours follow it.
     pub seed: u32,
-    /// Side of the shadow map in texels.
+    /// Side of the shadow map in texels (filled in by the renderer, which made it).
     pub shadow_size: u32,
     /// Fog density per unit of distance (aerial perspective).
     pub fog_density: f32,

@@ -489,7 +489,8 @@ impl Settings {
             style: look.style as u32,
             shadows: u32::from(look.shadows && look.style == Look::Natural),
             seed: look.seed,
-            shadow_size: SHADOW_SIZE,
+            // The renderer fills in its map's size, as it fills in the pyramid's.
+            shadow_size: 0,
             fog_density: look.fog_density,
             field_distance: self.cull.max_distance,
             pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,

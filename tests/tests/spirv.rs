@@ -130,6 +130,7 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         .collect();
     let expected = [
         (shaders::SIMULATE_CULL, ExecutionModel::GLCompute),
+        (shaders::SIMULATE_CULL_NATURAL, ExecutionModel::GLCompute),
         (shaders::WRITE_DRAWS, ExecutionModel::GLCompute),
         (shaders::GRASS_VS, ExecutionModel::Vertex),
         (shaders::GRASS_TCS, ExecutionModel::TessellationControl),
@@ -294,7 +295,11 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             push_range.1
                         );
                         let expected = match name.as_str() {
-                            n if n == shaders::SIMULATE_CULL => size_of::<layout::SimulatePush>(),
+                            n if n == shaders::SIMULATE_CULL
+                                || n == shaders::SIMULATE_CULL_NATURAL =>
+                            {
+                                size_of::<layout::SimulatePush>()
+                            }
                             n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
                             n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
                             n if n == shaders::SHADOW_SURFACE_VS => {
@@ -322,6 +327,7 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
 fn compute_workgroup_sizes_match_the_dispatches() {
     for (name, size) in [
         (shaders::SIMULATE_CULL, layout::SIMULATE_WORKGROUP),
+        (shaders::SIMULATE_CULL_NATURAL, layout::SIMULATE_WORKGROUP),
         (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),

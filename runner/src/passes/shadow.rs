@@ -33,7 +33,8 @@ use shared::layout::{BINDING_SHADOW_MAP, BINDING_SHADOW_SAMPLER};
 /// The shadow map and its pipelines.
 pub struct ShadowPass {
     map: Image,
-    sampler: Sampler,
+    /// The comparison sampler the field's set names: kept alive with the map.
+    _sampler: Sampler,
     surfaces: Pipeline,
     grass: Pipeline,
 }
@@ -99,7 +100,7 @@ impl ShadowPass {
         let grass = Pipeline::graphics(ctx, &grass)?;
         Ok(Self {
             map,
-            sampler,
+            _sampler: sampler,
             surfaces,
             grass,
         })
@@ -147,6 +148,5 @@ impl ShadowPass {
             (S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
             (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
         );
-        let _ = &self.sampler;
     }
 }

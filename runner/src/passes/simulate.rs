@@ -19,6 +19,7 @@ use vk::PipelineStageFlags2 as S;
 pub struct SimulatePass {
     ctx: Arc<Context>,
     simulate: Pipeline,
+    simulate_natural: Pipeline,
     write_draws: Pipeline,
     copy: Pipeline,
     clumps: Pipeline,
@@ -30,6 +31,12 @@ impl SimulatePass {
         Ok(Self {
             ctx: ctx.clone(),
             simulate: Pipeline::compute(ctx, &field.layout, module, shaders::SIMULATE_CULL)?,
+            simulate_natural: Pipeline::compute(
+                ctx,
+                &field.layout,
+                module,
+                shaders::SIMULATE_CULL_NATURAL,
+            )?,
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
@@ -77,10 +84,16 @@ impl SimulatePass {
     /// Records the pass. The counter reset and the uniform update must come before,
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
-    pub fn record(&self, rec: &Recorder, field: &Field, push: SimulatePush) {
+    /// `natural` also dresses the visible blades for the natural look's draw.
+    pub fn record(&self, rec: &Recorder, field: &Field, push: SimulatePush, natural: bool) {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
-        rec.bind_pipeline(compute, self.simulate.pipeline, layout, set);
+        let simulate = if natural {
+            &self.simulate_natural
+        } else {
+            &self.simulate
+        };
+        rec.bind_pipeline(compute, simulate.pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
         // The visible count is complete before the chunk pass reads it.

@@ -24,7 +24,8 @@ impl Renderer {
             ..*uniforms
         };
         self.begin_compute(rec, &uniforms);
-        self.record_compute(rec, queries, push);
+        // The simulation and the counters alone: nothing is drawn, so nothing dressed.
+        self.record_compute(rec, queries, push, false);
     }
 
     /// Copies a device buffer into host memory and returns `count` values of `T`.

@@ -296,7 +296,7 @@ impl Renderer {
             self.simulate.record_clumps(rec, &self.field);
             self.clumped = Some(clumps);
         }
-        self.record_compute(rec, queries, input.push);
+        self.record_compute(rec, queries, input.push, natural);
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             let balls = used_balls(&uniforms);
@@ -361,9 +361,15 @@ impl Renderer {
     }
 
     /// Simulate, cull and compact, then copy the counters for the read-back.
-    fn record_compute(&self, rec: &Recorder, queries: &FrameQueries, push: SimulatePush) {
+    fn record_compute(
+        &self,
+        rec: &Recorder,
+        queries: &FrameQueries,
+        push: SimulatePush,
+        natural: bool,
+    ) {
         let field = &self.field;
-        self.simulate.record(rec, field, push);
+        self.simulate.record(rec, field, push, natural);
         rec.copy_buffer(
             field.counters.buffer,
             queries.counters.buffer,

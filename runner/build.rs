@@ -39,6 +39,10 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
     let mut builder = SpirvBuilder::new(&shaders, "spirv-unknown-vulkan1.2")
         .target_dir_path(format!("spirv-builder/{}", clone.trim_matches('-')))
         .capability(Capability::Tessellation)
+        // Task and mesh stages (`--pipeline mesh`); the build removes both again from
+        // every module without one, so the others need no mesh-shader device.
+        .capability(Capability::MeshShadingEXT)
+        .extension("SPV_EXT_mesh_shader")
         // Device-scope atomics (the visible-blade counter) under the Vulkan memory model.
         .capability(Capability::VulkanMemoryModelDeviceScope);
     builder.build_script.defaults = true;
@@ -55,6 +59,7 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
         let mut module = rspirv::dr::load_bytes(std::fs::read(spv)?)
             .map_err(|e| format!("cannot parse {}: {e}", spv.display()))?;
         added += add_patch_decorations(&mut module);
+        strip_unused_mesh_shading(&mut module);
         let file = out.join(format!("{}.spv", entry.replace("::", "-")));
         std::fs::write(&file, bytemuck_words(&module.assemble()))?;
         list += &format!(
@@ -79,6 +84,30 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
         listing.display()
     );
     Ok(())
+}
+
+/// Removes the `MeshShadingEXT` capability and the `SPV_EXT_mesh_shader` extension
+/// from a module with no task or mesh entry point: Vulkan refuses a module declaring a
+/// capability whose feature the device was not created with.
+fn strip_unused_mesh_shading(module: &mut Module) {
+    use rspirv::spirv::{Capability as Cap, ExecutionModel};
+    let meshy = module.entry_points.iter().any(|e| {
+        matches!(
+            e.operands.first(),
+            Some(Operand::ExecutionModel(
+                ExecutionModel::TaskEXT | ExecutionModel::MeshEXT
+            ))
+        )
+    });
+    if meshy {
+        return;
+    }
+    module
+        .capabilities
+        .retain(|i| i.operands.first() != Some(&Operand::Capability(Cap::MeshShadingEXT)));
+    module.extensions.retain(|i| {
+        i.operands.first() != Some(&Operand::LiteralString("SPV_EXT_mesh_shader".into()))
+    });
 }
 
 /// Decorates every `TessLevelOuter`/`TessLevelInner` variable with `Patch` unless it

@@ -82,6 +82,10 @@ pub struct BenchArgs {
     /// [default: the one --look names].
     #[arg(long, value_delimiter = ',', value_enum)]
     pub looks: Vec<Look>,
+    /// Grass pipelines to time, comma-separated, each at every point [default: the
+    /// one --pipeline names]
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub pipelines: Vec<PipelineChoice>,
     /// Camera preset.
     #[arg(long, value_enum, default_value_t = CameraPreset::Edge)]
     pub camera: CameraPreset,
@@ -238,6 +242,11 @@ pub struct Common {
     /// on a GPU, 1 on a software device].
     #[arg(long, global = true, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
+    /// How the grass is drawn: `tess` through the tessellator (a patch per blade),
+    /// `mesh` by task and mesh stages (VK_EXT_mesh_shader), `auto` the faster of the
+    /// two that the device has.
+    #[arg(long, global = true, value_enum, default_value_t = PipelineChoice::Auto)]
+    pub pipeline: PipelineChoice,
     /// Factor on the light before the tone map (natural look).
     #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.01, 100.0))]
     pub exposure: f32,
@@ -414,4 +423,15 @@ impl Common {
             || std::env::var("GRASS_VALIDATION")
                 .is_ok_and(|v| matches!(v.trim(), "1" | "true" | "yes" | "on"))
     }
+}
+
+/// `--pipeline`: a grass pipeline, or the device's faster one.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum PipelineChoice {
+    /// Tessellation: one patch per blade.
+    Tess,
+    /// Task and mesh stages: meshlets of blade strips.
+    Mesh,
+    /// Mesh stages where the device has them, else tessellation.
+    Auto,
 }

@@ -23,7 +23,8 @@ const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
         | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
         | vk::ShaderStageFlags::VERTEX.as_raw()
-        | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+        | vk::ShaderStageFlags::FRAGMENT.as_raw()
+        | MESH_STAGES.as_raw(),
 );
 
 const fn storage(binding: u32) -> BindingSpec {
@@ -42,16 +43,18 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 12] = [
+pub const BINDINGS: [BindingSpec; 13] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
         stages: UNIFORM_STAGES,
     },
-    // The paper look's tessellation stages read the blades through their index.
-    storage_in(layout::BINDING_BLADES, TESSELLATION),
-    storage_in(layout::BINDING_VISIBLE, vk::ShaderStageFlags::VERTEX),
-    storage(layout::BINDING_COUNTERS),
+    // The paper look's tessellation and mesh stages read the blades through their
+    // index.
+    storage_in(layout::BINDING_BLADES, TESSELLATION_OR_MESH),
+    storage_in(layout::BINDING_VISIBLE, VERTEX_OR_TASK),
+    // The task stages read how many blades are visible.
+    storage_in(layout::BINDING_COUNTERS, vk::ShaderStageFlags::TASK_EXT),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),
@@ -64,7 +67,7 @@ pub const BINDINGS: [BindingSpec; 12] = [
     },
     // The visible blades as the natural look draws them, read by its tessellation
     // stages.
-    storage_in(layout::BINDING_DRESSED, TESSELLATION),
+    storage_in(layout::BINDING_DRESSED, TESSELLATION_OR_MESH),
     // The shadow map's comparison sampler.
     BindingSpec {
         binding: layout::BINDING_SHADOW_SAMPLER,
@@ -73,12 +76,25 @@ pub const BINDINGS: [BindingSpec; 12] = [
     },
     // Each blade's clump, made by the clump pass, read by the compute pass.
     storage(layout::BINDING_CLUMPS),
+    // The mesh path's indirect draw, written by the compute pass.
+    storage(layout::BINDING_MESH_DRAW),
 ];
 
-/// Both tessellation stages.
-const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+/// Both tessellation stages, and the task and mesh stages.
+const TESSELLATION_OR_MESH: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
-        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
+        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
+        | MESH_STAGES.as_raw(),
+);
+
+/// The task and mesh stages.
+const MESH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::TASK_EXT.as_raw() | vk::ShaderStageFlags::MESH_EXT.as_raw(),
+);
+
+/// The vertex stage and the task stage.
+const VERTEX_OR_TASK: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::TASK_EXT.as_raw(),
 );
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
@@ -120,6 +136,8 @@ pub struct Field {
     pub counters: Buffer,
     /// One `VkDrawIndirectCommand` per chunk.
     pub draws: Buffer,
+    /// The mesh path's indirect draw: the task grid of the visible blades.
+    pub mesh_draw: Buffer,
     /// The visible blades as the natural look draws them (`look::DressedBlade`).
     pub dressed: Buffer,
     /// Each blade's clump (`look::Clump::pack`).
@@ -224,6 +242,11 @@ impl Field {
             u64::from(chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
+        let mesh_draw = device_buffer(
+            "mesh draw",
+            size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
+            U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
+        )?;
         let uniforms = device_buffer(
             "uniforms",
             size_of::<FrameUniforms>() as u64,
@@ -254,6 +277,7 @@ impl Field {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         descriptors.write_buffer(layout::BINDING_DRESSED, storage, dressed.buffer);
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
+        descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {
@@ -265,6 +289,7 @@ impl Field {
             visible,
             counters,
             draws,
+            mesh_draw,
             dressed,
             clumps,
             uniforms,

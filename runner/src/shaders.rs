@@ -39,6 +39,14 @@ pub const NATURAL_TCS: &str = "grass::natural_tcs";
 pub const NATURAL_TES: &str = "grass::natural_tes";
 /// The natural look's grass: fragment stage.
 pub const NATURAL_FS: &str = "grass::natural_fs";
+/// The paper look's mesh path: task stage (level of detail, packing into meshlets).
+pub const PAPER_TASK: &str = "mesh::paper_task";
+/// The paper look's mesh path: mesh stage (the blade strips).
+pub const PAPER_MESH: &str = "mesh::paper_mesh";
+/// The natural look's mesh path: task stage.
+pub const NATURAL_TASK: &str = "mesh::natural_task";
+/// The natural look's mesh path: mesh stage.
+pub const NATURAL_MESH: &str = "mesh::natural_mesh";
 /// The grass from the sun (shadow map): tessellation control at the fewest segments.
 pub const GRASS_SHADOW_TCS: &str = "grass::shadow_tcs";
 /// The grass from the sun: tessellation evaluation into the shadow map.

@@ -277,6 +277,9 @@ fn bench_writes_one_csv_row_per_point() {
         // blades whole, see shared::look::dress).
         "--look",
         "paper",
+        // Through the tessellator, whose triangles the device counts.
+        "--pipeline",
+        "tess",
         "--out",
         csv_arg,
     ]);

@@ -78,3 +78,45 @@ fn a_lost_device_ends_the_run_with_advice() {
     assert!(stderr.contains("VK_ERROR_DEVICE_LOST"), "{stderr}");
     assert!(stderr.contains("start grass again"), "{stderr}");
 }
+
+#[test]
+fn the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back() {
+    if no_device_here() {
+        return;
+    }
+    let out = scratch("faults").join("mesh.png");
+    let out = out.to_str().unwrap().to_string();
+    let env = [("GRASS_FAULT", "missing-feature:meshShader")];
+    let run = |pipeline: &str| {
+        let args = [
+            "render",
+            "--frames",
+            "4",
+            "--blades",
+            "64",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--pipeline",
+            pipeline,
+            "--out",
+            &out,
+        ];
+        let o = grass_with(&args, &env);
+        (o.status.code(), stderr_of(&args, &o))
+    };
+    let (code, stderr) = run("mesh");
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("--pipeline mesh") && stderr.contains("VK_EXT_mesh_shader"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let (code, stderr) = run("auto");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stderr.contains("grass pipeline: tessellation (the device has no VK_EXT_mesh_shader)"),
+        "{stderr}"
+    );
+}

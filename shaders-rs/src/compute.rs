@@ -11,10 +11,11 @@ use shared::layout::{
 };
 use shared::lod::chunk_range;
 use shared::look::{Clump, DressedBlade, clump_at, dress};
+use shared::meshlet::task_grid;
 use shared::simulate::simulate;
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::{UVec3, Vec4};
-use spirv_std::indirect_command::DrawIndirectCommand;
+use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
@@ -248,7 +249,8 @@ pub fn copy_blades(
     }
 }
 
-/// One thread per chunk: the draw command of its slice of the visible blades.
+/// One thread per chunk: the draw command of its slice of the visible blades; the
+/// first also writes the mesh path's task grid.
 #[spirv(compute(threads(64)))]
 pub fn write_draws(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -256,12 +258,18 @@ pub fn write_draws(
     #[spirv(push_constant)] push: &ChunkPush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] draws: &mut [DrawIndirectCommand],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 12)]
+    mesh_draw: &mut [DrawMeshTasksIndirectCommandEXT],
 ) {
     let chunk = flat_index(id, workgroups, CHUNK_WORKGROUP);
     if chunk >= push.chunk_count {
         return;
     }
-    let (first, count) = chunk_range(counters[COUNTER_VISIBLE], chunk, push.chunk_size);
+    let visible = counters[COUNTER_VISIBLE];
+    if chunk == 0 {
+        mesh_draw[0] = task_grid(visible).into();
+    }
+    let (first, count) = chunk_range(visible, chunk, push.chunk_size);
     draws[chunk as usize] = DrawIndirectCommand {
         vertex_count: count,
         instance_count: 1,

@@ -20,7 +20,7 @@ use shared::look::{
 };
 use shared::shade::{VIEW_SHADED, blade_colour};
 use shared::shape::{shape_min_level, surface_point};
-use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
+use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
 /// The index of the visible blade this vertex stands for.
@@ -36,7 +36,7 @@ pub fn grass_vs(
 /// The tessellation level of `blade` (continuous, fractional-odd spacing in the
 /// evaluation stage): its height on screen over the pixels per segment, at least
 /// what the shape needs.
-fn level_of(blade: &Blade, frame: &FrameUniforms) -> f32 {
+pub(crate) fn level_of(blade: &Blade, frame: &FrameUniforms) -> f32 {
     let distance = (blade.v0.xyz() - frame.camera.position).length();
     let lod = &frame.lod;
     let focal = frame.camera.focal_pixels;
@@ -84,8 +84,7 @@ pub fn grass_tes(
     #[spirv(position)] out_position: &mut Vec4,
     out_normal: &mut Vec3,
     out_world: &mut Vec3,
-    out_uv: &mut Vec2,
-    out_level: &mut f32,
+    out_uv_level: &mut Vec3,
 ) {
     let blade = &blades[in_blade[0] as usize];
     let grass = &frame.grass;
@@ -93,8 +92,7 @@ pub fn grass_tes(
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;
-    *out_uv = coord.truncate();
-    *out_level = in_level[0];
+    *out_uv_level = coord.truncate().extend(in_level[0]);
 }
 
 /// Lambert plus ambient with the base-to-tip gradient, both faces lit; or the
@@ -103,11 +101,11 @@ pub fn grass_tes(
 pub fn grass_fs(
     normal: Vec3,
     world: Vec3,
-    uv: Vec2,
-    level: f32,
+    uv_level: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     out_color: &mut Vec4,
 ) {
+    let (uv, level) = (uv_level.truncate(), uv_level.z);
     let n = normal.normalize_or_zero();
     let (view, camera) = (frame.grass.view, frame.camera.position);
     *out_color = blade_colour(view, n, world, camera, frame.light, uv.y, level).extend(1.0);
@@ -158,8 +156,7 @@ pub fn natural_tes(
     #[spirv(position)] out_position: &mut Vec4,
     out_normal: &mut Vec3,
     out_world: &mut Vec3,
-    out_uv: &mut Vec2,
-    out_level: &mut f32,
+    out_uv_level: &mut Vec3,
     #[spirv(flat)] out_tint: &mut Vec4,
     #[spirv(flat)] out_width_dir: &mut Vec3,
 ) {
@@ -170,8 +167,7 @@ pub fn natural_tes(
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;
-    *out_uv = coord.truncate();
-    *out_level = in_level[0];
+    *out_uv_level = coord.truncate().extend(in_level[0]);
     *out_tint = drawn.tint;
     *out_width_dir = p.width_dir;
 }
@@ -184,8 +180,7 @@ pub fn natural_tes(
 pub fn natural_fs(
     normal: Vec3,
     world: Vec3,
-    uv: Vec2,
-    level: f32,
+    uv_level: Vec3,
     #[spirv(flat)] tint: Vec4,
     #[spirv(flat)] width_dir: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
@@ -193,6 +188,7 @@ pub fn natural_fs(
     #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
 ) {
+    let (uv, level) = (uv_level.truncate(), uv_level.z);
     let n = normal.normalize_or_zero();
     let (view, camera) = (frame.grass.view, frame.camera.position);
     let (_, density) = unpack_coverage(tint.w);

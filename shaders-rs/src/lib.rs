@@ -9,6 +9,7 @@
 pub mod compute;
 pub mod grass;
 pub mod ground;
+pub mod mesh;
 pub mod overlay;
 pub mod throughput;
 pub mod tonemap;

@@ -70,6 +70,9 @@ pub const BINDING_DRESSED: u32 = 9;
 /// written by the clump pass when the field, the seed or the clump size changes, read
 /// by the compute pass.
 pub const BINDING_CLUMPS: u32 = 11;
+/// Binding of the mesh path's indirect draw (storage and indirect, one
+/// `VkDrawMeshTasksIndirectCommandEXT`: `meshlet::task_grid` of the visible blades).
+pub const BINDING_MESH_DRAW: u32 = 12;
 
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
@@ -111,7 +114,17 @@ pub struct GrassParams {
     pub tip_start: f32,
     /// Grass view, one of `shade::VIEW_*`.
     pub view: u32,
+    /// How the grass is drawn, [`PIPELINE_TESS`] or [`PIPELINE_MESH`] (read by the
+    /// renderer, which picks its pipelines from it).
+    pub pipeline: u32,
+    /// Padding to 16 bytes.
+    pub padding: [u32; 3],
 }
+
+/// Grass drawn through the tessellator: one patch per blade.
+pub const PIPELINE_TESS: u32 = 0;
+/// Grass drawn by task and mesh stages: meshlets of blade strips.
+pub const PIPELINE_MESH: u32 = 1;
 
 /// Per-frame values, one block read by every stage (a read-only storage buffer, std430
 /// layout: every member that holds a vector starts on 16 bytes, and the SPIR-V

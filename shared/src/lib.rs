@@ -17,6 +17,7 @@ pub mod lod;
 pub mod look;
 #[cfg(not(target_arch = "spirv"))]
 pub mod mesh;
+pub mod meshlet;
 pub mod reference;
 #[cfg(not(target_arch = "spirv"))]
 pub mod settings;

@@ -53,9 +53,15 @@ pub fn screen_level(
     fewest: f32,
 ) -> f32 {
     let on_screen = height * focal / distance.max(1e-6);
-    (on_screen / pixels.max(1e-6))
-        .clamp(fewest.min(most), most)
-        .clamp(1.0, MAX_LEVEL)
+    let level = clamp_unchecked(on_screen / pixels.max(1e-6), fewest.min(most), most);
+    clamp_unchecked(level, 1.0, MAX_LEVEL)
+}
+
+/// `x` within `lo..=hi` (for `lo <= hi`) without `f32::clamp`'s check of its bounds:
+/// that check is a panic path, which a task stage must not have (`crate::meshlet`).
+#[allow(clippy::manual_clamp)]
+pub fn clamp_unchecked(x: f32, lo: f32, hi: f32) -> f32 {
+    x.max(lo).min(hi)
 }
 
 /// Segments fractional-odd spacing makes of `level`: the level rounded up to the next

@@ -350,6 +350,29 @@ pub struct Settings {
     pub tip_start: f32,
     /// The look.
     pub look: LookSettings,
+    /// Tessellation or mesh stages.
+    pub pipeline: GrassPipeline,
+}
+
+/// How the grass is drawn (`--pipeline`; `auto` is resolved against the device before
+/// it gets here).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[repr(u32)]
+pub enum GrassPipeline {
+    /// One patch per blade through the tessellator (the paper's way).
+    #[default]
+    Tess = crate::layout::PIPELINE_TESS,
+    /// Task and mesh stages building blade strips (`VK_EXT_mesh_shader`).
+    Mesh = crate::layout::PIPELINE_MESH,
+}
+
+impl GrassPipeline {
+    /// Both, in the order the viewer's key cycles them.
+    pub const ALL: [Self; 2] = [Self::Tess, Self::Mesh];
+    /// The next in [`Self::ALL`].
+    pub fn next(self) -> Self {
+        next_of(&Self::ALL, self)
+    }
 }
 
 impl Default for Settings {
@@ -390,6 +413,7 @@ impl Default for Settings {
             shape: BladeShape::Quadratic,
             tip_start: 0.5,
             look: LookSettings::default(),
+            pipeline: GrassPipeline::Tess,
         }
     }
 }
@@ -457,6 +481,8 @@ impl Settings {
                 shape: self.shape as u32,
                 tip_start: self.tip_start,
                 view: self.view as u32,
+                pipeline: self.pipeline as u32,
+                padding: [0; 3],
             },
             cull: CullParams {
                 orientation_threshold: cull.orientation_threshold,

@@ -77,13 +77,25 @@ pub fn artifact_dir() -> PathBuf {
 pub fn render_options(args: &[&str]) -> (runner::cli::Common, runner::cli::RenderArgs) {
     use clap::Parser;
     // The references before the natural look are the paper's: tests name the look
-    // they want, the paper's unless they say.
+    // they want, the paper's unless they say, and the pipeline, tessellation unless
+    // they say.
     let paper: &[&str] = if args.contains(&"--look") {
         &[]
     } else {
         &["--look", "paper"]
     };
-    let argv = ["grass", "render"].iter().chain(paper).chain(args);
+    // The references were drawn through the tessellator; tests of the mesh path name
+    // it.
+    let tess: &[&str] = if args.contains(&"--pipeline") {
+        &[]
+    } else {
+        &["--pipeline", "tess"]
+    };
+    let argv = ["grass", "render"]
+        .iter()
+        .chain(paper)
+        .chain(tess)
+        .chain(args);
     let cli = runner::cli::Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{args:?}: {e}"));
     match cli.command {
         Some(runner::cli::Command::Render(render)) => (cli.common, render),

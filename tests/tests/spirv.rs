@@ -165,6 +165,10 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::NATURAL_FS, ExecutionModel::Fragment),
         (shaders::TONEMAP_VS, ExecutionModel::Vertex),
         (shaders::TONEMAP_FS, ExecutionModel::Fragment),
+        (shaders::PAPER_TASK, ExecutionModel::TaskEXT),
+        (shaders::PAPER_MESH, ExecutionModel::MeshEXT),
+        (shaders::NATURAL_TASK, ExecutionModel::TaskEXT),
+        (shaders::NATURAL_MESH, ExecutionModel::MeshEXT),
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
@@ -184,6 +188,8 @@ fn stage_of(model: ExecutionModel) -> vk::ShaderStageFlags {
         ExecutionModel::TessellationControl => vk::ShaderStageFlags::TESSELLATION_CONTROL,
         ExecutionModel::TessellationEvaluation => vk::ShaderStageFlags::TESSELLATION_EVALUATION,
         ExecutionModel::Fragment => vk::ShaderStageFlags::FRAGMENT,
+        ExecutionModel::TaskEXT => vk::ShaderStageFlags::TASK_EXT,
+        ExecutionModel::MeshEXT => vk::ShaderStageFlags::MESH_EXT,
         other => panic!("unexpected stage {other:?}"),
     }
 }
@@ -332,6 +338,10 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
         (shaders::CLUMP_BLADES, layout::SIMULATE_WORKGROUP),
+        (shaders::PAPER_TASK, shared::meshlet::TASK_BLADES),
+        (shaders::NATURAL_TASK, shared::meshlet::TASK_BLADES),
+        (shaders::PAPER_MESH, shared::meshlet::MESH_THREADS),
+        (shaders::NATURAL_MESH, shared::meshlet::MESH_THREADS),
     ] {
         let m = module_of(name);
         let function = entry_points(&m)[name].2;
@@ -458,6 +468,8 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(GrassParams, shape),
                 offset_of!(GrassParams, tip_start),
                 offset_of!(GrassParams, view),
+                offset_of!(GrassParams, pipeline),
+                offset_of!(GrassParams, padding),
             ],
         ),
         (
@@ -529,4 +541,78 @@ fn frame_block_layout_matches_the_host_struct() {
         0,
         "the block's size is a whole number of vec4"
     );
+}
+
+/// The value of execution mode `mode` of `entry` in its module.
+fn execution_mode(m: &Module, entry: &str, mode: ExecutionMode) -> Option<u32> {
+    let function = entry_points(m)[entry].2;
+    m.execution_modes
+        .iter()
+        .find_map(|i| match i.operands.as_slice() {
+            [Operand::IdRef(f), Operand::ExecutionMode(found), rest @ ..]
+                if *f == function && *found == mode =>
+            {
+                Some(match rest.first() {
+                    Some(Operand::LiteralBit32(x)) => *x,
+                    _ => 1,
+                })
+            }
+            _ => None,
+        })
+}
+
+#[test]
+fn mesh_stages_declare_the_meshlet_limits() {
+    use shared::meshlet::{MESHLET_TRIANGLES, MESHLET_VERTICES};
+    for name in [shaders::PAPER_MESH, shaders::NATURAL_MESH] {
+        let m = module_of(name);
+        let vertices = execution_mode(&m, name, ExecutionMode::OutputVertices);
+        let triangles = execution_mode(&m, name, ExecutionMode::OutputPrimitivesEXT);
+        assert_eq!(vertices, Some(MESHLET_VERTICES), "{name}: output vertices");
+        assert_eq!(
+            triangles,
+            Some(MESHLET_TRIANGLES),
+            "{name}: output triangles"
+        );
+        assert!(execution_mode(&m, name, ExecutionMode::OutputTrianglesEXT).is_some());
+    }
+}
+
+/// Every path through a task stage reaches `OpEmitMeshTasksEXT`: rust-gpu turns a
+/// panic (a bounds check, `clamp`'s check) into an early return, and lavapipe then
+/// launches nothing for the workgroup (`shared::meshlet`).
+#[test]
+fn task_stages_have_no_path_around_the_launch() {
+    for name in [shaders::PAPER_TASK, shaders::NATURAL_TASK] {
+        let m = module_of(name);
+        let ops: Vec<Op> = m
+            .functions
+            .iter()
+            .flat_map(|f| &f.blocks)
+            .flat_map(|b| &b.instructions)
+            .map(|i| i.class.opcode)
+            .collect();
+        let returns = ops.iter().filter(|&&o| o == Op::Return).count();
+        assert_eq!(returns, 0, "{name}: {returns} returns before the launch");
+        assert!(ops.contains(&Op::EmitMeshTasksEXT), "{name}: no launch");
+    }
+}
+
+/// Only the task and mesh modules declare the mesh-shading capability, so a device
+/// without mesh shaders accepts every other module.
+#[test]
+fn only_mesh_modules_need_mesh_shading() {
+    use rspirv::spirv::Capability;
+    for (name, m) in modules() {
+        let stage = entry_points(&m)[name].0;
+        let meshy = matches!(stage, ExecutionModel::TaskEXT | ExecutionModel::MeshEXT);
+        let declares = m
+            .capabilities
+            .iter()
+            .any(|i| i.operands.first() == Some(&Operand::Capability(Capability::MeshShadingEXT)));
+        assert_eq!(
+            declares, meshy,
+            "{name}: MeshShadingEXT declared {declares}"
+        );
+    }
 }

@@ -13,12 +13,12 @@ pub mod soak;
 pub mod storm;
 pub mod viewer;
 
-use crate::cli::{Cli, Command, Common};
+use crate::cli::{Cli, Command, Common, PipelineChoice};
 use crate::field::Field;
 use crate::scene::{BladeCount, Scene, SceneFile};
 use crate::vulkan::Context;
 use anyhow::Result;
-use shared::settings::Settings;
+use shared::settings::{GrassPipeline, Settings};
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -140,7 +140,7 @@ pub fn prepare(
     }
     log::info!("scene {}: {} blades", scene.name, scene.blade_count());
     let mut settings = settings(common, &scene);
-    device_defaults(&mut settings, common, ctx);
+    device_defaults(&mut settings, common, ctx)?;
     Ok((scene, settings))
 }
 
@@ -178,16 +178,42 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s
 }
 
-/// What the command line leaves to the device: samples per pixel ([`msaa`]) and sun
+/// What the command line leaves to the device: the grass pipeline
+/// ([`grass_pipeline`]), samples per pixel ([`msaa`]) and sun
 /// shadows (`--shadows`, `--no-shadows`, else on a GPU only: lavapipe spends about a
 /// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
-pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) {
+pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) -> Result<()> {
+    settings.pipeline = grass_pipeline(common.pipeline, ctx)?;
     settings.look.msaa = msaa(common, ctx);
     settings.look.shadows = if common.no_shadows {
         false
     } else {
         common.shadows || !ctx.is_software()
     };
+    Ok(())
+}
+
+/// The grass pipeline `choice` names on `ctx`: `mesh` is an error naming what the
+/// device lacks; `auto` takes mesh stages where the device has them and says which it
+/// took.
+pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context) -> Result<GrassPipeline> {
+    let missing = ctx.mesh_shader_missing.as_deref();
+    let pipeline = match (choice, missing) {
+        (PipelineChoice::Tess, _) => GrassPipeline::Tess,
+        (PipelineChoice::Mesh, None) => GrassPipeline::Mesh,
+        (PipelineChoice::Mesh, Some(why)) => {
+            anyhow::bail!("--pipeline mesh: {why} (use --pipeline tess or auto)")
+        }
+        (PipelineChoice::Auto, None) => GrassPipeline::Mesh,
+        (PipelineChoice::Auto, Some(why)) => {
+            log::info!("grass pipeline: tessellation ({why})");
+            GrassPipeline::Tess
+        }
+    };
+    if choice != PipelineChoice::Auto || missing.is_none() {
+        log::info!("grass pipeline: {pipeline:?}");
+    }
+    Ok(pipeline)
 }
 
 /// Samples per pixel: `--msaa`, else the device's default.

@@ -3,7 +3,7 @@
 
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
-use shared::settings::{BladeShape, Look, Settings, View, WindField};
+use shared::settings::{BladeShape, GrassPipeline, Look, Settings, View, WindField};
 use std::collections::VecDeque;
 use winit::event::WindowEvent;
 use winit::window::Window;
@@ -225,7 +225,7 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
     egui::CollapsingHeader::new("Culling (keys 1-4)")
         .default_open(true)
         .show(ui, |ui| culling(ui, s));
-    egui::CollapsingHeader::new("Level of detail and view")
+    egui::CollapsingHeader::new("Pipeline, level of detail and view")
         .default_open(false)
         .show(ui, |ui| detail(ui, s));
     egui::CollapsingHeader::new("Wind, forces, shape, ball")
@@ -294,6 +294,11 @@ fn culling(ui: &mut egui::Ui, s: &mut Settings) {
 }
 
 fn detail(ui: &mut egui::Ui, s: &mut Settings) {
+    ui.horizontal(|ui| {
+        ui.label("pipeline (P)");
+        ui.radio_value(&mut s.pipeline, GrassPipeline::Tess, "tessellation");
+        ui.radio_value(&mut s.pipeline, GrassPipeline::Mesh, "mesh");
+    });
     let lod = &mut s.lod;
     ui.checkbox(&mut lod.on, "level of detail (L)");
     ui.add(egui::Slider::new(&mut lod.most, 1.0..=shared::lod::MAX_LEVEL).text("level near"));

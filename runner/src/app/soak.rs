@@ -1,7 +1,6 @@
 //! `grass soak`: thousands of frames headless with the validation layer on, every
 //! switch cycled (culling tests, LOD, view, wind, blade shape, look, MSAA, shadows,
-//! frame times from 0.1 ms
-//! to 2 s, two image sizes), a ball circling through the grass; it reads host and
+//! pipeline, frame times from 0.1 ms to 2 s, two image sizes), a ball circling through the grass; it reads host and
 //! device memory as it goes and fails unless both stay flat and the layer says nothing.
 
 use super::driver::{Frame, FrameDriver};
@@ -12,7 +11,7 @@ use crate::collider::Ball;
 use crate::renderer::Renderer;
 use anyhow::{Result, bail};
 use glam::{Vec2, Vec3Swizzles};
-use shared::settings::{BladeShape, CullTests, Look, Settings, View, WindField};
+use shared::settings::{BladeShape, CullTests, GrassPipeline, Look, Settings, View, WindField};
 
 /// Phases (changes of the switches) between two memory readings.
 pub const PHASES_PER_READING: u32 = 4;
@@ -154,6 +153,11 @@ pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     s.look.style = Look::ALL[(p / 2) % 2];
     s.look.msaa = if p % 2 == 1 { 4 } else { 1 };
     s.look.shadows = (p / 4).is_multiple_of(2);
+    // Both pipelines (the renderer draws tessellation where the device has no mesh
+    // stages); the readings' phases keep one.
+    if p % 4 != 3 {
+        s.pipeline = GrassPipeline::ALL[(p / 4) % 2];
+    }
     s
 }
 

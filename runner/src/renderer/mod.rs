@@ -56,9 +56,8 @@ pub(crate) const FRAME_STAGES: S = S::from_raw(
 /// Every shader stage a frame runs.
 const SHADER_STAGES: S = S::from_raw(
     S::COMPUTE_SHADER.as_raw()
-        | S::VERTEX_SHADER.as_raw()
-        | S::TESSELLATION_CONTROL_SHADER.as_raw()
-        | S::TESSELLATION_EVALUATION_SHADER.as_raw()
+        // Vertex, tessellation and, where the device has them, task and mesh.
+        | S::PRE_RASTERIZATION_SHADERS.as_raw()
         | S::FRAGMENT_SHADER.as_raw(),
 );
 
@@ -441,7 +440,8 @@ impl Renderer {
             rec.begin_query(pool);
         }
         let (view, style) = (uniforms.grass.view, uniforms.look.style);
-        self.grass.record(rec, &self.field, view, style);
+        let pipeline = uniforms.grass.pipeline;
+        self.grass.record(rec, &self.field, view, style, pipeline);
         if let Some(pool) = triangles {
             rec.end_query(pool);
         }

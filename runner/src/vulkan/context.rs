@@ -92,6 +92,11 @@ pub struct Context {
     pub timestamp_bits: u32,
     /// Pipeline statistics queries are enabled (the device has them).
     pub pipeline_statistics: bool,
+    /// `VK_EXT_mesh_shader`'s commands, when the device has task and mesh stages
+    /// within the limits the mesh path needs (and they are enabled).
+    pub mesh_shader: Option<ext::mesh_shader::Device>,
+    /// Why there is no mesh shader support, when there is none.
+    pub mesh_shader_missing: Option<String>,
     /// Surface of the window, when there is one.
     pub surface: Option<vk::SurfaceKHR>,
     /// Surface functions.
@@ -190,13 +195,18 @@ impl Context {
         let pipeline_statistics = unsafe { instance.get_physical_device_features(physical) }
             .pipeline_statistics_query
             == vk::TRUE;
+        let mesh_support = mesh_shader_support(&instance, physical);
         let device = create_device(
             &instance,
             physical,
             queue_family,
             surface.is_some(),
             pipeline_statistics,
+            mesh_support.is_ok(),
         )?;
+        let mesh_shader = mesh_support
+            .is_ok()
+            .then(|| ext::mesh_shader::Device::new(&instance, &device));
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let timestamp_bits = unsafe {
             instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
@@ -223,6 +233,8 @@ impl Context {
             queue_family,
             timestamp_bits,
             pipeline_statistics,
+            mesh_shader,
+            mesh_shader_missing: mesh_support.err(),
             surface,
             surface_fn,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
@@ -440,12 +452,79 @@ fn pick_device(
     }
 }
 
+/// `Ok` when `physical` has `VK_EXT_mesh_shader` with task and mesh stages and the
+/// limits the mesh path's stages declare (`shared::meshlet`); else what is missing.
+fn mesh_shader_support(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> Result<(), String> {
+    use shared::meshlet::{BladeGroup, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES};
+    use shared::meshlet::{TASK_BLADES, TASK_GRID_WIDTH};
+    let name = ext::mesh_shader::NAME;
+    let extensions =
+        unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
+    let listed = extensions
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(name));
+    if !listed || super::fault::feature_removed("meshShader") {
+        return Err(format!("the device has no {}", name.to_string_lossy()));
+    }
+    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut mesh);
+    unsafe { instance.get_physical_device_features2(physical, &mut features) };
+    if mesh.task_shader == vk::FALSE || mesh.mesh_shader == vk::FALSE {
+        return Err("VK_EXT_mesh_shader without task and mesh stages".into());
+    }
+    let mut limits = vk::PhysicalDeviceMeshShaderPropertiesEXT::default();
+    let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut limits);
+    unsafe { instance.get_physical_device_properties2(physical, &mut props) };
+    let needs = [
+        (
+            "maxMeshOutputVertices",
+            limits.max_mesh_output_vertices,
+            MESHLET_VERTICES,
+        ),
+        (
+            "maxMeshOutputPrimitives",
+            limits.max_mesh_output_primitives,
+            MESHLET_TRIANGLES,
+        ),
+        (
+            "maxMeshWorkGroupInvocations",
+            limits.max_mesh_work_group_invocations,
+            MESH_THREADS,
+        ),
+        (
+            "maxTaskWorkGroupInvocations",
+            limits.max_task_work_group_invocations,
+            TASK_BLADES,
+        ),
+        (
+            "maxTaskPayloadSize",
+            limits.max_task_payload_size,
+            size_of::<BladeGroup>() as u32,
+        ),
+        (
+            "maxTaskWorkGroupCount[0]",
+            limits.max_task_work_group_count[0],
+            TASK_GRID_WIDTH,
+        ),
+    ];
+    match needs.iter().find(|(_, has, need)| has < need) {
+        Some((limit, has, need)) => {
+            Err(format!("mesh shader limit {limit} is {has}, {need} needed"))
+        }
+        None => Ok(()),
+    }
+}
+
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
     queue_family: u32,
     present: bool,
     pipeline_statistics: bool,
+    mesh_shader: bool,
 ) -> Result<ash::Device> {
     let priorities = [1.0];
     let queues = [vk::DeviceQueueCreateInfo::default()
@@ -462,17 +541,25 @@ fn create_device(
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true);
-    let extensions = if present {
-        vec![khr::swapchain::NAME.as_ptr()]
-    } else {
-        Vec::new()
-    };
-    let info = vk::DeviceCreateInfo::default()
+    let mut extensions = Vec::new();
+    if present {
+        extensions.push(khr::swapchain::NAME.as_ptr());
+    }
+    if mesh_shader {
+        extensions.push(ext::mesh_shader::NAME.as_ptr());
+    }
+    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default()
+        .task_shader(true)
+        .mesh_shader(true);
+    let mut info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&core)
         .enabled_extension_names(&extensions)
         .push_next(&mut v12)
         .push_next(&mut v13);
+    if mesh_shader {
+        info = info.push_next(&mut mesh);
+    }
     unsafe { instance.create_device(physical, &info, None) }.context("create Vulkan device")
 }
 

@@ -199,8 +199,6 @@ impl Pipeline {
             .depth_attachment_format(desc.depth_format);
         let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
-            .vertex_input_state(&vertex_input)
-            .input_assembly_state(&input_assembly)
             .viewport_state(&viewport)
             .rasterization_state(&raster)
             .multisample_state(&multisample)
@@ -211,6 +209,16 @@ impl Pipeline {
             .push_next(&mut rendering);
         if desc.patch_control_points > 0 {
             info = info.tessellation_state(&tessellation);
+        }
+        // Mesh pipelines have no vertex input or input assembly.
+        let mesh = desc
+            .stages
+            .iter()
+            .any(|(stage, _)| stage.contains(vk::ShaderStageFlags::MESH_EXT));
+        if !mesh {
+            info = info
+                .vertex_input_state(&vertex_input)
+                .input_assembly_state(&input_assembly);
         }
         let pipeline = unsafe {
             ctx.device

@@ -349,6 +349,17 @@ impl<'a> Recorder<'a> {
                 .cmd_draw_indirect(self.cmd, buffer, 0, count, stride)
         };
     }
+
+    /// Launches the task workgroups of the one `VkDrawMeshTasksIndirectCommandEXT` at
+    /// the start of `buffer`.
+    pub fn draw_mesh_tasks_indirect(
+        &self,
+        mesh: &ash::ext::mesh_shader::Device,
+        buffer: vk::Buffer,
+    ) {
+        let stride = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32;
+        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, 0, 1, stride) };
+    }
 }
 
 /// The `extent` at `offset` of mip level 0, layer 0 of an image's `aspect`, to or from

@@ -101,7 +101,16 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     } else {
         args.looks.clone()
     };
-    let total = counts.len() * configs.len() * looks.len();
+    let pipelines = if args.pipelines.is_empty() {
+        vec![common.pipeline]
+    } else {
+        args.pipelines.clone()
+    };
+    let pipelines = pipelines
+        .into_iter()
+        .map(|choice| super::grass_pipeline(choice, &ctx))
+        .collect::<Result<Vec<_>>>()?;
+    let total = counts.len() * configs.len() * looks.len() * pipelines.len();
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut points = Vec::new();
     let mut references = References::default();
@@ -122,7 +131,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             |_| Ok(()),
         )?;
         let mut base = super::settings(common, &scene);
-        super::device_defaults(&mut base, common, &ctx);
+        super::device_defaults(&mut base, common, &ctx)?;
         let camera = camera(&scene, args.camera);
         let eye = camera.viewpoint(offscreen.size());
         for &look in &looks {
@@ -136,29 +145,43 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 (Look::Paper, None) => 1,
                 _ => base.look.msaa,
             };
-            let uniforms = |config| {
+            let uniforms = |config, pipeline| {
                 let mut settings = base;
                 settings.look.style = look;
                 settings.look.msaa = msaa;
+                settings.pipeline = pipeline;
                 configure(&mut settings, config);
                 settings.uniforms(&eye, scene.blade_count(), &[])
             };
             let first = points.len();
             for &config in &configs {
-                let what = format!("{config:?}, {look:?} look, at {n} blades");
-                progress.show(points.len(), &what);
-                let frames = (&mut driver, &mut offscreen);
-                let mut point = measure(frames, uniforms(config), args, config, n)?;
-                point.look = look;
-                point.samples = ctx.supported_samples(msaa);
-                points.push(point);
+                for &pipeline in &pipelines {
+                    let what = format!("{config:?}, {look:?} look, {pipeline:?}, at {n} blades");
+                    progress.show(points.len(), &what);
+                    let frames = (&mut driver, &mut offscreen);
+                    let mut point = measure(frames, uniforms(config, pipeline), args, config, n)?;
+                    point.look = look;
+                    point.pipeline = pipeline;
+                    point.samples = ctx.supported_samples(msaa);
+                    points.push(point);
+                }
             }
             // The blades as the sweep left them, without culling or LOD, then each
             // configuration in the same state.
-            unculled = still(&mut driver, &mut offscreen, uniforms(BenchConfig::None))?;
+            let unculled_by: Vec<_> = pipelines
+                .iter()
+                .map(|&p| still(&mut driver, &mut offscreen, uniforms(BenchConfig::None, p)))
+                .collect::<Result<_>>()?;
+            unculled = unculled_by[0].clone();
             for point in &mut points[first..] {
-                view = still(&mut driver, &mut offscreen, uniforms(point.config))?;
-                point.difference = mean_difference(&view, &unculled);
+                view = still(
+                    &mut driver,
+                    &mut offscreen,
+                    uniforms(point.config, point.pipeline),
+                )?;
+                let at = pipelines.iter().position(|&p| p == point.pipeline);
+                let unculled = &unculled_by[at.unwrap_or(0)];
+                point.difference = mean_difference(&view, unculled);
             }
             if Some(&n) == counts.last() && look == looks[0] {
                 progress.show(points.len(), "references");
@@ -178,10 +201,10 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         "{device}, {}x{}, camera {:?}",
         args.width, args.height, args.camera
     );
-    // The charts show the first look's points.
+    // The charts show the first look's and pipeline's points.
     let charted: Vec<Point> = points
         .iter()
-        .filter(|p| p.look == looks[0])
+        .filter(|p| p.look == looks[0] && p.pipeline == pipelines[0])
         .cloned()
         .collect();
     let mut written = charts::write(&args.out, &title, &charted).context("draw the charts")?;
@@ -234,6 +257,7 @@ fn measure(
     let pass = |f: fn(&PassTimes) -> f64| Spread::of(&times.iter().map(f).collect::<Vec<_>>());
     Ok(Point {
         look: shared::settings::Look::default(),
+        pipeline: Default::default(),
         samples: 1,
         config,
         blades,

@@ -57,8 +57,9 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
         args.width, args.height, args.camera, args.frames
     );
     println!(
-        "{:<8} {:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6}",
+        "{:<8} {:<5} {:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6} {:>8}",
         "look",
+        "pipe",
         "config",
         "blades",
         "drawn",
@@ -67,13 +68,15 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
         "grass ms",
         "GPU frame ms",
         "CPU frame ms",
-        "diff"
+        "diff",
+        "ns/blade"
     );
     let cell = |s: Spread| format!("{:.3} ({:.3})", s.median, s.p95);
     for p in points {
         println!(
-            "{:<8} {:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2}",
+            "{:<8} {:<5} {:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2} {:>8.2}",
             format!("{:?}", p.look),
+            format!("{:?}", p.pipeline).to_lowercase(),
             format!("{:?}", p.config),
             p.blades,
             p.drawn,
@@ -82,9 +85,15 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
             cell(p.grass),
             cell(p.gpu),
             cell(p.cpu),
-            p.difference
+            p.difference,
+            ns_per_drawn_blade(p)
         );
     }
+}
+
+/// The grass pass's median time per drawn blade, in nanoseconds.
+pub fn ns_per_drawn_blade(p: &Point) -> f64 {
+    p.grass.median * 1e6 / p.drawn.max(1.0)
 }
 
 /// With both looks measured: for each count and configuration, the natural look's GPU
@@ -98,7 +107,10 @@ pub fn print_looks(points: &[Point]) {
             points
                 .iter()
                 .find(|n| {
-                    n.look == Look::Natural && n.config == paper.config && n.blades == paper.blades
+                    n.look == Look::Natural
+                        && n.config == paper.config
+                        && n.blades == paper.blades
+                        && n.pipeline == paper.pipeline
                 })
                 .map(|natural| (paper, natural))
         })
@@ -155,7 +167,8 @@ pub fn write_csv(
          uploads_pyramid_ms_median,simulate_cull_ms_median,simulate_cull_ms_p95,\
          ground_ms_median,grass_ms_median,grass_ms_p95,triangles,mean_difference,\
          simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms,\
-         look,msaa,shadow_ms_median,resolve_ms_median,tone_map_ms_median\n",
+         look,msaa,shadow_ms_median,resolve_ms_median,tone_map_ms_median,pipeline,\
+         grass_ns_per_drawn_blade\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -165,7 +178,7 @@ pub fn write_csv(
             .filter(|_| r.triangles_per_s > 0.0)
             .map(|t| r.grass_ms(p.drawn, t));
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{:.3}\n",
             common.scene,
             args.camera,
             args.width,
@@ -194,6 +207,8 @@ pub fn write_csv(
             p.shadow.median,
             p.resolve.median,
             p.tone_map.median,
+            format!("{:?}", p.pipeline).to_lowercase(),
+            ns_per_drawn_blade(p),
         );
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {

@@ -39,6 +39,8 @@ impl Spread {
 pub struct Point {
     /// The look.
     pub look: Look,
+    /// The grass pipeline.
+    pub pipeline: shared::settings::GrassPipeline,
     /// Samples per pixel.
     pub samples: u32,
     /// Configuration.

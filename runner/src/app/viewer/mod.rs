@@ -66,7 +66,7 @@ pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: 
 arrows: roll the ball, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
-N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, O: overlay on/off, Esc: quit";
+N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, P: pipeline (tessellation, mesh), O: overlay on/off, Esc: quit";
 
 /// Arrow keys held down.
 #[derive(Default)]
@@ -404,6 +404,10 @@ impl Running {
                 "h" | "H" => {
                     s.look.shadows = !s.look.shadows;
                     log::info!("shadows {}", if s.look.shadows { "on" } else { "off" });
+                }
+                "p" | "P" => {
+                    s.pipeline = s.pipeline.next();
+                    log::info!("grass pipeline: {:?}", s.pipeline);
                 }
                 "m" | "M" => {
                     let choices = crate::app::overlay::MSAA_CHOICES;

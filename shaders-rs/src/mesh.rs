@@ -1,0 +1,210 @@
+//! The mesh-shader grass pipelines (`--pipeline mesh`): task stages that take 32
+//! visible blades each, set their level of detail, drop what the look leaves out and
+//! pack the rest into meshlets (`shared::meshlet`); mesh stages that build each
+//! blade's strip from `shared`'s Bezier and shape functions, exactly 2N triangles for
+//! N segments, with the varyings of the tessellation path, so both paths share their
+//! fragment stages (`grass::grass_fs`, `grass::natural_fs`).
+//!
+//! Output sizes are literals here (rust-gpu attributes take no constants): 64 vertices
+//! and 62 triangles, `shared::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
+//! test reflects the modules to check that they agree.
+
+use crate::grass::level_of;
+use shared::Blade;
+use shared::layout::{COUNTER_VISIBLE, FrameUniforms};
+use shared::look::{DressedBlade, unpack_coverage};
+use shared::meshlet::{
+    BladeGroup, MESH_THREADS, TASK_BLADES, meshlet_extent, owner, strip_coord, strip_segments,
+    strip_triangle,
+};
+use shared::shape::surface_point;
+use spirv_std::arch::{
+    IndexUnchecked, emit_mesh_tasks_ext_payload, set_mesh_outputs_ext,
+    workgroup_memory_barrier_with_group_sync,
+};
+use spirv_std::glam::{UVec3, Vec3, Vec4};
+use spirv_std::spirv;
+
+/// The visible list's slot this task invocation takes, from the task grid of
+/// `shared::meshlet::task_grid`.
+fn task_slot(group: UVec3, groups: UVec3, lane: u32) -> u32 {
+    (group.y * groups.x + group.x) * TASK_BLADES + lane
+}
+
+/// Records one blade of the group (0 segments drops it), packs the group once every
+/// invocation has, and launches one mesh workgroup per meshlet.
+/// No panic path may lead here (`shared::meshlet`): task stages index without bounds
+/// checks.
+fn launch(payload: &mut BladeGroup, lane: u32, slot: u32, level: f32, segments: u32) -> ! {
+    payload.set(lane, slot, level, segments);
+    workgroup_memory_barrier_with_group_sync();
+    // One invocation packs for the workgroup; every one launches the same count.
+    if lane == 0 {
+        payload.pack(TASK_BLADES);
+    }
+    workgroup_memory_barrier_with_group_sync();
+    let meshlets = payload.meshlets;
+    unsafe { emit_mesh_tasks_ext_payload(meshlets, 1, 1, payload) }
+}
+
+/// The paper look's task stage: the stored blade's level of detail.
+#[allow(clippy::too_many_arguments)]
+#[spirv(task_ext(threads(32)))]
+pub fn paper_task(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(task_payload_workgroup_ext)] payload: &mut BladeGroup,
+) {
+    let slot = task_slot(group, groups, lane);
+    let (mut index, mut level, mut segments) = (0, 1.0, 0);
+    // SAFETY: the counter is in the buffer, visible slots below it hold blade indices.
+    unsafe {
+        if slot < *counters.index_unchecked(COUNTER_VISIBLE) {
+            index = *visible.index_unchecked(slot as usize);
+            level = level_of(blades.index_unchecked(index as usize), frame);
+            segments = strip_segments(level);
+        }
+    }
+    launch(payload, lane, index, level, segments)
+}
+
+/// The natural look's task stage: the dressed blade's level of detail; a thin blade
+/// its coverage leaves out (`shared::look::dress`) is dropped.
+#[allow(clippy::too_many_arguments)]
+#[spirv(task_ext(threads(32)))]
+pub fn natural_task(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
+    #[spirv(task_payload_workgroup_ext)] payload: &mut BladeGroup,
+) {
+    let slot = task_slot(group, groups, lane);
+    let (mut level, mut segments) = (1.0, 0);
+    // SAFETY: the counter is in the buffer, each visible slot has its dressed blade.
+    unsafe {
+        if slot < *counters.index_unchecked(COUNTER_VISIBLE) {
+            let drawn = dressed.index_unchecked(slot as usize);
+            level = level_of(&drawn.blade, frame);
+            let (mask, _) = unpack_coverage(drawn.tint.w);
+            if mask != 0 {
+                segments = strip_segments(level);
+            }
+        }
+    }
+    launch(payload, lane, slot, level, segments)
+}
+
+/// Vertex `i` of the meshlet (first, end) in `payload`: (blade, (u, v), level).
+fn vertex_of(payload: &BladeGroup, first: u32, end: u32, i: u32) -> (usize, f32, f32, f32) {
+    let (b, base) = owner(payload, first, end, i, false);
+    let level = payload.levels[b as usize];
+    let (u, v) = strip_coord(i - base, level);
+    (b as usize, u, v, level)
+}
+
+/// Triangle `t` of the meshlet (first, end): its indices. A blade's first vertex is
+/// its first triangle plus 2 per blade before it (each strip has 2 more vertices
+/// than triangles).
+fn triangle_of(payload: &BladeGroup, first: u32, end: u32, t: u32) -> UVec3 {
+    let (b, base) = owner(payload, first, end, t, true);
+    strip_triangle(t - base, base + 2 * (b - first))
+}
+
+/// The paper look's mesh stage: each blade of the meshlet as a strip, with the
+/// tessellation evaluation stage's varyings.
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 64,
+    output_primitives_ext = 62,
+    output_triangles_ext
+))]
+pub fn paper_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(task_payload_workgroup_ext)] payload: &BladeGroup,
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 62],
+    #[spirv(position)] out_position: &mut [Vec4; 64],
+    out_normal: &mut [Vec3; 64],
+    out_world: &mut [Vec3; 64],
+    out_uv_level: &mut [Vec3; 64],
+) {
+    let (first, end, vertices, triangles) = meshlet_extent(payload, group.x);
+    unsafe { set_mesh_outputs_ext(vertices, triangles) };
+    let grass = &frame.grass;
+    let mut i = lane;
+    while i < vertices {
+        let (b, u, v, level) = vertex_of(payload, first, end, i);
+        let blade = &blades[payload.slots[b] as usize];
+        let p = surface_point(blade, u, v, grass.shape, grass.tip_start);
+        let k = i as usize;
+        out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
+        out_normal[k] = p.normal;
+        out_world[k] = p.position;
+        out_uv_level[k] = Vec3::new(u, v, level);
+        i += MESH_THREADS;
+    }
+    let mut t = lane;
+    while t < triangles {
+        indices[t as usize] = triangle_of(payload, first, end, t);
+        t += MESH_THREADS;
+    }
+}
+
+/// The natural look's mesh stage: each dressed blade of the meshlet as a strip, with
+/// the natural tessellation evaluation stage's varyings (tint and width direction the
+/// same at every vertex of a blade, read flat).
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 64,
+    output_primitives_ext = 62,
+    output_triangles_ext
+))]
+pub fn natural_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
+    #[spirv(task_payload_workgroup_ext)] payload: &BladeGroup,
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 62],
+    #[spirv(position)] out_position: &mut [Vec4; 64],
+    out_normal: &mut [Vec3; 64],
+    out_world: &mut [Vec3; 64],
+    out_uv_level: &mut [Vec3; 64],
+    #[spirv(flat)] out_tint: &mut [Vec4; 64],
+    #[spirv(flat)] out_width_dir: &mut [Vec3; 64],
+) {
+    let (first, end, vertices, triangles) = meshlet_extent(payload, group.x);
+    unsafe { set_mesh_outputs_ext(vertices, triangles) };
+    let grass = &frame.grass;
+    let mut i = lane;
+    while i < vertices {
+        let (b, u, v, level) = vertex_of(payload, first, end, i);
+        let drawn = &dressed[payload.slots[b] as usize];
+        let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
+        let k = i as usize;
+        out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
+        out_normal[k] = p.normal;
+        out_world[k] = p.position;
+        out_uv_level[k] = Vec3::new(u, v, level);
+        out_tint[k] = drawn.tint;
+        out_width_dir[k] = p.width_dir;
+        i += MESH_THREADS;
+    }
+    let mut t = lane;
+    while t < triangles {
+        indices[t as usize] = triangle_of(payload, first, end, t);
+        t += MESH_THREADS;
+    }
+}

@@ -103,6 +103,8 @@ fn the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back() {
             "--out",
             &out,
         ];
+        // The fallback is said at the info level.
+        let env = [env[0], ("RUST_LOG", "info")];
         let o = grass_with(&args, &env);
         (o.status.code(), stderr_of(&args, &o))
     };

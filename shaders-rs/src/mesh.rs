@@ -14,8 +14,8 @@ use shared::Blade;
 use shared::layout::{COUNTER_VISIBLE, FrameUniforms};
 use shared::look::{DressedBlade, unpack_coverage};
 use shared::meshlet::{
-    BladeGroup, MESH_THREADS, TASK_BLADES, meshlet_extent, owner, strip_coord, strip_segments,
-    strip_triangle,
+    BladeGroup, MESH_THREADS, TASK_BLADES, meshlet_extent, strip_coord, strip_segments,
+    strip_triangle, strip_triangles, strip_vertices, vertex_base,
 };
 use shared::shape::surface_point;
 use spirv_std::arch::{
@@ -102,20 +102,47 @@ pub fn natural_task(
     launch(payload, lane, slot, level, segments)
 }
 
-/// Vertex `i` of the meshlet (first, end) in `payload`: (blade, (u, v), level).
-fn vertex_of(payload: &BladeGroup, first: u32, end: u32, i: u32) -> (usize, f32, f32, f32) {
-    let (b, base) = owner(payload, first, end, i, false);
-    let level = payload.levels[b as usize];
-    let (u, v) = strip_coord(i - base, level);
-    (b as usize, u, v, level)
+/// Each blade of meshlet `group.x` takes an invocation, which marks its vertices in
+/// `owners` (blade | row-and-side << 8) and writes its triangles; after the barrier
+/// every invocation finds its vertices' blades in one read. Returns (vertices,
+/// triangles), their counts already set.
+fn mark_blades(
+    payload: &BladeGroup,
+    group: UVec3,
+    lane: u32,
+    owners: &mut [u32; 64],
+    indices: &mut [UVec3; 62],
+) -> u32 {
+    let (first, end, vertices, triangles) = meshlet_extent(payload, group.x);
+    unsafe { set_mesh_outputs_ext(vertices, triangles) };
+    let b = first + lane;
+    if b < end {
+        let base = vertex_base(payload, first, b);
+        let segments = payload.segments[b as usize];
+        let mut k = 0;
+        while k < strip_vertices(segments) {
+            owners[(base + k) as usize] = b | (k << 8);
+            k += 1;
+        }
+        // Each strip has 2 more vertices than triangles.
+        let triangle_base = base - 2 * (b - first);
+        let mut t = 0;
+        while t < strip_triangles(segments) {
+            indices[(triangle_base + t) as usize] = strip_triangle(t, base);
+            t += 1;
+        }
+    }
+    workgroup_memory_barrier_with_group_sync();
+    vertices
 }
 
-/// Triangle `t` of the meshlet (first, end): its indices. A blade's first vertex is
-/// its first triangle plus 2 per blade before it (each strip has 2 more vertices
-/// than triangles).
-fn triangle_of(payload: &BladeGroup, first: u32, end: u32, t: u32) -> UVec3 {
-    let (b, base) = owner(payload, first, end, t, true);
-    strip_triangle(t - base, base + 2 * (b - first))
+/// Vertex `i` of the marked meshlet: (blade, (u, v), level).
+fn vertex_of(payload: &BladeGroup, owners: &[u32; 64], i: u32) -> (usize, f32, f32, f32) {
+    let owner = owners[i as usize];
+    let b = (owner & 0xff) as usize;
+    let level = payload.levels[b];
+    let (u, v) = strip_coord(owner >> 8, level);
+    (b, u, v, level)
 }
 
 /// The paper look's mesh stage: each blade of the meshlet as a strip, with the
@@ -133,18 +160,18 @@ pub fn paper_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
     #[spirv(task_payload_workgroup_ext)] payload: &BladeGroup,
+    #[spirv(workgroup)] owners: &mut [u32; 64],
     #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 62],
     #[spirv(position)] out_position: &mut [Vec4; 64],
     out_normal: &mut [Vec3; 64],
     out_world: &mut [Vec3; 64],
     out_uv_level: &mut [Vec3; 64],
 ) {
-    let (first, end, vertices, triangles) = meshlet_extent(payload, group.x);
-    unsafe { set_mesh_outputs_ext(vertices, triangles) };
+    let vertices = mark_blades(payload, group, lane, owners, indices);
     let grass = &frame.grass;
     let mut i = lane;
     while i < vertices {
-        let (b, u, v, level) = vertex_of(payload, first, end, i);
+        let (b, u, v, level) = vertex_of(payload, owners, i);
         let blade = &blades[payload.slots[b] as usize];
         let p = surface_point(blade, u, v, grass.shape, grass.tip_start);
         let k = i as usize;
@@ -153,11 +180,6 @@ pub fn paper_mesh(
         out_world[k] = p.position;
         out_uv_level[k] = Vec3::new(u, v, level);
         i += MESH_THREADS;
-    }
-    let mut t = lane;
-    while t < triangles {
-        indices[t as usize] = triangle_of(payload, first, end, t);
-        t += MESH_THREADS;
     }
 }
 
@@ -177,6 +199,7 @@ pub fn natural_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(task_payload_workgroup_ext)] payload: &BladeGroup,
+    #[spirv(workgroup)] owners: &mut [u32; 64],
     #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 62],
     #[spirv(position)] out_position: &mut [Vec4; 64],
     out_normal: &mut [Vec3; 64],
@@ -185,12 +208,11 @@ pub fn natural_mesh(
     #[spirv(flat)] out_tint: &mut [Vec4; 64],
     #[spirv(flat)] out_width_dir: &mut [Vec3; 64],
 ) {
-    let (first, end, vertices, triangles) = meshlet_extent(payload, group.x);
-    unsafe { set_mesh_outputs_ext(vertices, triangles) };
+    let vertices = mark_blades(payload, group, lane, owners, indices);
     let grass = &frame.grass;
     let mut i = lane;
     while i < vertices {
-        let (b, u, v, level) = vertex_of(payload, first, end, i);
+        let (b, u, v, level) = vertex_of(payload, owners, i);
         let drawn = &dressed[payload.slots[b] as usize];
         let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
         let k = i as usize;
@@ -201,10 +223,5 @@ pub fn natural_mesh(
         out_tint[k] = drawn.tint;
         out_width_dir[k] = p.width_dir;
         i += MESH_THREADS;
-    }
-    let mut t = lane;
-    while t < triangles {
-        indices[t as usize] = triangle_of(payload, first, end, t);
-        t += MESH_THREADS;
     }
 }

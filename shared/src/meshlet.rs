@@ -190,6 +190,18 @@ pub fn owner(group: &BladeGroup, first: u32, end: u32, index: u32, triangles: bo
     (b, base)
 }
 
+/// First vertex, within its meshlet, of packed blade `b` of the meshlet starting at
+/// blade `first`: the vertices of the blades before it.
+pub fn vertex_base(group: &BladeGroup, first: u32, b: u32) -> u32 {
+    let mut base = 0;
+    let mut i = first;
+    while i < b {
+        base += strip_vertices(group.segments[i as usize]);
+        i += 1;
+    }
+    base
+}
+
 /// Triangles of a strip of `segments`.
 pub fn strip_triangles(segments: u32) -> u32 {
     2 * segments
@@ -270,6 +282,10 @@ mod tests {
             assert_eq!((ob, i as u32 - base), (b, k));
         }
         assert_eq!(expect.len() as u32, vertices);
+        for b in first..end {
+            let (ob, base) = owner(&g, first, end, vertex_base(&g, first, b), false);
+            assert_eq!((ob, base), (b, vertex_base(&g, first, b)));
+        }
     }
 
     #[test]

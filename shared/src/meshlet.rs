@@ -169,27 +169,6 @@ pub fn meshlet_extent(group: &BladeGroup, m: u32) -> (u32, u32, u32, u32) {
     (first, end, vertices, triangles)
 }
 
-/// Which blade of meshlet `(first, end)` owns its vertex `index` (or its triangle
-/// `index` when `triangles`): (blade, the blade's first vertex or triangle).
-pub fn owner(group: &BladeGroup, first: u32, end: u32, index: u32, triangles: bool) -> (u32, u32) {
-    let mut base = 0;
-    let mut b = first;
-    while b + 1 < end {
-        let segments = group.segments[b as usize];
-        let n = if triangles {
-            strip_triangles(segments)
-        } else {
-            strip_vertices(segments)
-        };
-        if index < base + n {
-            break;
-        }
-        base += n;
-        b += 1;
-    }
-    (b, base)
-}
-
 /// First vertex, within its meshlet, of packed blade `b` of the meshlet starting at
 /// blade `first`: the vertices of the blades before it.
 pub fn vertex_base(group: &BladeGroup, first: u32, b: u32) -> u32 {
@@ -210,6 +189,27 @@ pub fn strip_triangles(segments: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Which blade of meshlet `(first, end)` owns its vertex `index` (or its triangle
+    /// `index` when `triangles`): (blade, the blade's first vertex or triangle).
+    fn owner(group: &BladeGroup, first: u32, end: u32, index: u32, triangles: bool) -> (u32, u32) {
+        let mut base = 0;
+        let mut b = first;
+        while b + 1 < end {
+            let segments = group.segments[b as usize];
+            let n = if triangles {
+                strip_triangles(segments)
+            } else {
+                strip_vertices(segments)
+            };
+            if index < base + n {
+                break;
+            }
+            base += n;
+            b += 1;
+        }
+        (b, base)
+    }
 
     #[test]
     fn strips_have_two_triangles_per_segment_and_reach_the_tip() {

@@ -110,8 +110,8 @@ fn mark_blades(
     payload: &BladeGroup,
     group: UVec3,
     lane: u32,
-    owners: &mut [u32; 64],
-    indices: &mut [UVec3; 62],
+    owners: &mut [u32; 32],
+    indices: &mut [UVec3; 30],
 ) -> u32 {
     let (first, end, vertices, triangles) = meshlet_extent(payload, group.x);
     unsafe { set_mesh_outputs_ext(vertices, triangles) };
@@ -137,7 +137,7 @@ fn mark_blades(
 }
 
 /// Vertex `i` of the marked meshlet: (blade, (u, v), level).
-fn vertex_of(payload: &BladeGroup, owners: &[u32; 64], i: u32) -> (usize, f32, f32, f32) {
+fn vertex_of(payload: &BladeGroup, owners: &[u32; 32], i: u32) -> (usize, f32, f32, f32) {
     let owner = owners[i as usize];
     let b = (owner & 0xff) as usize;
     let level = payload.levels[b];
@@ -150,8 +150,8 @@ fn vertex_of(payload: &BladeGroup, owners: &[u32; 64], i: u32) -> (usize, f32, f
 #[allow(clippy::too_many_arguments)]
 #[spirv(mesh_ext(
     threads(32),
-    output_vertices = 64,
-    output_primitives_ext = 62,
+    output_vertices = 32,
+    output_primitives_ext = 30,
     output_triangles_ext
 ))]
 pub fn paper_mesh(
@@ -160,12 +160,12 @@ pub fn paper_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
     #[spirv(task_payload_workgroup_ext)] payload: &BladeGroup,
-    #[spirv(workgroup)] owners: &mut [u32; 64],
-    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 62],
-    #[spirv(position)] out_position: &mut [Vec4; 64],
-    out_normal: &mut [Vec3; 64],
-    out_world: &mut [Vec3; 64],
-    out_uv_level: &mut [Vec3; 64],
+    #[spirv(workgroup)] owners: &mut [u32; 32],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
+    #[spirv(position)] out_position: &mut [Vec4; 32],
+    out_normal: &mut [Vec3; 32],
+    out_world: &mut [Vec3; 32],
+    out_uv_level: &mut [Vec3; 32],
 ) {
     let vertices = mark_blades(payload, group, lane, owners, indices);
     let grass = &frame.grass;
@@ -189,8 +189,8 @@ pub fn paper_mesh(
 #[allow(clippy::too_many_arguments)]
 #[spirv(mesh_ext(
     threads(32),
-    output_vertices = 64,
-    output_primitives_ext = 62,
+    output_vertices = 32,
+    output_primitives_ext = 30,
     output_triangles_ext
 ))]
 pub fn natural_mesh(
@@ -199,14 +199,14 @@ pub fn natural_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(task_payload_workgroup_ext)] payload: &BladeGroup,
-    #[spirv(workgroup)] owners: &mut [u32; 64],
-    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 62],
-    #[spirv(position)] out_position: &mut [Vec4; 64],
-    out_normal: &mut [Vec3; 64],
-    out_world: &mut [Vec3; 64],
-    out_uv_level: &mut [Vec3; 64],
-    #[spirv(flat)] out_tint: &mut [Vec4; 64],
-    #[spirv(flat)] out_width_dir: &mut [Vec3; 64],
+    #[spirv(workgroup)] owners: &mut [u32; 32],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
+    #[spirv(position)] out_position: &mut [Vec4; 32],
+    out_normal: &mut [Vec3; 32],
+    out_world: &mut [Vec3; 32],
+    out_uv_level: &mut [Vec3; 32],
+    #[spirv(flat)] out_tint: &mut [Vec4; 32],
+    #[spirv(flat)] out_width_dir: &mut [Vec3; 32],
 ) {
     let vertices = mark_blades(payload, group, lane, owners, indices);
     let grass = &frame.grass;

@@ -26,7 +26,7 @@ pub const TASK_BLADES: u32 = 32;
 /// Invocations of a mesh workgroup.
 pub const MESH_THREADS: u32 = 32;
 /// Most vertices a meshlet holds (the mesh stage's `output_vertices`).
-pub const MESHLET_VERTICES: u32 = 64;
+pub const MESHLET_VERTICES: u32 = 32;
 /// Most triangles a meshlet holds (`output_primitives_ext`): a meshlet's blades have
 /// 2 fewer triangles than vertices each.
 pub const MESHLET_TRIANGLES: u32 = MESHLET_VERTICES - 2;

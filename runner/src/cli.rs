@@ -244,7 +244,8 @@ pub struct Common {
     pub msaa: Option<u32>,
     /// How the grass is drawn: `tess` through the tessellator (a patch per blade),
     /// `mesh` by task and mesh stages (VK_EXT_mesh_shader), `auto` the one measured
-    /// faster on this kind of device (mesh on a software device, tessellation on a GPU).
+    /// faster (mesh on a software device and for the natural look on a GPU,
+    /// tessellation for the paper look on a GPU).
     #[arg(long, global = true, value_enum, default_value_t = PipelineChoice::Auto)]
     pub pipeline: PipelineChoice,
     /// Factor on the light before the tone map (natural look).
@@ -432,6 +433,6 @@ pub enum PipelineChoice {
     Tess,
     /// Task and mesh stages: meshlets of blade strips.
     Mesh,
-    /// The one measured faster on this kind of device, among those it has.
+    /// The one measured faster on this kind of device and look, among those it has.
     Auto,
 }

@@ -5,8 +5,8 @@
 //! N segments, with the varyings of the tessellation path, so both paths share their
 //! fragment stages (`grass::grass_fs`, `grass::natural_fs`).
 //!
-//! Output sizes are literals here (rust-gpu attributes take no constants): 64 vertices
-//! and 62 triangles, `shared::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
+//! Output sizes are literals here (rust-gpu attributes take no constants): 32 vertices
+//! and 30 triangles, `shared::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
 use crate::grass::level_of;

@@ -18,7 +18,7 @@ use crate::field::Field;
 use crate::scene::{BladeCount, Scene, SceneFile};
 use crate::vulkan::Context;
 use anyhow::Result;
-use shared::settings::{GrassPipeline, Settings};
+use shared::settings::{GrassPipeline, Look, Settings};
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -183,7 +183,7 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
 /// shadows (`--shadows`, `--no-shadows`, else on a GPU only: lavapipe spends about a
 /// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
 pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) -> Result<()> {
-    settings.pipeline = grass_pipeline(common.pipeline, ctx)?;
+    settings.pipeline = grass_pipeline(common.pipeline, ctx, common.look)?;
     settings.look.msaa = msaa(common, ctx);
     settings.look.shadows = if common.no_shadows {
         false
@@ -193,12 +193,13 @@ pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) 
     Ok(())
 }
 
-/// The grass pipeline `choice` names on `ctx`: `mesh` is an error naming what the
-/// device lacks; `auto` takes the path measured faster on the kind of device (README,
-/// "Mesh shaders"): mesh stages on a software device (lavapipe: 2.4 to 4.5 times
-/// faster than its tessellator), tessellation on a GPU (the NVIDIA H100: mesh 1.1 to
-/// 1.8 times slower in this first version). The log says which it took and why.
-pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context) -> Result<GrassPipeline> {
+/// The grass pipeline `choice` names on `ctx` for `look`: `mesh` is an error naming
+/// what the device lacks; `auto` takes the path measured faster (README, "Mesh
+/// shaders"): mesh stages on a software device (lavapipe: 2.4 to 4.5 times faster than
+/// its tessellator) and for the natural look on a GPU (the NVIDIA H100: 10 to 13 % faster at
+/// the edge, 1 M and 4 M blades), tessellation for the paper look on a GPU (mesh 13 to
+/// 36 % slower at 4 M). The log says which it took and why.
+pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context, look: Look) -> Result<GrassPipeline> {
     let missing = ctx.mesh_shader_missing.as_deref();
     let (pipeline, why) = match (choice, missing) {
         (PipelineChoice::Tess, _) => (GrassPipeline::Tess, "--pipeline tess"),
@@ -213,7 +214,14 @@ pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context) -> Result<GrassPipe
         (PipelineChoice::Auto, None) if ctx.is_software() => {
             (GrassPipeline::Mesh, "auto: the faster on a software device")
         }
-        (PipelineChoice::Auto, None) => (GrassPipeline::Tess, "auto: the faster on a GPU"),
+        (PipelineChoice::Auto, None) if look == Look::Natural => (
+            GrassPipeline::Mesh,
+            "auto: the faster for the natural look on a GPU",
+        ),
+        (PipelineChoice::Auto, None) => (
+            GrassPipeline::Tess,
+            "auto: the faster for the paper look on a GPU",
+        ),
     };
     log::info!("grass pipeline: {pipeline:?} ({why})");
     Ok(pipeline)

@@ -101,15 +101,19 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     } else {
         args.looks.clone()
     };
-    let pipelines = if args.pipelines.is_empty() {
+    let choices = if args.pipelines.is_empty() {
         vec![common.pipeline]
     } else {
         args.pipelines.clone()
     };
-    let pipelines = pipelines
-        .into_iter()
-        .map(|choice| super::grass_pipeline(choice, &ctx))
-        .collect::<Result<Vec<_>>>()?;
+    // `auto` depends on the look: each look's pipelines.
+    let pipelines_of = |look| {
+        choices
+            .iter()
+            .map(|&choice| super::grass_pipeline(choice, &ctx, look))
+            .collect::<Result<Vec<_>>>()
+    };
+    let pipelines = pipelines_of(looks[0])?;
     let total = counts.len() * configs.len() * looks.len() * pipelines.len();
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut points = Vec::new();
@@ -135,6 +139,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         let camera = camera(&scene, args.camera);
         let eye = camera.viewpoint(offscreen.size());
         for &look in &looks {
+            let pipelines = pipelines_of(look)?;
             // Each look on its own field, grown at its blade size.
             scene.rescale(scene.scale_for(look));
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;

@@ -15,7 +15,7 @@ use shared::layout::{COUNTER_VISIBLE, FrameUniforms};
 use shared::look::{DressedBlade, unpack_coverage};
 use shared::meshlet::{
     BladeGroup, MESH_THREADS, TASK_BLADES, meshlet_extent, strip_coord, strip_segments,
-    strip_triangle, strip_triangles, strip_vertices, vertex_base,
+    strip_triangle, strip_triangles, strip_vertices, task_slot, vertex_base,
 };
 use shared::shape::surface_point;
 use spirv_std::arch::{
@@ -24,12 +24,6 @@ use spirv_std::arch::{
 };
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
-
-/// The visible list's slot this task invocation takes, from the task grid of
-/// `shared::meshlet::task_grid`.
-fn task_slot(group: UVec3, groups: UVec3, lane: u32) -> u32 {
-    (group.y * groups.x + group.x) * TASK_BLADES + lane
-}
 
 /// Records one blade of the group (0 segments drops it), packs the group once every
 /// invocation has, and launches one mesh workgroup per meshlet.
@@ -136,13 +130,28 @@ fn mark_blades(
     vertices
 }
 
-/// Vertex `i` of the marked meshlet: (blade, (u, v), level).
-fn vertex_of(payload: &BladeGroup, owners: &[u32; 32], i: u32) -> (usize, f32, f32, f32) {
-    let owner = owners[i as usize];
-    let b = (owner & 0xff) as usize;
-    let level = payload.levels[b];
-    let (u, v) = strip_coord(owner >> 8, level);
-    (b, u, v, level)
+/// Calls `vertex(k, blade's slot, (u, v, level))` for each vertex k of the marked
+/// meshlet this invocation shades.
+fn for_vertices(
+    payload: &BladeGroup,
+    owners: &[u32; 32],
+    vertices: u32,
+    lane: u32,
+    mut vertex: impl FnMut(usize, usize, Vec3),
+) {
+    let mut i = lane;
+    while i < vertices {
+        let owner = owners[i as usize];
+        let b = (owner & 0xff) as usize;
+        let level = payload.levels[b];
+        let (u, v) = strip_coord(owner >> 8, level);
+        vertex(
+            i as usize,
+            payload.slots[b] as usize,
+            Vec3::new(u, v, level),
+        );
+        i += MESH_THREADS;
+    }
 }
 
 /// The paper look's mesh stage: each blade of the meshlet as a strip, with the
@@ -169,18 +178,13 @@ pub fn paper_mesh(
 ) {
     let vertices = mark_blades(payload, group, lane, owners, indices);
     let grass = &frame.grass;
-    let mut i = lane;
-    while i < vertices {
-        let (b, u, v, level) = vertex_of(payload, owners, i);
-        let blade = &blades[payload.slots[b] as usize];
-        let p = surface_point(blade, u, v, grass.shape, grass.tip_start);
-        let k = i as usize;
+    for_vertices(payload, owners, vertices, lane, |k, slot, uvl| {
+        let p = surface_point(&blades[slot], uvl.x, uvl.y, grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
         out_normal[k] = p.normal;
         out_world[k] = p.position;
-        out_uv_level[k] = Vec3::new(u, v, level);
-        i += MESH_THREADS;
-    }
+        out_uv_level[k] = uvl;
+    });
 }
 
 /// The natural look's mesh stage: each dressed blade of the meshlet as a strip, with
@@ -210,18 +214,14 @@ pub fn natural_mesh(
 ) {
     let vertices = mark_blades(payload, group, lane, owners, indices);
     let grass = &frame.grass;
-    let mut i = lane;
-    while i < vertices {
-        let (b, u, v, level) = vertex_of(payload, owners, i);
-        let drawn = &dressed[payload.slots[b] as usize];
-        let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
-        let k = i as usize;
+    for_vertices(payload, owners, vertices, lane, |k, slot, uvl| {
+        let drawn = &dressed[slot];
+        let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
         out_normal[k] = p.normal;
         out_world[k] = p.position;
-        out_uv_level[k] = Vec3::new(u, v, level);
+        out_uv_level[k] = uvl;
         out_tint[k] = drawn.tint;
         out_width_dir[k] = p.width_dir;
-        i += MESH_THREADS;
-    }
+    });
 }

@@ -75,6 +75,12 @@ pub fn task_grid(visible: u32) -> UVec3 {
     UVec3::new(x, groups.div_ceil(x.max(1)), 1)
 }
 
+/// The visible list's slot of invocation `lane` of task workgroup `group` in a launch
+/// of `groups` ([`task_grid`]'s inverse).
+pub fn task_slot(group: UVec3, groups: UVec3, lane: u32) -> u32 {
+    (group.y * groups.x + group.x) * TASK_BLADES + lane
+}
+
 /// What a task workgroup hands its mesh workgroups: the blades it kept, packed, and
 /// where each meshlet's blades start.
 #[repr(C)]
@@ -306,6 +312,11 @@ mod tests {
             assert!(g.x <= TASK_GRID_WIDTH);
             assert!(g.x * g.y * TASK_BLADES >= visible);
             assert!(g.x * g.y * TASK_BLADES < visible + TASK_GRID_WIDTH * TASK_BLADES);
+            // The last workgroup's last invocation takes the grid's last slot.
+            if visible > 0 {
+                let last = task_slot(g - UVec3::new(1, 1, 0), g, TASK_BLADES - 1);
+                assert_eq!(last + 1, g.x * g.y * TASK_BLADES);
+            }
         }
     }
 }

@@ -200,7 +200,7 @@ pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) 
 /// the edge, 1 M and 4 M blades), tessellation for the paper look on a GPU (mesh 13 to
 /// 36 % slower at 4 M). The log says which it took and why.
 pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context, look: Look) -> Result<GrassPipeline> {
-    let missing = ctx.mesh_shader_missing.as_deref();
+    let missing = ctx.mesh_shader.as_ref().err().map(String::as_str);
     let (pipeline, why) = match (choice, missing) {
         (PipelineChoice::Tess, _) => (GrassPipeline::Tess, "--pipeline tess"),
         (PipelineChoice::Mesh, None) => (GrassPipeline::Mesh, "--pipeline mesh"),

@@ -104,7 +104,7 @@ impl GrassPass {
         };
         let tess = Looks::new(ctx, &mut desc(&paper), &paper, &natural)?;
         let mesh = match &ctx.mesh_shader {
-            Some(commands) => {
+            Ok(commands) => {
                 let paper = [
                     (St::TASK_EXT, shaders::PAPER_TASK),
                     (St::MESH_EXT, shaders::PAPER_MESH),
@@ -120,7 +120,7 @@ impl GrassPass {
                 let looks = Looks::new(ctx, &mut desc, &paper, &natural)?;
                 Some((looks, commands.clone()))
             }
-            None => None,
+            Err(_) => None,
         };
         Ok(Self { tess, mesh })
     }

@@ -93,10 +93,8 @@ pub struct Context {
     /// Pipeline statistics queries are enabled (the device has them).
     pub pipeline_statistics: bool,
     /// `VK_EXT_mesh_shader`'s commands, when the device has task and mesh stages
-    /// within the limits the mesh path needs (and they are enabled).
-    pub mesh_shader: Option<ext::mesh_shader::Device>,
-    /// Why there is no mesh shader support, when there is none.
-    pub mesh_shader_missing: Option<String>,
+    /// within the limits the mesh path needs (and they are enabled); else why not.
+    pub mesh_shader: Result<ext::mesh_shader::Device, String>,
     /// Surface of the window, when there is one.
     pub surface: Option<vk::SurfaceKHR>,
     /// Surface functions.
@@ -204,9 +202,7 @@ impl Context {
             pipeline_statistics,
             mesh_support.is_ok(),
         )?;
-        let mesh_shader = mesh_support
-            .is_ok()
-            .then(|| ext::mesh_shader::Device::new(&instance, &device));
+        let mesh_shader = mesh_support.map(|()| ext::mesh_shader::Device::new(&instance, &device));
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let timestamp_bits = unsafe {
             instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
@@ -234,7 +230,6 @@ impl Context {
             timestamp_bits,
             pipeline_statistics,
             mesh_shader,
-            mesh_shader_missing: mesh_support.err(),
             surface,
             surface_fn,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),

@@ -9,11 +9,11 @@ use tests::{Difference, device_available, difference, render_image, save_failure
 /// Small images: lavapipe tessellates slowly.
 const SIZE: &str = "192";
 /// Share of pixels allowed to differ by more than `tests::OUTLIER_LEVEL` (measured:
-/// at most 0.028).
-const OUTLIERS: f64 = 0.05;
+/// at most 0.028; dropping every fourth blade gave up to 0.042).
+const OUTLIERS: f64 = 0.035;
 
 /// Relative difference allowed between the two paths' grass coverage (the share of
-/// green pixels; measured: at most 2.2 %).
+/// green pixels; measured: at most 2.2 %; dropping every fourth blade gave up to 10.7 %).
 const COVERAGE: f64 = 0.04;
 
 /// Share of the image's pixels that show grass: green above red and blue.

@@ -195,7 +195,7 @@ pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) 
 
 /// The grass pipeline `choice` names on `ctx` for `look`: `mesh` is an error naming
 /// what the device lacks; `auto` takes the path measured faster (README, "Mesh
-/// shaders"): mesh stages on a software device (lavapipe: 2.4 to 4.5 times faster than
+/// shaders"): mesh stages on a software device (lavapipe: 2.9 to 4.5 times faster than
 /// its tessellator) and for the natural look on a GPU (the NVIDIA H100: 10 to 13 % faster at
 /// the edge, 1 M and 4 M blades), tessellation for the paper look on a GPU (mesh 13 to
 /// 36 % slower at 4 M). The log says which it took and why.

@@ -39,9 +39,11 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
     let mut builder = SpirvBuilder::new(&shaders, "spirv-unknown-vulkan1.2")
         .target_dir_path(format!("spirv-builder/{}", clone.trim_matches('-')))
         .capability(Capability::Tessellation)
-        // Task and mesh stages (`--pipeline mesh`); the build removes both again from
-        // every module without one, so the others need no mesh-shader device.
+        // Mesh stages (`--pipeline mesh`), which read `DrawIndex`; the build removes
+        // these again from every module without one, so the others need no mesh-shader
+        // device.
         .capability(Capability::MeshShadingEXT)
+        .capability(Capability::DrawParameters)
         .extension("SPV_EXT_mesh_shader")
         // Device-scope atomics (the visible-blade counter) under the Vulkan memory model.
         .capability(Capability::VulkanMemoryModelDeviceScope);
@@ -86,9 +88,10 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Removes the `MeshShadingEXT` capability and the `SPV_EXT_mesh_shader` extension
-/// from a module with no task or mesh entry point: Vulkan refuses a module declaring a
-/// capability whose feature the device was not created with.
+/// Removes the `MeshShadingEXT` and `DrawParameters` capabilities and the
+/// `SPV_EXT_mesh_shader` extension from a module with no task or mesh entry point:
+/// Vulkan refuses a module declaring a capability whose feature the device was not
+/// created with.
 fn strip_unused_mesh_shading(module: &mut Module) {
     use rspirv::spirv::{Capability as Cap, ExecutionModel};
     let meshy = module.entry_points.iter().any(|e| {
@@ -102,9 +105,14 @@ fn strip_unused_mesh_shading(module: &mut Module) {
     if meshy {
         return;
     }
-    module
-        .capabilities
-        .retain(|i| i.operands.first() != Some(&Operand::Capability(Cap::MeshShadingEXT)));
+    module.capabilities.retain(|i| {
+        !matches!(
+            i.operands.first(),
+            Some(Operand::Capability(
+                Cap::MeshShadingEXT | Cap::DrawParameters
+            ))
+        )
+    });
     module.extensions.retain(|i| {
         i.operands.first() != Some(&Operand::LiteralString("SPV_EXT_mesh_shader".into()))
     });

@@ -243,9 +243,8 @@ pub struct Common {
     #[arg(long, global = true, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
     /// How the grass is drawn: `tess` through the tessellator (a patch per blade),
-    /// `mesh` by task and mesh stages (VK_EXT_mesh_shader), `auto` the one measured
-    /// faster (mesh on a software device and for the natural look on a GPU,
-    /// tessellation for the paper look on a GPU).
+    /// `mesh` by mesh stages (VK_EXT_mesh_shader), `auto` the one measured
+    /// faster: mesh wherever the device has it.
     #[arg(long, global = true, value_enum, default_value_t = PipelineChoice::Auto)]
     pub pipeline: PipelineChoice,
     /// Factor on the light before the tone map (natural look).

@@ -14,6 +14,7 @@ use shared::layout::{
 };
 use shared::lod::blades_per_chunk;
 use shared::look::DressedBlade;
+use shared::meshlet::{SEGMENT_BUCKETS, StripBlade};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -24,7 +25,7 @@ const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
         | vk::ShaderStageFlags::VERTEX.as_raw()
         | vk::ShaderStageFlags::FRAGMENT.as_raw()
-        | MESH_STAGES.as_raw(),
+        | vk::ShaderStageFlags::MESH_EXT.as_raw(),
 );
 
 const fn storage(binding: u32) -> BindingSpec {
@@ -43,7 +44,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 13] = [
+pub const BINDINGS: [BindingSpec; 15] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -52,9 +53,9 @@ pub const BINDINGS: [BindingSpec; 13] = [
     // The paper look's tessellation and mesh stages read the blades through their
     // index.
     storage_in(layout::BINDING_BLADES, TESSELLATION_OR_MESH),
-    storage_in(layout::BINDING_VISIBLE, VERTEX_OR_TASK),
-    // The task stages read how many blades are visible.
-    storage_in(layout::BINDING_COUNTERS, vk::ShaderStageFlags::TASK_EXT),
+    storage_in(layout::BINDING_VISIBLE, vk::ShaderStageFlags::VERTEX),
+    // The mesh stages read how many blades have strips of each length.
+    storage_in(layout::BINDING_COUNTERS, vk::ShaderStageFlags::MESH_EXT),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),
@@ -76,25 +77,19 @@ pub const BINDINGS: [BindingSpec; 13] = [
     },
     // Each blade's clump, made by the clump pass, read by the compute pass.
     storage(layout::BINDING_CLUMPS),
-    // The mesh path's indirect draw, written by the compute pass.
+    // The mesh path's indirect draws, written by the compute pass.
     storage(layout::BINDING_MESH_DRAW),
+    // The mesh path's levels of detail, written and read by the compute pass.
+    storage(layout::BINDING_LEVELS),
+    // The mesh path's binned blades, written by the compute pass.
+    storage_in(layout::BINDING_BINNED, vk::ShaderStageFlags::MESH_EXT),
 ];
 
-/// Both tessellation stages, and the task and mesh stages.
+/// Both tessellation stages, and the mesh stage.
 const TESSELLATION_OR_MESH: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
-        | MESH_STAGES.as_raw(),
-);
-
-/// The task and mesh stages.
-const MESH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::TASK_EXT.as_raw() | vk::ShaderStageFlags::MESH_EXT.as_raw(),
-);
-
-/// The vertex stage and the task stage.
-const VERTEX_OR_TASK: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::TASK_EXT.as_raw(),
+        | vk::ShaderStageFlags::MESH_EXT.as_raw(),
 );
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
@@ -136,8 +131,13 @@ pub struct Field {
     pub counters: Buffer,
     /// One `VkDrawIndirectCommand` per chunk.
     pub draws: Buffer,
-    /// The mesh path's indirect draw: the task grid of the visible blades.
+    /// The mesh path's indirect draws: one mesh grid per strip length
+    /// (`meshlet::SEGMENT_BUCKETS`).
     pub mesh_draw: Buffer,
+    /// The mesh path's level of detail per visible slot (`f32`).
+    pub levels: Buffer,
+    /// The mesh path's visible blades binned by strip length (`meshlet::StripBlade`).
+    pub binned: Buffer,
     /// The visible blades as the natural look draws them (`look::DressedBlade`).
     pub dressed: Buffer,
     /// Each blade's clump (`look::Clump::pack`).
@@ -153,9 +153,14 @@ pub struct Field {
 }
 
 /// Device memory per blade: the blade, its collision strength, its index, its slot
-/// in the dressed buffer and its clump.
-pub const DEVICE_BYTES_PER_BLADE: u64 =
-    size_of::<Blade>() as u64 + 4 + 4 + size_of::<DressedBlade>() as u64 + 16;
+/// in the dressed buffer, its clump, and the mesh path's level and binned slot.
+pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64
+    + 4
+    + 4
+    + size_of::<DressedBlade>() as u64
+    + 16
+    + 4
+    + size_of::<StripBlade>() as u64;
 
 impl Field {
     /// Fails with a message naming the limit when `count` blades cannot fit this
@@ -243,9 +248,15 @@ impl Field {
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
         let mesh_draw = device_buffer(
-            "mesh draw",
-            size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
+            "mesh draws",
+            u64::from(SEGMENT_BUCKETS) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
+        )?;
+        let levels = device_buffer("levels", u64::from(count) * 4, U::STORAGE_BUFFER)?;
+        let binned = device_buffer(
+            "binned blades",
+            u64::from(count) * size_of::<StripBlade>() as u64,
+            U::STORAGE_BUFFER,
         )?;
         let uniforms = device_buffer(
             "uniforms",
@@ -278,6 +289,8 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_DRESSED, storage, dressed.buffer);
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
+        descriptors.write_buffer(layout::BINDING_LEVELS, storage, levels.buffer);
+        descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {
@@ -290,6 +303,8 @@ impl Field {
             counters,
             draws,
             mesh_draw,
+            levels,
+            binned,
             dressed,
             clumps,
             uniforms,

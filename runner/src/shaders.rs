@@ -21,6 +21,8 @@ pub const COPY_BLADES: &str = "compute::copy_blades";
 pub const BUILD_HIZ: &str = "compute::build_hiz";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clump_blades";
+/// Compute: the mesh path's binning of the visible blades by strip length.
+pub const BIN_BLADES: &str = "compute::bin_blades";
 /// Compute: one indirect draw command per chunk of visible blades.
 pub const WRITE_DRAWS: &str = "compute::write_draws";
 /// Grass vertex stage.
@@ -29,8 +31,10 @@ pub const GRASS_VS: &str = "grass::grass_vs";
 pub const GRASS_TCS: &str = "grass::grass_tcs";
 /// Grass tessellation evaluation stage (blade shape).
 pub const GRASS_TES: &str = "grass::grass_tes";
-/// Grass fragment stage.
+/// Grass fragment stage (shaded and wireframe views).
 pub const GRASS_FS: &str = "grass::grass_fs";
+/// Grass fragment stage of the LOD view.
+pub const GRASS_LOD_FS: &str = "grass::grass_lod_fs";
 /// The natural look's grass: vertex stage (the visible slot).
 pub const NATURAL_VS: &str = "grass::natural_vs";
 /// The natural look's grass: tessellation control (LOD of the dressed blade).
@@ -39,12 +43,10 @@ pub const NATURAL_TCS: &str = "grass::natural_tcs";
 pub const NATURAL_TES: &str = "grass::natural_tes";
 /// The natural look's grass: fragment stage.
 pub const NATURAL_FS: &str = "grass::natural_fs";
-/// The paper look's mesh path: task stage (level of detail, packing into meshlets).
-pub const PAPER_TASK: &str = "mesh::paper_task";
-/// The paper look's mesh path: mesh stage (the blade strips).
+/// The natural look's grass: fragment stage of the LOD and wireframe views.
+pub const NATURAL_VIEW_FS: &str = "grass::natural_view_fs";
+/// The paper look's mesh path: mesh stage (the blade strips of one length).
 pub const PAPER_MESH: &str = "mesh::paper_mesh";
-/// The natural look's mesh path: task stage.
-pub const NATURAL_TASK: &str = "mesh::natural_task";
 /// The natural look's mesh path: mesh stage.
 pub const NATURAL_MESH: &str = "mesh::natural_mesh";
 /// The grass from the sun (shadow map): tessellation control at the fewest segments.

@@ -18,7 +18,7 @@ use shared::look::{
     DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal, shade_leaf,
     unpack_coverage,
 };
-use shared::shade::{VIEW_SHADED, blade_colour};
+use shared::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
 use shared::shape::{shape_min_level, surface_point};
 use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
@@ -72,7 +72,11 @@ pub fn grass_tcs(
     *inner = i;
 }
 
-/// Blade shape: the surface point at (u, v) of the tessellated quad, in clip space.
+/// Blade shape: the surface point at (u, v) of the tessellated quad, in clip space,
+/// with the fragment stage's two varyings: the normal with v in w, and the level (the
+/// same over the blade, flat). Nothing else: on the NVIDIA H100, which rasterises on
+/// few SMs, every varying a tiny triangle carries costs (performance notes, attempt
+/// 12); the fragment stage tells the faces apart by their winding.
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn grass_tes(
@@ -82,33 +86,44 @@ pub fn grass_tes(
     in_blade: [u32; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
-    out_normal: &mut Vec3,
-    out_world: &mut Vec3,
-    out_uv_level: &mut Vec3,
+    out_normal_v: &mut Vec4,
+    #[spirv(flat)] out_level: &mut f32,
 ) {
     let blade = &blades[in_blade[0] as usize];
     let grass = &frame.grass;
     let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal = p.normal;
-    *out_world = p.position;
-    *out_uv_level = coord.truncate().extend(in_level[0]);
+    *out_normal_v = p.normal.extend(coord.y);
+    *out_level = in_level[0];
 }
 
-/// Lambert plus ambient with the base-to-tip gradient, both faces lit; or the
-/// tessellation level's colour in the LOD view.
+/// Lambert plus ambient with the base-to-tip gradient, both faces lit (the normal
+/// turned to the face the triangle's winding shows); also the wireframe view's.
+/// The views are entry points of their own, not a branch on `grass.view`: that branch
+/// alone took 2.2 of the 5.1 ms of the paper look's mesh-path grass at the edge
+/// camera with 1 M blades on the NVIDIA H100 (performance notes, attempt 12).
 #[spirv(fragment)]
 pub fn grass_fs(
-    normal: Vec3,
-    world: Vec3,
-    uv_level: Vec3,
+    normal_v: Vec4,
+    #[spirv(front_facing)] front: bool,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     out_color: &mut Vec4,
 ) {
-    let (uv, level) = (uv_level.truncate(), uv_level.z);
-    let n = normal.normalize_or_zero();
-    let (view, camera) = (frame.grass.view, frame.camera.position);
-    *out_color = blade_colour(view, n, world, camera, frame.light, uv.y, level).extend(1.0);
+    let facing = facing_normal(normal_v.xyz().normalize_or_zero(), front);
+    *out_color = shade_facing(facing, frame.light, normal_v.w).extend(1.0);
+}
+
+/// The LOD view: each blade in the colour of its tessellation level.
+#[spirv(fragment)]
+pub fn grass_lod_fs(
+    normal_v: Vec4,
+    #[spirv(flat)] level: f32,
+    #[spirv(front_facing)] front: bool,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    out_color: &mut Vec4,
+) {
+    let facing = facing_normal(normal_v.xyz().normalize_or_zero(), front);
+    *out_color = lod_shade(facing, frame.light, normal_v.w, level).extend(1.0);
 }
 
 /// The natural look: the slot of the visible list this vertex stands for (the
@@ -174,7 +189,8 @@ pub fn natural_tes(
 
 /// The natural look: the blade's tint and drier tip, its leaf rounded across the
 /// width, sky light with ambient occlusion, the sun (direct, through the leaf,
-/// specular) with its shadow, fog. The LOD and wireframe views as in the paper look.
+/// specular) with its shadow, fog. The LOD and wireframe views are
+/// [`natural_view_fs`].
 #[allow(clippy::too_many_arguments)]
 #[spirv(fragment)]
 pub fn natural_fs(
@@ -188,26 +204,35 @@ pub fn natural_fs(
     #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
 ) {
-    let (uv, level) = (uv_level.truncate(), uv_level.z);
     let n = normal.normalize_or_zero();
-    let (view, camera) = (frame.grass.view, frame.camera.position);
     let (_, density) = unpack_coverage(tint.w);
-    if view != VIEW_SHADED {
-        *out_color = blade_colour(view, n, world, camera, frame.light, uv.y, level).extend(1.0);
-        return;
-    }
-    let to_camera = camera - world;
+    let to_camera = frame.camera.position - world;
     let distance = to_camera.length();
     let to_eye = to_camera / distance.max(1e-6);
-    let facing = if n.dot(to_eye) < 0.0 { -n } else { n };
-    let rounded = rounded_normal(facing, width_dir, uv.x);
-    let albedo = blade_albedo(tint.xyz(), uv.y);
-    let occlusion = ambient_occlusion(uv.y, density);
+    let facing = facing_normal(n, n.dot(to_eye) >= 0.0);
+    let rounded = rounded_normal(facing, width_dir, uv_level.x);
+    let albedo = blade_albedo(tint.xyz(), uv_level.y);
+    let occlusion = ambient_occlusion(uv_level.y, density);
     let sun = sun_shadow(frame, shadow_map, shadow_sampler, world);
     let to_light = frame.light.direction;
     let lit = shade_leaf(albedo, rounded, to_light, to_eye, occlusion, sun);
     let fogged = fog(lit, distance, -to_eye, to_light, frame.look.fog_density);
     *out_color = fogged.extend(1.0);
+}
+
+/// The natural look's LOD and wireframe views, as in the paper look.
+#[spirv(fragment)]
+pub fn natural_view_fs(
+    normal: Vec3,
+    world: Vec3,
+    uv_level: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    out_color: &mut Vec4,
+) {
+    let n = normal.normalize_or_zero();
+    let facing = facing_normal(n, n.dot(frame.camera.position - world) >= 0.0);
+    let (view, light) = (frame.grass.view, frame.light);
+    *out_color = blade_colour(view, facing, light, uv_level.y, uv_level.z).extend(1.0);
 }
 
 /// The sun's shadow map: the natural look's grass at its fewest segments (the

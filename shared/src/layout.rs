@@ -5,7 +5,7 @@
 use crate::collide::MAX_COLLIDERS;
 use crate::cull::{self, CullParams};
 use crate::hiz::HiZLayout;
-use crate::lod::LodParams;
+use crate::lod::{LodParams, MAX_SEGMENTS};
 use crate::look::LookParams;
 use crate::shade::Light;
 use crate::simulate::Environment;
@@ -70,9 +70,18 @@ pub const BINDING_DRESSED: u32 = 9;
 /// written by the clump pass when the field, the seed or the clump size changes, read
 /// by the compute pass.
 pub const BINDING_CLUMPS: u32 = 11;
-/// Binding of the mesh path's indirect draw (storage and indirect, one
-/// `VkDrawMeshTasksIndirectCommandEXT`: `meshlet::task_grid` of the visible blades).
+/// Binding of the mesh path's indirect draws (storage and indirect, one
+/// `VkDrawMeshTasksIndirectCommandEXT` per strip length: `meshlet::mesh_grid` of each
+/// bucket), written by the compute pass.
 pub const BINDING_MESH_DRAW: u32 = 12;
+/// Binding of the visible blades' levels of detail on the mesh path (storage, `f32`
+/// per slot of the visible list, 0 for a blade the look leaves out), written by the
+/// compute pass for its binning.
+pub const BINDING_LEVELS: u32 = 13;
+/// Binding of the visible blades binned by strip length (storage,
+/// `meshlet::StripBlade` per slot): written by the compute pass, read by the mesh
+/// stages.
+pub const BINDING_BINNED: u32 = 14;
 
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
@@ -86,8 +95,15 @@ pub const COUNTER_DISTANCE: usize = cull::BY_DISTANCE as usize;
 pub const COUNTER_OCCLUSION: usize = cull::BY_OCCLUSION as usize;
 /// Index of the blades the pass looked at (every blade, counted on the GPU).
 pub const COUNTER_EXAMINED: usize = 5;
+/// First of the mesh path's counts of visible blades by strip length (strips of 1
+/// to `lod::MAX_SEGMENTS` segments, `meshlet::strip_counter`), counted by the
+/// compute pass.
+pub const COUNTER_STRIPS: usize = 8;
+/// First of the binning pass's fill counters, one per strip length
+/// (`meshlet::binned_counter`).
+pub const COUNTER_BINNED: usize = COUNTER_STRIPS + MAX_SEGMENTS as usize;
 /// Number of `u32` counters.
-pub const COUNTER_COUNT: usize = 8;
+pub const COUNTER_COUNT: usize = COUNTER_BINNED + MAX_SEGMENTS as usize;
 
 /// The camera, as the shaders see it.
 #[repr(C)]
@@ -123,7 +139,7 @@ pub struct GrassParams {
 
 /// Grass drawn through the tessellator: one patch per blade.
 pub const PIPELINE_TESS: u32 = 0;
-/// Grass drawn by task and mesh stages: meshlets of blade strips.
+/// Grass drawn by mesh stages: blade strips, binned by length in the compute pass.
 pub const PIPELINE_MESH: u32 = 1;
 
 /// Per-frame values, one block read by every stage (a read-only storage buffer, std430

@@ -32,15 +32,23 @@ pub fn lambert(albedo: Vec3, normal: Vec3, light: Light) -> Vec3 {
     albedo * (light.ambient + (1.0 - light.ambient) * diffuse)
 }
 
-/// A blade fragment at height `v` (0 root, 1 tip): the base-to-tip gradient, lit with
-/// the normal flipped towards the viewer so both faces of the thin blade are lit.
+/// The normal of the face the viewer sees: `normal` on its front, else the opposite.
+pub fn facing_normal(normal: Vec3, front: bool) -> Vec3 {
+    if front { normal } else { -normal }
+}
+
+/// A blade fragment at height `v` (0 root, 1 tip) whose normal `facing` is turned
+/// towards the viewer ([`facing_normal`]), so both faces of the thin blade are lit:
+/// the base-to-tip gradient, lit by Lambert.
+pub fn shade_facing(facing: Vec3, light: Light, v: f32) -> Vec3 {
+    lambert(BLADE_BASE.lerp(BLADE_TIP, v), facing, light)
+}
+
+/// [`shade_facing`] for a blade fragment at `position` seen from `camera`, its normal
+/// turned towards the camera.
 pub fn shade_blade(normal: Vec3, position: Vec3, camera: Vec3, light: Light, v: f32) -> Vec3 {
-    let n = if normal.dot(camera - position) < 0.0 {
-        -normal
-    } else {
-        normal
-    };
-    lambert(BLADE_BASE.lerp(BLADE_TIP, v), n, light)
+    let front = normal.dot(camera - position) >= 0.0;
+    shade_facing(facing_normal(normal, front), light, v)
 }
 
 /// Debug colour of a tessellation level: blue at level 1, through green, to red at
@@ -57,24 +65,21 @@ pub fn lod_colour(level: f32) -> Vec3 {
     }
 }
 
-/// What the grass fragment stage shows: the shaded blade (see `VIEW_*`).
-pub fn blade_colour(
-    view: u32,
-    normal: Vec3,
-    position: Vec3,
-    camera: Vec3,
-    light: Light,
-    v: f32,
-    level: f32,
-) -> Vec3 {
-    let shaded = shade_blade(normal, position, camera, light, v);
+/// What the grass fragment stage shows (see `VIEW_*`): the shaded blade, its normal
+/// `facing` the viewer ([`facing_normal`]).
+pub fn blade_colour(view: u32, facing: Vec3, light: Light, v: f32, level: f32) -> Vec3 {
     if view == VIEW_LOD {
-        // The level's hue, with the blade's own light and gradient as brightness.
-        let brightness = shaded.length() / BLADE_TIP.length();
-        lod_colour(level) * (0.35 + 0.65 * brightness.min(1.0))
+        lod_shade(facing, light, v, level)
     } else {
-        shaded
+        shade_facing(facing, light, v)
     }
+}
+
+/// The LOD view's colour of a blade fragment: the hue of its tessellation `level`,
+/// with the blade's own light and gradient as brightness.
+pub fn lod_shade(facing: Vec3, light: Light, v: f32, level: f32) -> Vec3 {
+    let brightness = shade_facing(facing, light, v).length() / BLADE_TIP.length();
+    lod_colour(level) * (0.35 + 0.65 * brightness.min(1.0))
 }
 
 /// sRGB-encoded value to linear (the overlay's vertex colours are sRGB).
@@ -127,14 +132,32 @@ pub const MATERIAL_BALL: u32 = 2;
 /// Soil on a surface of any orientation: [`ground_albedo`] projected along the three
 /// axes and blended by the normal (triplanar), so slopes and a planet's sides are
 /// textured without stretching.
+///
+/// An axis whose weight is below [`TRIPLANAR_SKIP`] is not sampled (the others share
+/// its weight): flat ground pays for one projection, not three, which matters where
+/// fragment stages are scarce (the NVIDIA H100 shades graphics on few SMs).
 pub fn soil_albedo(p: Vec3, n: Vec3) -> Vec3 {
     let w = n.abs() * n.abs();
     let w = w * w;
     let w = w / (w.x + w.y + w.z).max(1e-6);
-    ground_albedo(Vec2::new(p.z, p.y)) * w.x
-        + ground_albedo(Vec2::new(p.x, p.z)) * w.y
-        + ground_albedo(Vec2::new(p.x, p.y)) * w.z
+    let w = Vec3::select(w.cmpge(Vec3::splat(TRIPLANAR_SKIP)), w, Vec3::ZERO);
+    let w = w / (w.x + w.y + w.z).max(1e-6);
+    let mut albedo = Vec3::ZERO;
+    if w.x > 0.0 {
+        albedo += ground_albedo(Vec2::new(p.z, p.y)) * w.x;
+    }
+    if w.y > 0.0 {
+        albedo += ground_albedo(Vec2::new(p.x, p.z)) * w.y;
+    }
+    if w.z > 0.0 {
+        albedo += ground_albedo(Vec2::new(p.x, p.y)) * w.z;
+    }
+    albedo
 }
+
+/// Triplanar weights below this are dropped by [`soil_albedo`]: a second projection is
+/// sampled from about 17.6° of tilt (tan⁴θ = 0.01 / 0.99).
+pub const TRIPLANAR_SKIP: f32 = 0.01;
 
 /// Albedo of `material` at `p` with normal `n`.
 pub fn surface_albedo(material: u32, p: Vec3, n: Vec3) -> Vec3 {
@@ -209,6 +232,16 @@ mod tests {
         let rock = surface_albedo(MATERIAL_ROCK, p, Vec3::Y);
         assert!((rock - flat).length() > 0.05);
         assert_eq!(surface_albedo(MATERIAL_SOIL, p, Vec3::Y), flat);
+        // Below 17.6° of tilt only the flat projection is sampled; at 45° the two
+        // projections share the colour equally.
+        let (s, c) = 15f32.to_radians().sin_cos();
+        assert_eq!(soil_albedo(p, Vec3::new(s, c, 0.0)), flat);
+        let (s, c) = 20f32.to_radians().sin_cos();
+        assert_ne!(soil_albedo(p, Vec3::new(s, c, 0.0)), flat);
+        let half = std::f32::consts::FRAC_1_SQRT_2;
+        let side = ground_albedo(Vec2::new(p.z, p.y));
+        let blend = soil_albedo(p, Vec3::new(half, half, 0.0));
+        assert!((blend - 0.5 * (flat + side)).length() < 1e-6, "{blend}");
     }
 
     #[test]

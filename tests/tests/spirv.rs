@@ -136,6 +136,7 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::GRASS_TCS, ExecutionModel::TessellationControl),
         (shaders::GRASS_TES, ExecutionModel::TessellationEvaluation),
         (shaders::GRASS_FS, ExecutionModel::Fragment),
+        (shaders::GRASS_LOD_FS, ExecutionModel::Fragment),
         (shaders::GROUND_VS, ExecutionModel::Vertex),
         (shaders::GROUND_FS, ExecutionModel::Fragment),
         (shaders::BUILD_HIZ, ExecutionModel::GLCompute),
@@ -163,12 +164,12 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::NATURAL_TCS, ExecutionModel::TessellationControl),
         (shaders::NATURAL_TES, ExecutionModel::TessellationEvaluation),
         (shaders::NATURAL_FS, ExecutionModel::Fragment),
+        (shaders::NATURAL_VIEW_FS, ExecutionModel::Fragment),
         (shaders::TONEMAP_VS, ExecutionModel::Vertex),
         (shaders::TONEMAP_FS, ExecutionModel::Fragment),
-        (shaders::PAPER_TASK, ExecutionModel::TaskEXT),
         (shaders::PAPER_MESH, ExecutionModel::MeshEXT),
-        (shaders::NATURAL_TASK, ExecutionModel::TaskEXT),
         (shaders::NATURAL_MESH, ExecutionModel::MeshEXT),
+        (shaders::BIN_BLADES, ExecutionModel::GLCompute),
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
@@ -338,8 +339,7 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
         (shaders::CLUMP_BLADES, layout::SIMULATE_WORKGROUP),
-        (shaders::PAPER_TASK, shared::meshlet::TASK_BLADES),
-        (shaders::NATURAL_TASK, shared::meshlet::TASK_BLADES),
+        (shaders::BIN_BLADES, layout::SIMULATE_WORKGROUP),
         (shaders::PAPER_MESH, shared::meshlet::MESH_THREADS),
         (shaders::NATURAL_MESH, shared::meshlet::MESH_THREADS),
     ] {
@@ -578,41 +578,29 @@ fn mesh_stages_declare_the_meshlet_limits() {
     }
 }
 
-/// Every path through a task stage reaches `OpEmitMeshTasksEXT`: rust-gpu turns a
-/// panic (a bounds check, `clamp`'s check) into an early return, and lavapipe then
-/// launches nothing for the workgroup (`shared::meshlet`).
-#[test]
-fn task_stages_have_no_path_around_the_launch() {
-    for name in [shaders::PAPER_TASK, shaders::NATURAL_TASK] {
-        let m = module_of(name);
-        let ops: Vec<Op> = m
-            .functions
-            .iter()
-            .flat_map(|f| &f.blocks)
-            .flat_map(|b| &b.instructions)
-            .map(|i| i.class.opcode)
-            .collect();
-        let returns = ops.iter().filter(|&&o| o == Op::Return).count();
-        assert_eq!(returns, 0, "{name}: {returns} returns before the launch");
-        assert!(ops.contains(&Op::EmitMeshTasksEXT), "{name}: no launch");
-    }
-}
-
-/// Only the task and mesh modules declare the mesh-shading capability, so a device
-/// without mesh shaders accepts every other module.
+/// Only the mesh modules declare the mesh-shading and draw-parameter capabilities
+/// (the mesh stages read `DrawIndex`), so a device without mesh shaders accepts every
+/// other module.
 #[test]
 fn only_mesh_modules_need_mesh_shading() {
-    use rspirv::spirv::Capability;
+    use rspirv::spirv::{BuiltIn, Capability, Decoration};
     for (name, m) in modules() {
         let stage = entry_points(&m)[name].0;
         let meshy = matches!(stage, ExecutionModel::TaskEXT | ExecutionModel::MeshEXT);
-        let declares = m
-            .capabilities
-            .iter()
-            .any(|i| i.operands.first() == Some(&Operand::Capability(Capability::MeshShadingEXT)));
-        assert_eq!(
-            declares, meshy,
-            "{name}: MeshShadingEXT declared {declares}"
-        );
+        for capability in [Capability::MeshShadingEXT, Capability::DrawParameters] {
+            let declares = m
+                .capabilities
+                .iter()
+                .any(|i| i.operands.first() == Some(&Operand::Capability(capability)));
+            assert_eq!(
+                declares, meshy,
+                "{name}: {capability:?} declared {declares}"
+            );
+        }
+        let draw_index = m.annotations.iter().any(|i| {
+            i.operands.get(1) == Some(&Operand::Decoration(Decoration::BuiltIn))
+                && i.operands.get(2) == Some(&Operand::BuiltIn(BuiltIn::DrawIndex))
+        });
+        assert_eq!(draw_index, meshy, "{name}: reads DrawIndex {draw_index}");
     }
 }

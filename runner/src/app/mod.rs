@@ -18,7 +18,7 @@ use crate::field::Field;
 use crate::scene::{BladeCount, Scene, SceneFile};
 use crate::vulkan::Context;
 use anyhow::Result;
-use shared::settings::{GrassPipeline, Look, Settings};
+use shared::settings::{GrassPipeline, Settings};
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -183,7 +183,7 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
 /// shadows (`--shadows`, `--no-shadows`, else on a GPU only: lavapipe spends about a
 /// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
 pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) -> Result<()> {
-    settings.pipeline = grass_pipeline(common.pipeline, ctx, common.look)?;
+    settings.pipeline = grass_pipeline(common.pipeline, ctx)?;
     settings.look.msaa = msaa(common, ctx);
     settings.look.shadows = if common.no_shadows {
         false
@@ -193,13 +193,13 @@ pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) 
     Ok(())
 }
 
-/// The grass pipeline `choice` names on `ctx` for `look`: `mesh` is an error naming
-/// what the device lacks; `auto` takes the path measured faster (README, "Mesh
-/// shaders"): mesh stages on a software device (lavapipe: 2.9 to 4.5 times faster than
-/// its tessellator) and for the natural look on a GPU (the NVIDIA H100: 10 to 13 % faster at
-/// the edge, 1 M and 4 M blades), tessellation for the paper look on a GPU (mesh 13 to
-/// 36 % slower at 4 M). The log says which it took and why.
-pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context, look: Look) -> Result<GrassPipeline> {
+/// The grass pipeline `choice` names on `ctx`: `mesh` is an error naming what the
+/// device lacks; `auto` takes the mesh path wherever the device has it, measured the
+/// faster on every device and look (README, "Mesh shaders": lavapipe 2.9 to 4.5 times,
+/// the NVIDIA H100 1.6 to 1.7 times with the paper look at the edge camera and 1.1 to
+/// 1.2 times with the natural look), else tessellation. The log says which it took
+/// and why.
+pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context) -> Result<GrassPipeline> {
     let missing = ctx.mesh_shader.as_ref().err().map(String::as_str);
     let (pipeline, why) = match (choice, missing) {
         (PipelineChoice::Tess, _) => (GrassPipeline::Tess, "--pipeline tess"),
@@ -211,17 +211,7 @@ pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context, look: Look) -> Resu
             log::info!("grass pipeline: tessellation ({why})");
             return Ok(GrassPipeline::Tess);
         }
-        (PipelineChoice::Auto, None) if ctx.is_software() => {
-            (GrassPipeline::Mesh, "auto: the faster on a software device")
-        }
-        (PipelineChoice::Auto, None) if look == Look::Natural => (
-            GrassPipeline::Mesh,
-            "auto: the faster for the natural look on a GPU",
-        ),
-        (PipelineChoice::Auto, None) => (
-            GrassPipeline::Tess,
-            "auto: the faster for the paper look on a GPU",
-        ),
+        (PipelineChoice::Auto, None) => (GrassPipeline::Mesh, "auto: the faster path"),
     };
     log::info!("grass pipeline: {pipeline:?} ({why})");
     Ok(pipeline)

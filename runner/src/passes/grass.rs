@@ -4,9 +4,8 @@
 //!   multi-draw-indirect call over the chunks the compute pass wrote; there is no
 //!   vertex buffer: the shaders read each blade through its index in the visible
 //!   buffer;
-//! - mesh: one indirect task launch over the visible blades (the grid the compute
-//!   pass wrote), task stages packing them into meshlets of blade strips
-//!   (`shaders-rs/src/mesh.rs`).
+//! - mesh: one multi-draw-indirect mesh launch, one draw per strip length over the
+//!   blades the compute pass binned by length (`shaders-rs/src/mesh.rs`).
 //!
 //! Filled, or as a wireframe in the wireframe view; both pipelines share each look's
 //! fragment stage.
@@ -19,51 +18,65 @@ use anyhow::Result;
 use ash::vk;
 use shared::layout::PIPELINE_MESH;
 use shared::look::LOOK_NATURAL;
-use shared::shade::VIEW_WIREFRAME;
+use shared::meshlet::SEGMENT_BUCKETS;
+use shared::shade::{VIEW_LOD, VIEW_WIREFRAME};
 use std::sync::Arc;
 
-/// One pipeline's grass: filled and wireframe, for each look.
+/// One pipeline's grass in each look and view: each view has its own fragment stage
+/// (a branch on the view in the fragment stage cost the NVIDIA H100 dearly,
+/// `shaders-rs/src/grass.rs`).
 struct Looks {
     filled: Pipeline,
     wireframe: Pipeline,
+    lod: Pipeline,
     natural: Pipeline,
     natural_wireframe: Pipeline,
+    natural_lod: Pipeline,
 }
 
 impl Looks {
-    /// The four pipelines of `paper` and `natural` (stages, in order).
-    fn new<'a>(
+    /// The pipelines of each look, its geometry stages in `paper` and `natural`
+    /// (in order, the fragment stage left out).
+    fn new(
         ctx: &Arc<Context>,
-        desc: &mut GraphicsDesc<'a>,
-        paper: &'a [(vk::ShaderStageFlags, &'a str)],
-        natural: &'a [(vk::ShaderStageFlags, &'a str)],
+        desc: &GraphicsDesc,
+        paper: &[(vk::ShaderStageFlags, &str)],
+        natural: &[(vk::ShaderStageFlags, &str)],
     ) -> Result<Self> {
-        let mut make = |stages, mode| {
-            desc.stages = stages;
-            desc.polygon_mode = mode;
-            Pipeline::graphics(ctx, desc)
+        let make = |geometry: &[(vk::ShaderStageFlags, &str)], fragment, mode| {
+            let mut stages = geometry.to_vec();
+            stages.push((vk::ShaderStageFlags::FRAGMENT, fragment));
+            let desc = GraphicsDesc {
+                stages: &stages,
+                polygon_mode: mode,
+                ..*desc
+            };
+            Pipeline::graphics(ctx, &desc)
         };
         let (fill, line) = (vk::PolygonMode::FILL, vk::PolygonMode::LINE);
         Ok(Self {
-            filled: make(paper, fill)?,
-            wireframe: make(paper, line)?,
-            natural: make(natural, fill)?,
-            natural_wireframe: make(natural, line)?,
+            filled: make(paper, shaders::GRASS_FS, fill)?,
+            wireframe: make(paper, shaders::GRASS_FS, line)?,
+            lod: make(paper, shaders::GRASS_LOD_FS, fill)?,
+            natural: make(natural, shaders::NATURAL_FS, fill)?,
+            natural_wireframe: make(natural, shaders::NATURAL_VIEW_FS, line)?,
+            natural_lod: make(natural, shaders::NATURAL_VIEW_FS, fill)?,
         })
     }
 
     fn pick(&self, view: u32, style: u32) -> &Pipeline {
-        match (style == LOOK_NATURAL, view == VIEW_WIREFRAME) {
-            (false, false) => &self.filled,
-            (false, true) => &self.wireframe,
-            (true, false) => &self.natural,
-            (true, true) => &self.natural_wireframe,
+        match (style == LOOK_NATURAL, view) {
+            (false, VIEW_WIREFRAME) => &self.wireframe,
+            (false, VIEW_LOD) => &self.lod,
+            (false, _) => &self.filled,
+            (true, VIEW_WIREFRAME) => &self.natural_wireframe,
+            (true, VIEW_LOD) => &self.natural_lod,
+            (true, _) => &self.natural,
         }
     }
 }
 
-/// The grass pipelines: tessellated, and with task and mesh stages where the device
-/// has them.
+/// The grass pipelines: tessellated, and with mesh stages where the device has them.
 pub struct GrassPass {
     tess: Looks,
     mesh: Option<(Looks, ash::ext::mesh_shader::Device)>,
@@ -83,41 +96,27 @@ impl GrassPass {
             (St::VERTEX, shaders::GRASS_VS),
             (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
             (St::TESSELLATION_EVALUATION, shaders::GRASS_TES),
-            (St::FRAGMENT, shaders::GRASS_FS),
         ];
         let natural = [
             (St::VERTEX, shaders::NATURAL_VS),
             (St::TESSELLATION_CONTROL, shaders::NATURAL_TCS),
             (St::TESSELLATION_EVALUATION, shaders::NATURAL_TES),
-            (St::FRAGMENT, shaders::NATURAL_FS),
         ];
-        let desc = |stages| {
-            let mut desc = GraphicsDesc::patches(
-                module,
-                stages,
-                &field.layout,
-                color_format,
-                super::DEPTH_FORMAT,
-            );
-            desc.samples = samples;
-            desc
-        };
-        let tess = Looks::new(ctx, &mut desc(&paper), &paper, &natural)?;
+        let mut desc = GraphicsDesc::patches(
+            module,
+            &[],
+            &field.layout,
+            color_format,
+            super::DEPTH_FORMAT,
+        );
+        desc.samples = samples;
+        let tess = Looks::new(ctx, &desc, &paper, &natural)?;
         let mesh = match &ctx.mesh_shader {
             Ok(commands) => {
-                let paper = [
-                    (St::TASK_EXT, shaders::PAPER_TASK),
-                    (St::MESH_EXT, shaders::PAPER_MESH),
-                    (St::FRAGMENT, shaders::GRASS_FS),
-                ];
-                let natural = [
-                    (St::TASK_EXT, shaders::NATURAL_TASK),
-                    (St::MESH_EXT, shaders::NATURAL_MESH),
-                    (St::FRAGMENT, shaders::NATURAL_FS),
-                ];
-                let mut desc = desc(&paper);
                 desc.patch_control_points = 0;
-                let looks = Looks::new(ctx, &mut desc, &paper, &natural)?;
+                let paper = [(St::MESH_EXT, shaders::PAPER_MESH)];
+                let natural = [(St::MESH_EXT, shaders::NATURAL_MESH)];
+                let looks = Looks::new(ctx, &desc, &paper, &natural)?;
                 Some((looks, commands.clone()))
             }
             Err(_) => None,
@@ -132,7 +131,7 @@ impl GrassPass {
         match &self.mesh {
             Some((looks, commands)) if pipeline == PIPELINE_MESH => {
                 bind(rec, looks.pick(view, style), field);
-                rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer);
+                rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, SEGMENT_BUCKETS);
             }
             _ => self.record_with(self.tess.pick(view, style), rec, field),
         }

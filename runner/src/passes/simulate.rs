@@ -21,6 +21,7 @@ pub struct SimulatePass {
     simulate: Pipeline,
     simulate_natural: Pipeline,
     write_draws: Pipeline,
+    bin_blades: Pipeline,
     copy: Pipeline,
     clumps: Pipeline,
 }
@@ -38,6 +39,7 @@ impl SimulatePass {
                 shaders::SIMULATE_CULL_NATURAL,
             )?,
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
+            bin_blades: Pipeline::compute(ctx, &field.layout, module, shaders::BIN_BLADES)?,
             copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
         })
@@ -84,8 +86,16 @@ impl SimulatePass {
     /// Records the pass. The counter reset and the uniform update must come before,
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
-    /// `natural` also dresses the visible blades for the natural look's draw.
-    pub fn record(&self, rec: &Recorder, field: &Field, push: SimulatePush, natural: bool) {
+    /// `natural` also dresses the visible blades for the natural look's draw; `mesh`
+    /// bins them by strip length for the mesh path (`shared::meshlet`).
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        field: &Field,
+        push: SimulatePush,
+        natural: bool,
+        mesh: bool,
+    ) {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
         let simulate = if natural {
@@ -108,6 +118,12 @@ impl SimulatePass {
         rec.bind_pipeline(compute, self.write_draws.pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&chunks));
         rec.dispatch(self.workgroups(field.chunk_count, CHUNK_WORKGROUP));
+        if mesh {
+            // Reads the counts the chunk pass reads; neither writes what the other
+            // reads. One thread per slot the visible list can have.
+            rec.bind_pipeline(compute, self.bin_blades.pipeline, layout, set);
+            rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
+        }
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (

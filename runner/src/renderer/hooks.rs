@@ -25,7 +25,8 @@ impl Renderer {
         };
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
-        self.record_compute(rec, queries, push, false);
+        let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
+        self.record_compute(rec, queries, push, false, mesh);
     }
 
     /// Copies a device buffer into host memory and returns `count` values of `T`.

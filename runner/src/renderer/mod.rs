@@ -27,7 +27,7 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
 use shared::cull::OCCLUSION;
-use shared::layout::{FrameUniforms, SimulatePush, ToneMapPush};
+use shared::layout::{FrameUniforms, PIPELINE_MESH, SimulatePush, ToneMapPush};
 use shared::look::LOOK_NATURAL;
 use shared::mesh::SurfaceMesh;
 use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
@@ -56,7 +56,7 @@ pub(crate) const FRAME_STAGES: S = S::from_raw(
 /// Every shader stage a frame runs.
 const SHADER_STAGES: S = S::from_raw(
     S::COMPUTE_SHADER.as_raw()
-        // Vertex, tessellation and, where the device has them, task and mesh.
+        // Vertex, tessellation and, where the device has them, mesh.
         | S::PRE_RASTERIZATION_SHADERS.as_raw()
         | S::FRAGMENT_SHADER.as_raw(),
 );
@@ -295,7 +295,8 @@ impl Renderer {
             self.simulate.record_clumps(rec, &self.field);
             self.clumped = Some(clumps);
         }
-        self.record_compute(rec, queries, input.push, natural);
+        let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
+        self.record_compute(rec, queries, input.push, natural, mesh);
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             let balls = used_balls(&uniforms);
@@ -359,16 +360,18 @@ impl Renderer {
         );
     }
 
-    /// Simulate, cull and compact, then copy the counters for the read-back.
+    /// Simulate, cull and compact (and for the `mesh` path bin by strip length), then
+    /// copy the counters for the read-back.
     fn record_compute(
         &self,
         rec: &Recorder,
         queries: &FrameQueries,
         push: SimulatePush,
         natural: bool,
+        mesh: bool,
     ) {
         let field = &self.field;
-        self.simulate.record(rec, field, push, natural);
+        self.simulate.record(rec, field, push, natural, mesh);
         rec.copy_buffer(
             field.counters.buffer,
             queries.counters.buffer,
@@ -377,9 +380,12 @@ impl Renderer {
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 
-    /// Ground, then grass, into the draw's colour (the target, the HDR image or the
-    /// multisampled one, see [`targets`]); [`Mark::Ground`] and [`Mark::Grass`]
-    /// after each, the grass's triangles counted into `triangles`.
+    /// Grass, then ground, into the draw's colour (the target, the HDR image or the
+    /// multisampled one, see [`targets`]); [`Mark::Grass`] and [`Mark::Ground`]
+    /// after each, the grass's triangles counted into `triangles`. Grass first: the
+    /// ground under it then fails the early depth test instead of being shaded and
+    /// drawn over (performance notes, attempt 12); the blades that surfaces hide are
+    /// culled before (the occlusion test).
     fn record_draw(
         &self,
         rec: &Recorder,
@@ -434,8 +440,6 @@ impl Renderer {
             Some(depth.1),
             extent,
         );
-        self.ground.record(rec, &self.field, used_balls(uniforms));
-        stamp(Mark::Ground);
         if let Some(pool) = triangles {
             rec.begin_query(pool);
         }
@@ -446,6 +450,8 @@ impl Renderer {
             rec.end_query(pool);
         }
         stamp(Mark::Grass);
+        self.ground.record(rec, &self.field, used_balls(uniforms));
+        stamp(Mark::Ground);
         rec.end_rendering();
     }
 

@@ -23,10 +23,12 @@ pub enum Mark {
     SimulateCull,
     /// After the sun's shadow map (natural look with shadows).
     Shadow,
-    /// After the ground and the ball.
-    Ground,
-    /// After the grass (inside the rendering scope: before its resolve).
+    /// After the grass, drawn first so that the ground it covers fails the early
+    /// depth test.
     Grass,
+    /// After the ground and the ball (inside the rendering scope: before its
+    /// resolve).
+    Ground,
     /// After the rendering scope ended: its multisample resolve, when there is one.
     Resolve,
     /// After the sky and the tone map (natural look).
@@ -117,9 +119,9 @@ impl PassTimes {
             depth_pyramid: at(Mark::Pyramid),
             simulate_cull: at(Mark::SimulateCull) - at(Mark::Pyramid),
             shadow: at(Mark::Shadow) - at(Mark::SimulateCull),
-            ground: at(Mark::Ground) - at(Mark::Shadow),
-            grass: at(Mark::Grass) - at(Mark::Ground),
-            resolve: at(Mark::Resolve) - at(Mark::Grass),
+            grass: at(Mark::Grass) - at(Mark::Shadow),
+            ground: at(Mark::Ground) - at(Mark::Grass),
+            resolve: at(Mark::Resolve) - at(Mark::Ground),
             tone_map: at(Mark::ToneMap) - at(Mark::Resolve),
             overlay: at(Mark::Overlay) - at(Mark::ToneMap),
             total: at(Mark::Overlay),

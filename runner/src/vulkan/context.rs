@@ -92,7 +92,7 @@ pub struct Context {
     pub timestamp_bits: u32,
     /// Pipeline statistics queries are enabled (the device has them).
     pub pipeline_statistics: bool,
-    /// `VK_EXT_mesh_shader`'s commands, when the device has task and mesh stages
+    /// `VK_EXT_mesh_shader`'s commands, when the device has mesh stages
     /// within the limits the mesh path needs (and they are enabled); else why not.
     pub mesh_shader: Result<ext::mesh_shader::Device, String>,
     /// Surface of the window, when there is one.
@@ -447,14 +447,14 @@ fn pick_device(
     }
 }
 
-/// `Ok` when `physical` has `VK_EXT_mesh_shader` with task and mesh stages and the
-/// limits the mesh path's stages declare (`shared::meshlet`); else what is missing.
+/// `Ok` when `physical` has `VK_EXT_mesh_shader` with mesh stages, `shaderDrawParameters`
+/// and the limits the mesh path's stages declare (`shared::meshlet`); else what is
+/// missing.
 fn mesh_shader_support(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
 ) -> Result<(), String> {
-    use shared::meshlet::{BladeGroup, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES};
-    use shared::meshlet::{TASK_BLADES, TASK_GRID_WIDTH};
+    use shared::meshlet::{MESH_GRID_WIDTH, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES};
     let name = ext::mesh_shader::NAME;
     let extensions =
         unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
@@ -465,10 +465,17 @@ fn mesh_shader_support(
         return Err(format!("the device has no {}", name.to_string_lossy()));
     }
     let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
-    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut mesh);
+    let mut v11 = vk::PhysicalDeviceVulkan11Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut mesh)
+        .push_next(&mut v11);
     unsafe { instance.get_physical_device_features2(physical, &mut features) };
-    if mesh.task_shader == vk::FALSE || mesh.mesh_shader == vk::FALSE {
-        return Err("VK_EXT_mesh_shader without task and mesh stages".into());
+    if mesh.mesh_shader == vk::FALSE {
+        return Err("VK_EXT_mesh_shader without mesh stages".into());
+    }
+    // The mesh stages tell their draws apart by `DrawIndex`.
+    if v11.shader_draw_parameters == vk::FALSE {
+        return Err("no shaderDrawParameters (the mesh stages read DrawIndex)".into());
     }
     let mut limits = vk::PhysicalDeviceMeshShaderPropertiesEXT::default();
     let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut limits);
@@ -490,19 +497,9 @@ fn mesh_shader_support(
             MESH_THREADS,
         ),
         (
-            "maxTaskWorkGroupInvocations",
-            limits.max_task_work_group_invocations,
-            TASK_BLADES,
-        ),
-        (
-            "maxTaskPayloadSize",
-            limits.max_task_payload_size,
-            size_of::<BladeGroup>() as u32,
-        ),
-        (
-            "maxTaskWorkGroupCount[0]",
-            limits.max_task_work_group_count[0],
-            TASK_GRID_WIDTH,
+            "maxMeshWorkGroupCount[0]",
+            limits.max_mesh_work_group_count[0],
+            MESH_GRID_WIDTH,
         ),
     ];
     match needs.iter().find(|(_, has, need)| has < need) {
@@ -543,9 +540,8 @@ fn create_device(
     if mesh_shader {
         extensions.push(ext::mesh_shader::NAME.as_ptr());
     }
-    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default()
-        .task_shader(true)
-        .mesh_shader(true);
+    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default().mesh_shader(true);
+    let mut v11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
     let mut info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&core)
@@ -553,7 +549,7 @@ fn create_device(
         .push_next(&mut v12)
         .push_next(&mut v13);
     if mesh_shader {
-        info = info.push_next(&mut mesh);
+        info = info.push_next(&mut mesh).push_next(&mut v11);
     }
     unsafe { instance.create_device(physical, &info, None) }.context("create Vulkan device")
 }

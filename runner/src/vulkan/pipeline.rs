@@ -234,6 +234,7 @@ impl Pipeline {
 }
 
 /// What a graphics pipeline is made of.
+#[derive(Copy, Clone)]
 pub struct GraphicsDesc<'a> {
     /// The module with every entry point.
     pub module: &'a ShaderModules,

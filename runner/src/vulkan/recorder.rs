@@ -350,15 +350,16 @@ impl<'a> Recorder<'a> {
         };
     }
 
-    /// Launches the task workgroups of the one `VkDrawMeshTasksIndirectCommandEXT` at
-    /// the start of `buffer`.
+    /// Launches the mesh workgroups of the `count` `VkDrawMeshTasksIndirectCommandEXT`
+    /// at the start of `buffer` (the mesh stage tells them apart by `DrawIndex`).
     pub fn draw_mesh_tasks_indirect(
         &self,
         mesh: &ash::ext::mesh_shader::Device,
         buffer: vk::Buffer,
+        count: u32,
     ) {
         let stride = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32;
-        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, 0, 1, stride) };
+        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, 0, count, stride) };
     }
 }
 

@@ -106,14 +106,10 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     } else {
         args.pipelines.clone()
     };
-    // `auto` depends on the look: each look's pipelines.
-    let pipelines_of = |look| {
-        choices
-            .iter()
-            .map(|&choice| super::grass_pipeline(choice, &ctx, look))
-            .collect::<Result<Vec<_>>>()
-    };
-    let pipelines = pipelines_of(looks[0])?;
+    let pipelines = choices
+        .iter()
+        .map(|&choice| super::grass_pipeline(choice, &ctx))
+        .collect::<Result<Vec<_>>>()?;
     let total = counts.len() * configs.len() * looks.len() * pipelines.len();
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut points = Vec::new();
@@ -139,7 +135,6 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         let camera = camera(&scene, args.camera);
         let eye = camera.viewpoint(offscreen.size());
         for &look in &looks {
-            let pipelines = pipelines_of(look)?;
             // Each look on its own field, grown at its blade size.
             scene.rescale(scene.scale_for(look));
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;

@@ -59,7 +59,9 @@ pub const BINDINGS: [BindingSpec; 15] = [
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),
-    storage(layout::BINDING_SCRATCH),
+    // The bandwidth reference's destination, also the mesh-vertex capture's
+    // (`GrassPass::capture`).
+    storage_in(layout::BINDING_SCRATCH, vk::ShaderStageFlags::MESH_EXT),
     // The sun's shadow map (`passes::shadow`), read by the lit fragment stages.
     BindingSpec {
         binding: layout::BINDING_SHADOW_MAP,
@@ -256,7 +258,7 @@ impl Field {
         let binned = device_buffer(
             "binned blades",
             u64::from(count) * size_of::<StripBlade>() as u64,
-            U::STORAGE_BUFFER,
+            U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
         let uniforms = device_buffer(
             "uniforms",

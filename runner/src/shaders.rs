@@ -47,6 +47,9 @@ pub const NATURAL_FS: &str = "grass::natural_fs";
 pub const NATURAL_VIEW_FS: &str = "grass::natural_view_fs";
 /// The paper look's mesh path: mesh stage (the blade strips of one length).
 pub const PAPER_MESH: &str = "mesh::paper_mesh";
+/// The paper look's mesh stage writing each vertex's clip position to the scratch
+/// binding (tests).
+pub const PAPER_MESH_CAPTURE: &str = "mesh::paper_mesh_capture";
 /// The natural look's mesh path: mesh stage.
 pub const NATURAL_MESH: &str = "mesh::natural_mesh";
 /// The grass from the sun (shadow map): tessellation control at the fewest segments.

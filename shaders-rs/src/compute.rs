@@ -2,7 +2,6 @@
 //! blade, cull it, count each test's removals and compact the survivors, then write
 //! the indirect draw commands.
 
-use crate::grass::level_of;
 use shared::Blade;
 use shared::cull::{KEPT, cull_outcome};
 use shared::hiz::{level_size, reduce};
@@ -10,7 +9,7 @@ use shared::layout::{
     CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_VISIBLE, ChunkPush,
     CopyPush, FrameUniforms, HiZPush, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
-use shared::lod::chunk_range;
+use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
 use shared::meshlet::{
     SEGMENT_BUCKETS, StripBlade, binned_counter, bucket_base, draw_segments, mesh_grid,
@@ -66,7 +65,7 @@ pub fn simulate_cull(
         levels,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
-    let prepare = |_: u32, kept: &Blade| ((), if mesh { level_of(kept, frame) } else { 0.0 });
+    let prepare = |_: u32, kept: &Blade| ((), if mesh { blade_level(kept, frame) } else { 0.0 });
     simulate_and_cull(
         id,
         local,
@@ -117,7 +116,7 @@ pub fn simulate_cull_natural(
         let (mask, _) = unpack_coverage(tint.w);
         let mesh = frame.grass.pipeline == PIPELINE_MESH;
         let level = if mesh && mask != 0 {
-            level_of(&blade, frame)
+            blade_level(&blade, frame)
         } else {
             0.0
         };

@@ -13,13 +13,13 @@
 use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
 use shared::layout::FrameUniforms;
-use shared::lod::{screen_level, tess_levels, tess_levels_if};
+use shared::lod::{blade_level, tess_levels, tess_levels_if};
 use shared::look::{
     DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal, shade_leaf,
     unpack_coverage,
 };
 use shared::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
-use shared::shape::{shape_min_level, surface_point};
+use shared::shape::surface_point;
 use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
@@ -31,24 +31,6 @@ pub fn grass_vs(
     out_blade: &mut u32,
 ) {
     *out_blade = visible[vertex as usize];
-}
-
-/// The tessellation level of `blade` (continuous, fractional-odd spacing in the
-/// evaluation stage): its height on screen over the pixels per segment, at least
-/// what the shape needs.
-pub(crate) fn level_of(blade: &Blade, frame: &FrameUniforms) -> f32 {
-    let distance = (blade.v0.xyz() - frame.camera.position).length();
-    let lod = &frame.lod;
-    let focal = frame.camera.focal_pixels;
-    screen_level(
-        blade.height(),
-        distance,
-        focal,
-        lod.pixels_per_segment,
-        lod.most,
-        lod.fewest,
-    )
-    .max(shape_min_level(frame.grass.shape))
 }
 
 /// Level of detail: a continuous tessellation level along the blade from its height
@@ -65,7 +47,7 @@ pub fn grass_tcs(
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
     out_blade[0] = in_blade[0];
-    let level = level_of(&blades[in_blade[0] as usize], frame);
+    let level = blade_level(&blades[in_blade[0] as usize], frame);
     out_level[0] = level;
     let (o, i) = tess_levels(level);
     *outer = o;
@@ -148,7 +130,7 @@ pub fn natural_tcs(
 ) {
     out_slot[0] = in_slot[0];
     let drawn = &dressed[in_slot[0] as usize];
-    let level = level_of(&drawn.blade, frame);
+    let level = blade_level(&drawn.blade, frame);
     out_level[0] = level;
     // A thin blade its coverage left out (`shared::look::dress`) is dropped.
     let (mask, _) = unpack_coverage(drawn.tint.w);

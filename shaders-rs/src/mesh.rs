@@ -14,8 +14,9 @@ use shared::Blade;
 use shared::layout::FrameUniforms;
 use shared::look::DressedBlade;
 use shared::meshlet::{
-    StripBlade, bucket_base, draw_segments, group_index, group_strips, strip_coord, strip_counter,
-    strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group,
+    MAX_STRIP_VERTICES, StripBlade, bucket_base, draw_segments, group_index, group_strips,
+    strip_coord, strip_counter, strip_lane, strip_triangle, strip_triangles, strip_vertices,
+    strips_per_group,
 };
 use shared::shape::surface_point;
 use spirv_std::arch::set_mesh_outputs_ext;
@@ -23,8 +24,8 @@ use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
 /// Sets the workgroup's outputs and writes its triangles, then gives this
-/// invocation's vertex: (output index, the binned blade, (u, v, level)), if it has
-/// one. Draw `draw` holds the strips of [`draw_segments`] segments; workgroup `group`
+/// invocation's vertex: (output index, the binned blade's slot, the binned blade,
+/// (u, v, level)), if it has one. Draw `draw` holds the strips of [`draw_segments`] segments; workgroup `group`
 /// of the launch `groups` takes the next [`strips_per_group`] of them.
 fn strip_vertex(
     draw: u32,
@@ -34,7 +35,7 @@ fn strip_vertex(
     counters: &[u32],
     binned: &[StripBlade],
     indices: &mut [UVec3; 30],
-) -> Option<(usize, StripBlade, Vec3)> {
+) -> Option<(usize, u32, StripBlade, Vec3)> {
     let segments = draw_segments(draw);
     let per = strips_per_group(segments);
     let first = group_index(group, groups) * per;
@@ -53,7 +54,16 @@ fn strip_vertex(
     let at = bucket_base(counters, segments) + first + strip;
     let blade = binned[at as usize];
     let (u, v) = strip_coord(k, blade.level);
-    Some((lane as usize, blade, Vec3::new(u, v, blade.level)))
+    Some((lane as usize, at, blade, Vec3::new(u, v, blade.level)))
+}
+
+/// The paper look's vertex of a strip at (u, v, level): clip position, and the
+/// normal with v (the tessellation evaluation stage's varyings).
+fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4) {
+    let grass = &frame.grass;
+    let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
+    let clip = frame.camera.view_proj * p.position.extend(1.0);
+    (clip, p.normal.extend(uvl.y))
 }
 
 /// The paper look's mesh stage: strips of the stored blades, with the tessellation
@@ -80,13 +90,47 @@ pub fn paper_mesh(
     #[spirv(flat)] out_level: &mut [f32; 32],
 ) {
     let vertex = strip_vertex(draw, group, groups, lane, counters, binned, indices);
-    if let Some((k, strip, uvl)) = vertex {
-        let grass = &frame.grass;
-        let blade = &blades[strip.source as usize];
-        let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
-        out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
-        out_normal_v[k] = p.normal.extend(uvl.y);
+    if let Some((k, _, strip, uvl)) = vertex {
+        let (clip, normal_v) = paper_vertex(frame, &blades[strip.source as usize], uvl);
+        out_position[k] = clip;
+        out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
+    }
+}
+
+/// [`paper_mesh`] that also writes each vertex's clip position to the capture buffer
+/// (the bandwidth reference's scratch binding), at the binned slot's
+/// `MAX_STRIP_VERTICES` entries: for the test comparing it with the host's vertices.
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 32,
+    output_primitives_ext = 30,
+    output_triangles_ext
+))]
+pub fn paper_mesh_capture(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(draw_index)] draw: u32,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] capture: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
+    #[spirv(position)] out_position: &mut [Vec4; 32],
+    out_normal_v: &mut [Vec4; 32],
+    #[spirv(flat)] out_level: &mut [f32; 32],
+) {
+    let vertex = strip_vertex(draw, group, groups, lane, counters, binned, indices);
+    if let Some((k, at, strip, uvl)) = vertex {
+        let (clip, normal_v) = paper_vertex(frame, &blades[strip.source as usize], uvl);
+        out_position[k] = clip;
+        out_normal_v[k] = normal_v;
+        out_level[k] = uvl.z;
+        let (_, vertex) = strip_lane(lane, draw_segments(draw));
+        capture[(at * MAX_STRIP_VERTICES + vertex) as usize] = clip;
     }
 }
 
@@ -118,7 +162,7 @@ pub fn natural_mesh(
     #[spirv(flat)] out_width_dir: &mut [Vec3; 32],
 ) {
     let vertex = strip_vertex(draw, group, groups, lane, counters, binned, indices);
-    if let Some((k, strip, uvl)) = vertex {
+    if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
         let drawn = &dressed[strip.source as usize];
         let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);

@@ -57,6 +57,25 @@ pub fn screen_level(
     clamp_unchecked(level, 1.0, MAX_LEVEL)
 }
 
+/// The level of detail of `blade` in this frame (both pipelines, and the compute
+/// pass that bins blades for the mesh path): its height on screen over the pixels
+/// per segment ([`screen_level`]), at least what the shape needs.
+pub fn blade_level(blade: &crate::Blade, frame: &crate::layout::FrameUniforms) -> f32 {
+    use spirv_std::glam::Vec4Swizzles;
+    let distance = (blade.v0.xyz() - frame.camera.position).length();
+    let lod = &frame.lod;
+    let focal = frame.camera.focal_pixels;
+    screen_level(
+        blade.height(),
+        distance,
+        focal,
+        lod.pixels_per_segment,
+        lod.most,
+        lod.fewest,
+    )
+    .max(crate::shape::shape_min_level(frame.grass.shape))
+}
+
 /// `x` within `lo..=hi` (for `lo <= hi`) without `f32::clamp`'s check of its bounds:
 /// that check is a panic path, which a task stage must not have (`crate::meshlet`).
 #[allow(clippy::manual_clamp)]

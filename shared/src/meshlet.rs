@@ -34,6 +34,8 @@ pub const MESHLET_TRIANGLES: u32 = MESHLET_VERTICES - 2;
 /// Largest mesh grid along x: the smallest `maxMeshWorkGroupCount[0]` Vulkan allows
 /// is 65,535; more workgroups go on along y.
 pub const MESH_GRID_WIDTH: u32 = 32_768;
+/// Most vertices of one strip: [`MAX_SEGMENTS`] segments.
+pub const MAX_STRIP_VERTICES: u32 = 2 * (MAX_SEGMENTS + 1);
 /// Buckets of strip lengths: strips of 1 to [`MAX_SEGMENTS`] segments, one indirect
 /// draw each.
 pub const SEGMENT_BUCKETS: u32 = MAX_SEGMENTS;

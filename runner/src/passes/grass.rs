@@ -80,6 +80,11 @@ impl Looks {
 pub struct GrassPass {
     tess: Looks,
     mesh: Option<(Looks, ash::ext::mesh_shader::Device)>,
+    /// The paper look's mesh path capturing its vertices (`paper_mesh_capture`), for
+    /// the test against the host's vertices; used instead of the mesh path while set.
+    capture: Option<Pipeline>,
+    /// Draw the mesh path through `capture`.
+    pub capturing: bool,
 }
 
 impl GrassPass {
@@ -121,7 +126,26 @@ impl GrassPass {
             }
             Err(_) => None,
         };
-        Ok(Self { tess, mesh })
+        let capture = match &mesh {
+            Some(_) => {
+                let stages = [
+                    (St::MESH_EXT, shaders::PAPER_MESH_CAPTURE),
+                    (St::FRAGMENT, shaders::GRASS_FS),
+                ];
+                let desc = GraphicsDesc {
+                    stages: &stages,
+                    ..desc
+                };
+                Some(Pipeline::graphics(ctx, &desc)?)
+            }
+            None => None,
+        };
+        Ok(Self {
+            tess,
+            mesh,
+            capture,
+            capturing: false,
+        })
     }
 
     /// Records the draw inside the frame's rendering scope, in `view`
@@ -130,7 +154,11 @@ impl GrassPass {
     pub fn record(&self, rec: &Recorder, field: &Field, view: u32, style: u32, pipeline: u32) {
         match &self.mesh {
             Some((looks, commands)) if pipeline == PIPELINE_MESH => {
-                bind(rec, looks.pick(view, style), field);
+                let picked = match &self.capture {
+                    Some(capture) if self.capturing => capture,
+                    _ => looks.pick(view, style),
+                };
+                bind(rec, picked, field);
                 rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, SEGMENT_BUCKETS);
             }
             _ => self.record_with(self.tess.pick(view, style), rec, field),

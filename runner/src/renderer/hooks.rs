@@ -44,4 +44,18 @@ impl Renderer {
             .one_shot(|rec| rec.copy_buffer(buffer.buffer, staging.buffer, bytes))?;
         staging.read(count)
     }
+
+    /// With `Some(buffer)`, the mesh path's later frames draw the paper look through
+    /// `mesh::paper_mesh_capture`, which writes each vertex's clip position into
+    /// `buffer` (`meshlet::MAX_STRIP_VERTICES` `vec4` per binned blade); `None` goes
+    /// back to the frame's own pipelines.
+    pub fn capture_mesh_vertices(&mut self, buffer: Option<&Buffer>) -> Result<()> {
+        self.ctx.wait_idle()?;
+        let target = buffer.map_or(self.field.visible.buffer, |b| b.buffer);
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let descriptors = &self.field.descriptors;
+        descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, target);
+        self.grass.capturing = buffer.is_some();
+        Ok(())
+    }
 }

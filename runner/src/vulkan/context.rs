@@ -530,7 +530,10 @@ fn create_device(
     let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
         .vulkan_memory_model(true)
         .vulkan_memory_model_device_scope(true);
+    // maintenance4 (every Vulkan 1.3 device has it): a fragment stage may leave some
+    // of the outputs before it unread (the views' fragment stages read fewer).
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
+        .maintenance4(true)
         .dynamic_rendering(true)
         .synchronization2(true);
     let mut extensions = Vec::new();

@@ -95,11 +95,13 @@ const TESSELLATION_OR_MESH: vk::ShaderStageFlags = vk::ShaderStageFlags::from_ra
 );
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
-/// blocks, the surface draw's model matrix and the throughput reference's grid, so every
-/// push names these stages.
+/// blocks, the surface draw's model matrix and the throughput references' grid (a
+/// vertex or a mesh stage), so every push names these stages.
 pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
     vk::ShaderStageFlags::from_raw(
-        vk::ShaderStageFlags::COMPUTE.as_raw() | vk::ShaderStageFlags::VERTEX.as_raw(),
+        vk::ShaderStageFlags::COMPUTE.as_raw()
+            | vk::ShaderStageFlags::VERTEX.as_raw()
+            | vk::ShaderStageFlags::MESH_EXT.as_raw(),
     ),
     max(
         max(

@@ -31,6 +31,8 @@ pub const GRASS_VS: &str = "grass::grass_vs";
 pub const GRASS_TCS: &str = "grass::grass_tcs";
 /// Grass tessellation evaluation stage (blade shape).
 pub const GRASS_TES: &str = "grass::grass_tes";
+/// The mesh path's triangle-throughput reference: mesh stage.
+pub const THROUGHPUT_MESH: &str = "throughput::throughput_mesh";
 /// Grass fragment stage (shaded and wireframe views).
 pub const GRASS_FS: &str = "grass::grass_fs";
 /// Grass fragment stage of the LOD view.

@@ -1,11 +1,17 @@
-//! The triangle-throughput reference: one-vertex patches tessellated like a blade,
-//! placed on a grid of screen cells and shaded with one colour, so their draw time is
-//! what this device needs to tessellate and rasterise that many triangles.
+//! The triangle-throughput references: one-vertex patches tessellated like a blade,
+//! or mesh workgroups of blade strips as the mesh path draws them, placed on a grid of
+//! screen cells and shaded with one colour, so their draw time is what this device
+//! needs to make and rasterise that many triangles through each pipeline.
 
 use shared::layout::ThroughputPush;
 use shared::lod::tess_levels;
+use shared::meshlet::{
+    group_index, strip_coord, strip_lane, strip_segments, strip_triangle, strip_triangles,
+    strip_vertices, strips_per_group,
+};
 use shared::reference::{cell_point, patch_cell};
-use spirv_std::glam::{Vec3, Vec4};
+use spirv_std::arch::set_mesh_outputs_ext;
+use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
 /// The patch's screen cell and its level.
@@ -43,6 +49,39 @@ pub fn throughput_tes(
     #[spirv(position)] out_position: &mut Vec4,
 ) {
     *out_position = cell_point(in_cell[0], coord.x, coord.y);
+}
+
+/// The mesh path's reference: each workgroup draws as many strips of the push
+/// constant's level as the grass's mesh stage does (`meshlet::strips_per_group`),
+/// strip i in cell i, with nothing else to compute.
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 32,
+    output_primitives_ext = 30,
+    output_triangles_ext
+))]
+pub fn throughput_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(push_constant)] push: &ThroughputPush,
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
+    #[spirv(position)] out_position: &mut [Vec4; 32],
+) {
+    let segments = strip_segments(push.level);
+    let per = strips_per_group(segments);
+    let (vertices, triangles) = (strip_vertices(segments), strip_triangles(segments));
+    unsafe { set_mesh_outputs_ext(per * vertices, per * triangles) };
+    if lane < per * triangles {
+        let strip = lane / triangles;
+        indices[lane as usize] = strip_triangle(lane % triangles, strip * vertices);
+    }
+    let (strip, k) = strip_lane(lane, segments);
+    if strip < per {
+        let cell = patch_cell(group_index(group, groups) * per + strip, push);
+        let (u, v) = strip_coord(k, push.level);
+        out_position[lane as usize] = cell_point(cell, u, v);
+    }
 }
 
 /// One colour.

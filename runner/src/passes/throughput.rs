@@ -1,6 +1,7 @@
-//! The triangle-throughput reference: patches tessellated like blades at a fixed level,
-//! on a grid of small screen cells, shaded with one colour and timed, so the grass
-//! draw can be reported as a share of what this device tessellates at most.
+//! The triangle-throughput references: patches tessellated like blades at a fixed
+//! level, or the mesh path's strips of that level, on a grid of small screen cells,
+//! shaded with one colour and timed, so the grass draw can be reported as a share of
+//! what this device draws at most through its pipeline.
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
@@ -9,11 +10,13 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use shared::layout::ThroughputPush;
+use shared::meshlet::{mesh_grid, strip_segments};
 use std::sync::Arc;
 
-/// The reference pipeline.
+/// The reference pipelines: tessellated, and mesh where the device has it.
 pub struct ThroughputPass {
     pipeline: Pipeline,
+    mesh: Option<(Pipeline, ash::ext::mesh_shader::Device)>,
 }
 
 impl ThroughputPass {
@@ -38,9 +41,48 @@ impl ThroughputPass {
             color_format,
             super::DEPTH_FORMAT,
         );
+        let mesh_stages = [
+            (St::MESH_EXT, shaders::THROUGHPUT_MESH),
+            (St::FRAGMENT, shaders::THROUGHPUT_FS),
+        ];
+        let mesh = match &ctx.mesh_shader {
+            Ok(commands) => {
+                let desc = GraphicsDesc {
+                    stages: &mesh_stages,
+                    patch_control_points: 0,
+                    ..desc
+                };
+                Some((Pipeline::graphics(ctx, &desc)?, commands.clone()))
+            }
+            Err(_) => None,
+        };
         Ok(Self {
             pipeline: Pipeline::graphics(ctx, &desc)?,
+            mesh,
         })
+    }
+
+    /// Whether the device draws the mesh path's reference.
+    pub fn has_mesh(&self) -> bool {
+        self.mesh.is_some()
+    }
+
+    /// Records at least `strips` strips of the push constant's level through the mesh
+    /// reference (whole workgroups) inside a rendering scope; nothing without one.
+    pub fn record_mesh(&self, rec: &Recorder, field: &Field, push: ThroughputPush, strips: u32) {
+        let Some((pipeline, commands)) = &self.mesh else {
+            return;
+        };
+        let layout = field.layout.layout;
+        rec.bind_pipeline(
+            vk::PipelineBindPoint::GRAPHICS,
+            pipeline.pipeline,
+            layout,
+            field.descriptors.set,
+        );
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        let grid = mesh_grid(strips, strip_segments(push.level));
+        rec.draw_mesh_tasks(commands, grid.to_array());
     }
 
     /// Records `patches` patches inside a rendering scope, in draws of at most

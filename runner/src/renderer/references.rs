@@ -40,21 +40,26 @@ impl Renderer {
 
     /// Triangle-throughput reference: milliseconds to draw `patches` trivially shaded
     /// one-vertex patches at tessellation `level` into `target` (depth tested, on a
-    /// grid of small cells), the best of `repeats`, and the triangles generated
-    /// (pipeline statistics, where the device has them); `None` without timestamps.
-    /// The patches are drawn in chunks of the grass draw's size.
+    /// grid of small cells), or with `mesh` as many of the mesh path's strips of that
+    /// level, the best of `repeats`, and the triangles generated (pipeline statistics,
+    /// where the device has them); `None` without timestamps, or without mesh stages
+    /// for `mesh`. The patches are drawn in chunks of the grass draw's size.
     pub fn triangle_throughput(
         &mut self,
         target: &Target,
         patches: u32,
         level: f32,
         repeats: u32,
+        mesh: bool,
     ) -> Result<Option<(f64, Option<u64>)>> {
         // Keeps the draw targets the frames use; the reference needs single-sample depth.
         let spec = self.targets.as_ref().map(|t| (t.spec.hdr, t.spec.samples));
         let (hdr, samples) = spec.unwrap_or((false, 1));
         self.ensure_targets(target.extent, hdr, samples)?;
         let pass = ThroughputPass::new(&self.ctx, &self.module, &self.field, self.color_format)?;
+        if mesh && !pass.has_mesh() {
+            return Ok(None);
+        }
         let depth = &self.targets.as_ref().context("draw targets")?.depth;
         let push = shared::reference::push(level, target.extent.width, target.extent.height);
         // Each image's barrier names its own kind of access only.
@@ -88,7 +93,11 @@ impl Renderer {
             if let Some(t) = &triangles {
                 rec.begin_query(t.pool);
             }
-            pass.record(rec, &self.field, push, patches, self.field.chunk_size);
+            if mesh {
+                pass.record_mesh(rec, &self.field, push, patches);
+            } else {
+                pass.record(rec, &self.field, push, patches, self.field.chunk_size);
+            }
             if let Some(t) = &triangles {
                 rec.end_query(t.pool);
             }

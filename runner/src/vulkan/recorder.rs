@@ -350,6 +350,12 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Launches a grid of `groups` mesh workgroups.
+    pub fn draw_mesh_tasks(&self, mesh: &ash::ext::mesh_shader::Device, groups: [u32; 3]) {
+        let [x, y, z] = groups;
+        unsafe { mesh.cmd_draw_mesh_tasks(self.cmd, x, y, z) };
+    }
+
     /// Launches the mesh workgroups of the `count` `VkDrawMeshTasksIndirectCommandEXT`
     /// at the start of `buffer` (the mesh stage tells them apart by `DrawIndex`).
     pub fn draw_mesh_tasks_indirect(

@@ -9,7 +9,7 @@ pub mod charts;
 pub mod report;
 pub mod stats;
 
-pub use stats::{Point, References, Spread, compute_bytes, mean_difference};
+pub use stats::{Point, References, Spread, TriangleReference, compute_bytes, mean_difference};
 
 use super::driver::{FRAMES_IN_FLIGHT, FrameDriver, FrameSpec};
 use super::headless::{FORMAT, Offscreen};
@@ -24,7 +24,7 @@ use anyhow::{Context as _, Result};
 use glam::Vec3;
 use report::{print_looks, print_references, print_table, write_csv};
 use shared::layout::FrameUniforms;
-use shared::settings::{Look, Settings};
+use shared::settings::{GrassPipeline, Look, Settings};
 use shared::simulate::SimClock;
 use std::time::Instant;
 
@@ -185,7 +185,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             }
             if Some(&n) == counts.last() && look == looks[0] {
                 progress.show(points.len(), "references");
-                references = measure_references(&mut driver.renderer, &offscreen, n)?;
+                references = measure_references(&mut driver.renderer, &offscreen, n, &pipelines)?;
             }
         }
     }
@@ -297,41 +297,56 @@ fn still(
 /// segments a blade gets.
 const REFERENCE_LEVELS: [f32; 2] = [1.0, shared::lod::MAX_LEVEL];
 
-/// The bandwidth and triangle-throughput references over a field of `blades`.
+/// The bandwidth reference and each of `pipelines`' triangle-throughput reference over
+/// a field of `blades`.
 fn measure_references(
     renderer: &mut Renderer,
     offscreen: &Offscreen,
     blades: u32,
+    pipelines: &[GrassPipeline],
 ) -> Result<References> {
     let repeats = 10;
-    let copy_gbs = renderer.copy_bandwidth(repeats)?;
+    let mut references = References {
+        copy_gbs: renderer.copy_bandwidth(repeats)?,
+        ..Default::default()
+    };
     let target = offscreen.target();
-    let mut timed = Vec::new();
-    for level in REFERENCE_LEVELS {
-        let Some((ms, counted)) = renderer.triangle_throughput(&target, blades, level, repeats)?
-        else {
-            return Ok(References {
-                copy_gbs,
-                ..Default::default()
-            });
-        };
-        // Per patch as counted, else as the tessellation rules give it.
-        let triangles = counted.map_or(
-            f64::from(shared::reference::triangles_per_patch(level)),
-            |t| t as f64 / f64::from(blades),
-        );
-        log::info!(
-            "triangle reference at level {level}: {triangles} triangles per patch, {ms:.3} ms"
-        );
-        timed.push((triangles, ms));
+    for &pipeline in pipelines {
+        let mesh = pipeline == GrassPipeline::Mesh;
+        let mut timed = Vec::new();
+        for level in REFERENCE_LEVELS {
+            let Some((ms, counted)) =
+                renderer.triangle_throughput(&target, blades, level, repeats, mesh)?
+            else {
+                break;
+            };
+            // Per patch or strip as counted, else as the rules give it.
+            let rule = if mesh {
+                2 * shared::meshlet::strip_segments(level)
+            } else {
+                shared::reference::triangles_per_patch(level)
+            };
+            let triangles = counted
+                .filter(|&t| t > 0)
+                .map_or(f64::from(rule), |t| t as f64 / f64::from(blades));
+            log::info!(
+                "{pipeline:?} triangle reference at level {level}: {triangles} triangles per \
+                 blade, {ms:.3} ms"
+            );
+            timed.push((triangles, ms));
+        }
+        let [low, high] = timed[..] else { continue };
+        let patches = f64::from(blades);
+        let (patch_ms, triangle_ms) = TriangleReference::fit(patches, low, high);
+        let reference = Some(TriangleReference {
+            patch_ms,
+            triangle_ms,
+            triangles_per_s: patches * high.0 / (high.1 * 1e-3),
+        });
+        match pipeline {
+            GrassPipeline::Tess => references.tess = reference,
+            GrassPipeline::Mesh => references.mesh = reference,
+        }
     }
-    let patches = f64::from(blades);
-    let (patch_ms, triangle_ms) = References::fit(patches, timed[0], timed[1]);
-    let (most, ms) = timed[1];
-    Ok(References {
-        copy_gbs,
-        patch_ms,
-        triangle_ms,
-        triangles_per_s: patches * most / (ms * 1e-3),
-    })
+    Ok(references)
 }

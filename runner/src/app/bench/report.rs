@@ -14,14 +14,17 @@ pub fn print_references(blades: u32, r: &References, points: &[Point]) {
             "bandwidth reference: the copy shader moves {copy:.0} GB/s over {blades} blades"
         ));
     }
-    if r.triangles_per_s > 0.0 {
-        lines.push(format!(
-            "triangle reference: {:.0} M triangles/s at {} segments; {:.2} ns per patch + {:.3} ns per triangle",
-            r.triangles_per_s / 1e6,
-            shared::lod::MAX_SEGMENTS,
-            r.patch_ms * 1e6,
-            r.triangle_ms * 1e6
-        ));
+    for (name, t) in [("tessellation", &r.tess), ("mesh", &r.mesh)] {
+        if let Some(t) = t {
+            lines.push(format!(
+                "{name} triangle reference: {:.0} M triangles/s at {} segments; {:.2} ns per \
+                 blade + {:.3} ns per triangle",
+                t.triangles_per_s / 1e6,
+                shared::lod::MAX_SEGMENTS,
+                t.patch_ms * 1e6,
+                t.triangle_ms * 1e6
+            ));
+        }
     }
     for line in &lines {
         println!("{line}");
@@ -36,10 +39,11 @@ pub fn print_references(blades: u32, r: &References, points: &[Point]) {
                 100.0 * gbs / copy
             );
         }
-        if let (Some(triangles), true) = (p.triangles, r.triangles_per_s > 0.0) {
-            let ideal = r.grass_ms(p.drawn, triangles);
+        if let (Some(triangles), Some(t)) = (p.triangles, r.triangles(p.pipeline)) {
+            let ideal = t.grass_ms(p.drawn, triangles);
             line += &format!(
-                "; grass {:.1} M triangles, reference {ideal:.3} ms ({:>5.1} % of its speed)",
+                "; {:?} grass {:.1} M triangles, reference {ideal:.3} ms ({:>5.1} % of its speed)",
+                p.pipeline,
                 triangles / 1e6,
                 100.0 * ideal / p.grass.median
             );
@@ -175,8 +179,8 @@ pub fn write_csv(
     for p in points {
         let reference_ms = p
             .triangles
-            .filter(|_| r.triangles_per_s > 0.0)
-            .map(|t| r.grass_ms(p.drawn, t));
+            .zip(r.triangles(p.pipeline))
+            .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         out += &format!(
             "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{:.3}\n",
             common.scene,

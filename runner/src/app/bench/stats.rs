@@ -3,6 +3,7 @@
 //! pass. No renderer and no printing.
 
 use crate::cli::BenchConfig;
+use shared::settings::GrassPipeline;
 use shared::settings::Look;
 
 /// The median and 95th percentile of some samples.
@@ -80,15 +81,35 @@ pub struct Point {
 pub struct References {
     /// The copy shader's bandwidth, GB/s.
     pub copy_gbs: Option<f64>,
-    /// The throughput reference's cost per patch, ms.
-    pub patch_ms: f64,
-    /// Its cost per triangle, ms.
-    pub triangle_ms: f64,
-    /// Its best triangles per second (at the highest level).
-    pub triangles_per_s: f64,
+    /// The tessellation path's triangle reference.
+    pub tess: Option<TriangleReference>,
+    /// The mesh path's triangle reference.
+    pub mesh: Option<TriangleReference>,
 }
 
 impl References {
+    /// The triangle reference of `pipeline`, if it was measured.
+    pub fn triangles(&self, pipeline: GrassPipeline) -> Option<&TriangleReference> {
+        match pipeline {
+            GrassPipeline::Tess => self.tess.as_ref(),
+            GrassPipeline::Mesh => self.mesh.as_ref(),
+        }
+    }
+}
+
+/// One pipeline's triangle-throughput reference: what it costs per blade (a patch or
+/// a strip) and per triangle with nothing to compute.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct TriangleReference {
+    /// Cost per patch or strip, ms.
+    pub patch_ms: f64,
+    /// Cost per triangle, ms.
+    pub triangle_ms: f64,
+    /// Best triangles per second (at the highest level).
+    pub triangles_per_s: f64,
+}
+
+impl TriangleReference {
     /// Per-patch and per-triangle cost from the reference's times `t_low` and `t_high`
     /// (ms) for `patches` patches of `low` and `high` triangles each:
     /// t = patches · (patch + triangles · triangle). Neither is below zero (timing
@@ -158,16 +179,27 @@ mod tests {
     fn reference_costs_from_two_levels() {
         // 1,000 patches: 0.01 ms each, plus 0.001 ms per triangle.
         let t = |triangles: f64| 1000.0 * (0.01 + triangles * 0.001);
-        let (patch, triangle) = References::fit(1000.0, (2.0, t(2.0)), (18.0, t(18.0)));
+        let (patch, triangle) = TriangleReference::fit(1000.0, (2.0, t(2.0)), (18.0, t(18.0)));
         assert!((patch - 0.01).abs() < 1e-12 && (triangle - 0.001).abs() < 1e-12);
-        let r = References {
+        let r = TriangleReference {
             patch_ms: patch,
             triangle_ms: triangle,
             ..Default::default()
         };
         assert!((r.grass_ms(500.0, 4000.0) - (5.0 + 4.0)).abs() < 1e-9);
         // Noise that makes the higher level faster is no negative cost.
-        assert_eq!(References::fit(10.0, (2.0, 5.0), (18.0, 4.0)), (0.5, 0.0));
+        assert_eq!(
+            TriangleReference::fit(10.0, (2.0, 5.0), (18.0, 4.0)),
+            (0.5, 0.0)
+        );
+        // Each pipeline's points take their own reference.
+        let both = References {
+            tess: Some(r),
+            mesh: None,
+            ..Default::default()
+        };
+        assert_eq!(both.triangles(GrassPipeline::Tess), Some(&r));
+        assert_eq!(both.triangles(GrassPipeline::Mesh), None);
     }
 
     #[test]

@@ -46,7 +46,11 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
         .capability(Capability::DrawParameters)
         .extension("SPV_EXT_mesh_shader")
         // Device-scope atomics (the visible-blade counter) under the Vulkan memory model.
-        .capability(Capability::VulkanMemoryModelDeviceScope);
+        .capability(Capability::VulkanMemoryModelDeviceScope)
+        // The compute rasterizer's 64-bit visibility buffer; removed again from every
+        // module without a 64-bit integer type.
+        .capability(Capability::Int64)
+        .capability(Capability::Int64Atomics);
     builder.build_script.defaults = true;
     builder.build_script.env_shader_spv_path = Some(false);
     let result = builder.multimodule(true).build()?;
@@ -62,6 +66,7 @@ fn build() -> Result<(), Box<dyn std::error::Error>> {
             .map_err(|e| format!("cannot parse {}: {e}", spv.display()))?;
         added += add_patch_decorations(&mut module);
         strip_unused_mesh_shading(&mut module);
+        strip_unused_int64(&mut module);
         let file = out.join(format!("{}.spv", entry.replace("::", "-")));
         std::fs::write(&file, bytemuck_words(&module.assemble()))?;
         list += &format!(
@@ -115,6 +120,25 @@ fn strip_unused_mesh_shading(module: &mut Module) {
     });
     module.extensions.retain(|i| {
         i.operands.first() != Some(&Operand::LiteralString("SPV_EXT_mesh_shader".into()))
+    });
+}
+
+/// Removes the `Int64` and `Int64Atomics` capabilities from a module that declares no
+/// 64-bit integer type (only the compute rasterizer's modules do), so the others need
+/// no `shaderInt64` or 64-bit atomics.
+fn strip_unused_int64(module: &mut Module) {
+    use rspirv::spirv::Capability as Cap;
+    let has_int64 = module.types_global_values.iter().any(|i| {
+        i.class.opcode == Op::TypeInt && i.operands.first() == Some(&Operand::LiteralBit32(64))
+    });
+    if has_int64 {
+        return;
+    }
+    module.capabilities.retain(|i| {
+        !matches!(
+            i.operands.first(),
+            Some(Operand::Capability(Cap::Int64 | Cap::Int64Atomics))
+        )
     });
 }
 

@@ -300,6 +300,10 @@ pub struct CullArgs {
     /// one segment).
     #[arg(long, global = true, default_value_t = shared::lod::PIXELS_PER_SEGMENT, value_parser = range(1.0, 1e4))]
     pub lod_pixels: f32,
+    /// Blades shorter than this on screen (pixels) are drawn by the compute rasterizer
+    /// instead of the hardware pipeline; 0 turns it off [default: 0].
+    #[arg(long, global = true, value_parser = range(0.0, 1e4))]
+    pub compute_raster_below: Option<f32>,
     /// How the grass is drawn.
     #[arg(long, global = true, value_enum, default_value_t = View::Shaded)]
     pub view: View,

@@ -44,16 +44,21 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 15] = [
+pub const BINDINGS: [BindingSpec; 16] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
         stages: UNIFORM_STAGES,
     },
     // The paper look's tessellation and mesh stages read the blades through their
-    // index.
-    storage_in(layout::BINDING_BLADES, TESSELLATION_OR_MESH),
-    storage_in(layout::BINDING_VISIBLE, vk::ShaderStageFlags::VERTEX),
+    // index, and so does the compute rasterizer's resolve (a fragment stage).
+    storage_in(layout::BINDING_BLADES, GEOMETRY_OR_RESOLVE),
+    storage_in(
+        layout::BINDING_VISIBLE,
+        vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+        ),
+    ),
     // The mesh stages read how many blades have strips of each length.
     storage_in(layout::BINDING_COUNTERS, vk::ShaderStageFlags::MESH_EXT),
     storage(layout::BINDING_DRAWS),
@@ -70,7 +75,7 @@ pub const BINDINGS: [BindingSpec; 15] = [
     },
     // The visible blades as the natural look draws them, read by its tessellation
     // stages.
-    storage_in(layout::BINDING_DRESSED, TESSELLATION_OR_MESH),
+    storage_in(layout::BINDING_DRESSED, GEOMETRY_OR_RESOLVE),
     // The shadow map's comparison sampler.
     BindingSpec {
         binding: layout::BINDING_SHADOW_SAMPLER,
@@ -85,13 +90,18 @@ pub const BINDINGS: [BindingSpec; 15] = [
     storage(layout::BINDING_LEVELS),
     // The mesh path's binned blades, written by the compute pass.
     storage_in(layout::BINDING_BINNED, vk::ShaderStageFlags::MESH_EXT),
+    // The compute rasterizer's visibility buffer (`passes::raster`), read by its
+    // resolve.
+    storage_in(layout::BINDING_VISIBILITY, vk::ShaderStageFlags::FRAGMENT),
 ];
 
-/// Both tessellation stages, and the mesh stage.
-const TESSELLATION_OR_MESH: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+/// Both tessellation stages, the mesh stage, and the fragment stage (the compute
+/// rasterizer's resolve).
+const GEOMETRY_OR_RESOLVE: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
-        | vk::ShaderStageFlags::MESH_EXT.as_raw(),
+        | vk::ShaderStageFlags::MESH_EXT.as_raw()
+        | vk::ShaderStageFlags::FRAGMENT.as_raw(),
 );
 
 /// Push-constant range of the pipeline layout: one range covering the compute push
@@ -295,6 +305,8 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_LEVELS, storage, levels.buffer);
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
+        // A placeholder until the compute rasterizer sizes its own for the target.
+        descriptors.write_buffer(layout::BINDING_VISIBILITY, storage, visible.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {

@@ -21,6 +21,18 @@ pub const COPY_BLADES: &str = "compute::copy_blades";
 pub const BUILD_HIZ: &str = "compute::build_hiz";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clump_blades";
+/// Compute: the compute rasterizer of far blades (paper look).
+pub const RASTER_FAR: &str = "compute::raster_far";
+/// Compute: the compute rasterizer of far blades (natural look, dressed blades).
+pub const RASTER_FAR_NATURAL: &str = "compute::raster_far_natural";
+/// The compute rasterizer's resolve: the full-screen triangle.
+pub const RESOLVE_VS: &str = "raster::resolve_vs";
+/// The resolve's fragment stage, paper look.
+pub const RESOLVE_PAPER_FS: &str = "raster::resolve_paper_fs";
+/// The resolve's fragment stage, LOD view (what the compute rasterizer drew).
+pub const RESOLVE_LOD_FS: &str = "raster::resolve_lod_fs";
+/// The resolve's fragment stage, natural look.
+pub const RESOLVE_NATURAL_FS: &str = "raster::resolve_natural_fs";
 /// Compute: the mesh path's binning of the visible blades by strip length.
 pub const BIN_BLADES: &str = "compute::bin_blades";
 /// Compute: one indirect draw command per chunk of visible blades.

@@ -6,8 +6,9 @@ use shared::Blade;
 use shared::cull::{KEPT, cull_outcome};
 use shared::hiz::{level_size, reduce};
 use shared::layout::{
-    CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_VISIBLE, ChunkPush,
-    CopyPush, FrameUniforms, HiZPush, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush, flat_index,
+    CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE,
+    ChunkPush, CopyPush, FrameUniforms, HiZPush, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush,
+    far_slot, flat_index,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -15,8 +16,11 @@ use shared::meshlet::{
     SEGMENT_BUCKETS, StripBlade, binned_counter, bucket_base, draw_segments, mesh_grid,
     strip_counter, strip_segments,
 };
+use shared::raster::{is_far, paper_covers, pixel_index, raster_blade};
 use shared::simulate::simulate;
-use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
+use spirv_std::arch::{
+    atomic_i_add, atomic_i_increment, atomic_u_min, workgroup_memory_barrier_with_group_sync,
+};
 use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
 use spirv_std::memory::{Scope, Semantics};
@@ -160,6 +164,7 @@ fn simulate_and_cull<T: Copy + Default>(
     let in_field = index < frame.grass.blades;
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
     let mut outcome = KEPT;
+    let mut far = false;
     let mut place = 0;
     let mut prepared = T::default();
     let mut level = 0.0;
@@ -183,9 +188,14 @@ fn simulate_and_cull<T: Copy + Default>(
             pyramid,
             &frame.hiz,
         );
+        // A visible blade short on screen goes to the compute rasterizer's list.
+        let camera = &frame.camera;
+        far =
+            outcome == KEPT && is_far(&blade, camera.position, camera.focal_pixels, &frame.raster);
+        let counter = if far { COUNTER_FAR } else { outcome as usize };
         place = unsafe {
             atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                &mut tally[outcome as usize],
+                &mut tally[counter],
             )
         };
         unsafe {
@@ -195,7 +205,7 @@ fn simulate_and_cull<T: Copy + Default>(
         }
         if outcome == KEPT {
             (prepared, level) = prepare(index, &blade);
-            if mesh && level > 0.0 {
+            if mesh && !far && level > 0.0 {
                 unsafe {
                     atomic_i_increment::<
                         u32,
@@ -208,8 +218,8 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     workgroup_memory_barrier_with_group_sync();
 
-    // Thread k adds tally k to the device counter k; the visible one keeps the base
-    // of the workgroup's slots in the tally for the others.
+    // Thread k adds tally k to the device counter k; the visible and far ones keep
+    // the base of the workgroup's slots in the tally for the others.
     if local < COUNTER_COUNT as u32 {
         let k = local as usize;
         let count = tally[k];
@@ -220,7 +230,7 @@ fn simulate_and_cull<T: Copy + Default>(
                     count,
                 )
             };
-            if k == COUNTER_VISIBLE {
+            if k == COUNTER_VISIBLE || k == COUNTER_FAR {
                 tally[k] = base;
             }
         }
@@ -228,10 +238,14 @@ fn simulate_and_cull<T: Copy + Default>(
     workgroup_memory_barrier_with_group_sync();
 
     if in_field && outcome == KEPT {
-        let slot = (tally[COUNTER_VISIBLE] + place) as usize;
+        let slot = if far {
+            far_slot(tally[COUNTER_FAR] + place, frame.grass.blades)
+        } else {
+            tally[COUNTER_VISIBLE] + place
+        } as usize;
         visible[slot] = index;
         store(slot, prepared);
-        if mesh {
+        if mesh && !far {
             levels[slot] = level;
         }
     }
@@ -300,6 +314,72 @@ pub fn bin_blades(
         let at = tally[segments as usize - 1] + place;
         binned[at as usize] = StripBlade { source, level };
     }
+}
+
+/// The compute rasterizer (`shared::raster`), paper look: one thread per far blade,
+/// its curve into the visibility buffer with an atomic minimum per pixel, if its width
+/// on screen covers it.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn raster_far(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
+) {
+    let k = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    if k >= counters[COUNTER_FAR] {
+        return;
+    }
+    let index = visible[far_slot(k, frame.grass.blades) as usize];
+    let blade = &blades[index as usize];
+    let camera = &frame.camera;
+    if paper_covers(blade, index, camera.position, camera.focal_pixels) {
+        plot_blade(blade, k, frame, visibility);
+    }
+}
+
+/// [`raster_far`] for the natural look: the dressed blade, drawn if its coverage keeps
+/// it (`shared::look::dress`).
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn raster_far_natural(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
+) {
+    let k = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    if k >= counters[COUNTER_FAR] {
+        return;
+    }
+    let drawn = &dressed[far_slot(k, frame.grass.blades) as usize];
+    let (mask, _) = unpack_coverage(drawn.tint.w);
+    if mask != 0 {
+        plot_blade(&drawn.blade, k, frame, visibility);
+    }
+}
+
+/// Far blade `k`'s pixels into the visibility buffer, nearest first by atomic minimum.
+fn plot_blade(blade: &Blade, k: u32, frame: &FrameUniforms, visibility: &mut [u64]) {
+    let params = &frame.raster;
+    raster_blade(
+        blade,
+        k,
+        frame.camera.view_proj,
+        params,
+        |x, y, packed| unsafe {
+            atomic_u_min::<u64, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                &mut visibility[pixel_index(x, y, params.width)],
+                packed,
+            );
+        },
+    );
 }
 
 /// One thread per blade: the clump of its root (`shared::look::clump_at`, 27 cells of

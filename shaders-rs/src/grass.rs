@@ -20,7 +20,7 @@ use shared::look::{
 };
 use shared::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
 use shared::shape::surface_point;
-use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
+use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
 /// The index of the visible blade this vertex stands for.
@@ -186,20 +186,53 @@ pub fn natural_fs(
     #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
 ) {
-    let n = normal.normalize_or_zero();
-    let (_, density) = unpack_coverage(tint.w);
-    let to_camera = frame.camera.position - world;
+    let leaf = Leaf {
+        normal,
+        world,
+        uv: uv_level.truncate(),
+        tint,
+        width_dir,
+    };
+    *out_color = natural_colour(frame, shadow_map, shadow_sampler, &leaf).extend(1.0);
+}
+
+/// A point of a blade as the natural look shades it.
+pub(crate) struct Leaf {
+    /// Surface normal (either face, not unit).
+    pub normal: Vec3,
+    /// World position.
+    pub world: Vec3,
+    /// (u across, v along) the blade.
+    pub uv: Vec2,
+    /// The dressed blade's tint and coverage (`shared::look::dress`).
+    pub tint: Vec4,
+    /// The blade's width direction.
+    pub width_dir: Vec3,
+}
+
+/// The natural look's colour of `leaf`: the blade's tint and drier tip, its leaf rounded
+/// across the width, sky light with ambient occlusion, the sun (direct, through the
+/// leaf, specular) with its shadow, fog. The fragment stage's and the compute
+/// rasterizer's resolve's.
+pub(crate) fn natural_colour(
+    frame: &FrameUniforms,
+    shadow_map: &ShadowMap,
+    shadow_sampler: &Sampler,
+    leaf: &Leaf,
+) -> Vec3 {
+    let n = leaf.normal.normalize_or_zero();
+    let (_, density) = unpack_coverage(leaf.tint.w);
+    let to_camera = frame.camera.position - leaf.world;
     let distance = to_camera.length();
     let to_eye = to_camera / distance.max(1e-6);
     let facing = facing_normal(n, n.dot(to_eye) >= 0.0);
-    let rounded = rounded_normal(facing, width_dir, uv_level.x);
-    let albedo = blade_albedo(tint.xyz(), uv_level.y);
-    let occlusion = ambient_occlusion(uv_level.y, density);
-    let sun = sun_shadow(frame, shadow_map, shadow_sampler, world);
+    let rounded = rounded_normal(facing, leaf.width_dir, leaf.uv.x);
+    let albedo = blade_albedo(leaf.tint.xyz(), leaf.uv.y);
+    let occlusion = ambient_occlusion(leaf.uv.y, density);
+    let sun = sun_shadow(frame, shadow_map, shadow_sampler, leaf.world);
     let to_light = frame.light.direction;
     let lit = shade_leaf(albedo, rounded, to_light, to_eye, occlusion, sun);
-    let fogged = fog(lit, distance, -to_eye, to_light, frame.look.fog_density);
-    *out_color = fogged.extend(1.0);
+    fog(lit, distance, -to_eye, to_light, frame.look.fog_density)
 }
 
 /// The natural look's LOD and wireframe views, as in the paper look.

@@ -11,6 +11,7 @@ pub mod grass;
 pub mod ground;
 pub mod mesh;
 pub mod overlay;
+pub mod raster;
 pub mod throughput;
 pub mod tonemap;
 

@@ -7,6 +7,7 @@ use crate::cull::{self, CullParams};
 use crate::hiz::HiZLayout;
 use crate::lod::{LodParams, MAX_SEGMENTS};
 use crate::look::LookParams;
+use crate::raster::RasterParams;
 use crate::shade::Light;
 use crate::simulate::Environment;
 use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
@@ -82,6 +83,9 @@ pub const BINDING_LEVELS: u32 = 13;
 /// `meshlet::StripBlade` per slot): written by the compute pass, read by the mesh
 /// stages.
 pub const BINDING_BINNED: u32 = 14;
+/// Binding of the compute rasterizer's visibility buffer (storage, `u64` per pixel of
+/// the target, `raster::pack`): written by the compute pass, read by the resolve.
+pub const BINDING_VISIBILITY: u32 = 15;
 
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;
@@ -95,6 +99,17 @@ pub const COUNTER_DISTANCE: usize = cull::BY_DISTANCE as usize;
 pub const COUNTER_OCCLUSION: usize = cull::BY_OCCLUSION as usize;
 /// Index of the blades the pass looked at (every blade, counted on the GPU).
 pub const COUNTER_EXAMINED: usize = 5;
+/// Index of the visible blades drawn by the compute rasterizer (`raster`): their
+/// indices fill the visible list from its end, slot k at `blades - 1 - k`
+/// ([`far_slot`]).
+pub const COUNTER_FAR: usize = 6;
+
+/// The visible list's slot (and the dressed buffer's) of far blade `k` in a field of
+/// `blades`: far blades fill the list from its end, the hardware path's from its start,
+/// so the two never meet (together at most `blades`).
+pub fn far_slot(k: u32, blades: u32) -> u32 {
+    blades - 1 - k
+}
 /// First of the mesh path's counts of visible blades by strip length (strips of 1
 /// to `lod::MAX_SEGMENTS` segments, `meshlet::strip_counter`), counted by the
 /// compute pass.
@@ -168,6 +183,8 @@ pub struct FrameUniforms {
     pub cull: CullParams,
     /// The natural look: shadows, fog, clumps.
     pub look: LookParams,
+    /// The compute rasterizer of far blades; the renderer fills in the target's size.
+    pub raster: RasterParams,
 }
 
 /// Push constants of the simulate-and-cull dispatch: which fixed steps to run.

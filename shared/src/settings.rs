@@ -7,6 +7,7 @@ use crate::cull::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NA
 use crate::layout::{CameraParams, FrameUniforms, GrassParams};
 use crate::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
 use crate::look::{LOOK_NATURAL, LOOK_PAPER, LookParams};
+use crate::raster::RasterParams;
 use crate::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
 use crate::shape::{
     SHAPE_DANDELION, SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP,
@@ -325,6 +326,10 @@ pub struct Lod {
     pub fewest: f32,
 }
 
+/// Straight segments along a blade drawn by the compute rasterizer: far blades are a
+/// few pixels tall, and three segments follow their curve to a pixel.
+pub const RASTER_SEGMENTS: u32 = 3;
+
 /// Every setting of the simulation, culling, level of detail and shading.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Settings {
@@ -352,6 +357,9 @@ pub struct Settings {
     pub look: LookSettings,
     /// Tessellation or mesh stages.
     pub pipeline: GrassPipeline,
+    /// Blades shorter than this on screen (pixels) are drawn by the compute
+    /// rasterizer (`raster`); 0 turns it off.
+    pub compute_raster_below: f32,
 }
 
 /// How the grass is drawn (`--pipeline`; `auto` is resolved against the device before
@@ -414,6 +422,7 @@ impl Default for Settings {
             tip_start: 0.5,
             look: LookSettings::default(),
             pipeline: GrassPipeline::Tess,
+            compute_raster_below: 0.0,
         }
     }
 }
@@ -492,6 +501,12 @@ impl Settings {
                 enabled: cull.tests.mask(),
             },
             look: self.look_params(eye),
+            raster: RasterParams {
+                width: 0,
+                height: 0,
+                below: self.compute_raster_below,
+                segments: RASTER_SEGMENTS,
+            },
         }
     }
 

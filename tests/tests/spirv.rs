@@ -405,13 +405,14 @@ fn frame_block_layout_matches_the_host_struct() {
     use shared::layout::{CameraParams, FrameUniforms, GrassParams};
     use shared::lod::LodParams;
     use shared::look::LookParams;
+    use shared::raster::RasterParams;
     use shared::shade::Light;
     use shared::simulate::Environment;
     use std::mem::offset_of;
 
     // Each member of the frame block: its offset, and the offsets of its own members
     // where it is a struct (none for arrays).
-    let expected: [(&str, usize, Vec<usize>); 9] = [
+    let expected: [(&str, usize, Vec<usize>); 10] = [
         (
             "camera",
             offset_of!(FrameUniforms, camera),
@@ -504,6 +505,16 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(LookParams, exposure),
                 offset_of!(LookParams, ground_level),
                 offset_of!(LookParams, ground_to_horizon),
+            ],
+        ),
+        (
+            "raster",
+            offset_of!(FrameUniforms, raster),
+            vec![
+                offset_of!(RasterParams, width),
+                offset_of!(RasterParams, height),
+                offset_of!(RasterParams, below),
+                offset_of!(RasterParams, segments),
             ],
         ),
     ];

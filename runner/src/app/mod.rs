@@ -184,6 +184,15 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
 /// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
 pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) -> Result<()> {
     settings.pipeline = grass_pipeline(common.pipeline, ctx)?;
+    settings.compute_raster_below = match (common.cull.compute_raster_below, &ctx.int64_atomics) {
+        (Some(below), Err(why)) if below > 0.0 => {
+            anyhow::bail!(
+                "--compute-raster-below: {why} (64-bit atomics for its visibility buffer)"
+            )
+        }
+        (Some(below), _) => below,
+        (None, _) => DEFAULT_COMPUTE_RASTER_BELOW,
+    };
     settings.look.msaa = msaa(common, ctx);
     settings.look.shadows = if common.no_shadows {
         false
@@ -225,6 +234,10 @@ pub fn msaa(common: &Common, ctx: &Context) -> u32 {
         DEFAULT_MSAA_GPU
     })
 }
+
+/// Blades shorter than this on screen (pixels) go to the compute rasterizer when
+/// `--compute-raster-below` is not given: 0, off, until measured faster.
+pub const DEFAULT_COMPUTE_RASTER_BELOW: f32 = 0.0;
 
 /// Samples per pixel on a GPU when `--msaa` is not given.
 pub const DEFAULT_MSAA_GPU: u32 = 4;

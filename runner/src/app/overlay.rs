@@ -211,6 +211,10 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
         ui.label(c.drawn.to_string());
         ui.label(format!("{:.1} %", share(c.drawn)));
         ui.end_row();
+        ui.label("drawn by compute");
+        ui.label(c.compute.to_string());
+        ui.label(format!("{:.1} %", share(c.compute)));
+        ui.end_row();
     });
     if !r.occluders {
         ui.label("(flat ground, no rock: nothing here can occlude)");
@@ -307,6 +311,10 @@ fn detail(ui: &mut egui::Ui, s: &mut Settings) {
         egui::Slider::new(&mut lod.pixels_per_segment, 1.0..=200.0)
             .logarithmic(true)
             .text("pixels per segment"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.compute_raster_below, 0.0..=64.0)
+            .text("compute-raster blades below (pixels; 0 off)"),
     );
     ui.horizontal(|ui| {
         ui.label("view (V)");

@@ -70,7 +70,7 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     Ok(report)
 }
 
-/// "N drawn, removed: orientation a, frustum b, ... (total T)".
+/// "N drawn, M by compute, removed: orientation a, frustum b, ... (total T)".
 pub fn describe(c: &CullCounts) -> String {
     let removed: Vec<String> = c
         .by_test()
@@ -78,8 +78,9 @@ pub fn describe(c: &CullCounts) -> String {
         .map(|(name, n)| format!("{name} {n}"))
         .collect();
     format!(
-        "{} drawn, removed by {} (total {})",
+        "{} drawn, {} by compute, removed by {} (total {})",
         c.drawn,
+        c.compute,
         removed.join(", "),
         c.examined
     )

@@ -27,6 +27,7 @@ pub mod grass;
 pub mod ground;
 pub mod occlusion;
 pub mod overlay;
+pub mod raster;
 pub mod shadow;
 pub mod simulate;
 pub mod throughput;

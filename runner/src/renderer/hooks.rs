@@ -58,4 +58,10 @@ impl Renderer {
         self.grass.capturing = buffer.is_some();
         Ok(())
     }
+
+    /// The compute rasterizer's visibility buffer (`u64` per pixel of the target), once
+    /// a frame sized it on a device that has it.
+    pub fn visibility(&self) -> Option<&Buffer> {
+        self.raster.visibility()
+    }
 }

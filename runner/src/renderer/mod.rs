@@ -16,6 +16,7 @@ use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
+use crate::passes::raster::RasterPass;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::simulate::SimulatePass;
 use crate::passes::tonemap::ToneMapPass;
@@ -113,6 +114,7 @@ pub struct Renderer {
     simulate: SimulatePass,
     ground: GroundPass,
     grass: GrassPass,
+    raster: RasterPass,
     occlusion: OcclusionPass,
     /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
     pub has_occluders: bool,
@@ -151,6 +153,7 @@ impl Renderer {
             meshes.ball,
         )?;
         let one = vk::SampleCountFlags::TYPE_1;
+        let raster = RasterPass::new(ctx, &module, &field, color_format, one)?;
         let grass = GrassPass::new(ctx, &module, &field, color_format, one)?;
         let occlusion = OcclusionPass::new(ctx, &module, &field)?;
         let shadow = ShadowPass::new(ctx, &pool, &module, &field)?;
@@ -161,6 +164,7 @@ impl Renderer {
             simulate,
             ground,
             grass,
+            raster,
             occlusion,
             has_occluders: meshes.has_occluders,
             shadow,
@@ -215,6 +219,7 @@ impl Renderer {
         self.targets = None;
         if old.is_none_or(|o| o.extent != extent) {
             self.occlusion.resize(&self.ctx, &mut self.field, extent)?;
+            self.raster.resize(&self.field, extent)?;
         }
         let targets = DrawTargets::new(&self.ctx, spec, self.color_format)?;
         if let Some(hdr) = &targets.hdr {
@@ -230,6 +235,7 @@ impl Renderer {
             self.ground
                 .retarget(ctx, module, field, drawn_into.0, samples)?;
             self.grass = GrassPass::new(ctx, module, field, drawn_into.0, samples)?;
+            self.raster.retarget(module, field, drawn_into.0, samples)?;
             self.drawn_into = drawn_into;
         }
         if spec.samples != samples {
@@ -268,6 +274,12 @@ impl Renderer {
             Default::default()
         };
         uniforms.look.shadow_size = self.shadow.size();
+        uniforms.raster.width = target.extent.width;
+        uniforms.raster.height = target.extent.height;
+        if !self.raster.supported() {
+            uniforms.raster.below = 0.0;
+        }
+        let far = uniforms.raster.below > 0.0;
         let stamps = queries.timestamps.as_ref().map(|t| t.pool);
         let stamp = |mark: Mark| {
             if let Some(pool) = stamps {
@@ -297,6 +309,9 @@ impl Renderer {
         }
         let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
         self.record_compute(rec, queries, input.push, natural, mesh);
+        if far {
+            self.raster.record(rec, &self.field, natural);
+        }
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             let balls = used_balls(&uniforms);
@@ -451,6 +466,9 @@ impl Renderer {
         }
         stamp(Mark::Grass);
         self.ground.record(rec, &self.field, used_balls(uniforms));
+        if uniforms.raster.below > 0.0 {
+            self.raster.record_resolve(rec, &self.field, view, style);
+        }
         stamp(Mark::Ground);
         rec.end_rendering();
     }

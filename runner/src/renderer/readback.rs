@@ -58,6 +58,8 @@ pub struct CullCounts {
     pub occlusion: u32,
     /// Blades the pass looked at, counted on the GPU (the field's size).
     pub examined: u32,
+    /// Visible blades drawn by the compute rasterizer (not in `drawn`).
+    pub compute: u32,
 }
 
 impl CullCounts {
@@ -69,6 +71,7 @@ impl CullCounts {
             distance: c[layout::COUNTER_DISTANCE],
             occlusion: c[layout::COUNTER_OCCLUSION],
             examined: c[layout::COUNTER_EXAMINED],
+            compute: c[layout::COUNTER_FAR],
         }
     }
     /// Blades removed by any test.

@@ -95,6 +95,10 @@ pub struct Context {
     /// `VK_EXT_mesh_shader`'s commands, when the device has mesh stages
     /// within the limits the mesh path needs (and they are enabled); else why not.
     pub mesh_shader: Result<ext::mesh_shader::Device, String>,
+    /// `Ok` when the device has 64-bit integers and 64-bit atomics on storage buffers
+    /// (enabled): what the compute rasterizer's visibility buffer needs; else what is
+    /// missing.
+    pub int64_atomics: Result<(), String>,
     /// Surface of the window, when there is one.
     pub surface: Option<vk::SurfaceKHR>,
     /// Surface functions.
@@ -194,6 +198,7 @@ impl Context {
             .pipeline_statistics_query
             == vk::TRUE;
         let mesh_support = mesh_shader_support(&instance, physical);
+        let int64_atomics = int64_atomics_support(&instance, physical);
         let device = create_device(
             &instance,
             physical,
@@ -201,6 +206,7 @@ impl Context {
             surface.is_some(),
             pipeline_statistics,
             mesh_support.is_ok(),
+            int64_atomics.is_ok(),
         )?;
         let mesh_shader = mesh_support.map(|()| ext::mesh_shader::Device::new(&instance, &device));
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
@@ -230,6 +236,7 @@ impl Context {
             timestamp_bits,
             pipeline_statistics,
             mesh_shader,
+            int64_atomics,
             surface,
             surface_fn,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
@@ -510,6 +517,29 @@ fn mesh_shader_support(
     }
 }
 
+/// `Ok` when `physical` has `shaderInt64` and `shaderBufferInt64Atomics` (the compute
+/// rasterizer's visibility buffer, `shared::raster`); else what is missing. Fault
+/// injection can take either away (`GRASS_FAULT=missing-feature:shaderBufferInt64Atomics`).
+fn int64_atomics_support(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> Result<(), String> {
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
+    unsafe { instance.get_physical_device_features2(physical, &mut features) };
+    let needs = [
+        ("shaderInt64", features.features.shader_int64),
+        ("shaderBufferInt64Atomics", v12.shader_buffer_int64_atomics),
+    ];
+    match needs
+        .iter()
+        .find(|(name, has)| *has == vk::FALSE || super::fault::feature_removed(name))
+    {
+        Some((name, _)) => Err(format!("the device has no {name}")),
+        None => Ok(()),
+    }
+}
+
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
@@ -517,6 +547,7 @@ fn create_device(
     present: bool,
     pipeline_statistics: bool,
     mesh_shader: bool,
+    int64_atomics: bool,
 ) -> Result<ash::Device> {
     let priorities = [1.0];
     let queues = [vk::DeviceQueueCreateInfo::default()
@@ -526,8 +557,10 @@ fn create_device(
         .tessellation_shader(true)
         .multi_draw_indirect(true)
         .fill_mode_non_solid(true)
-        .pipeline_statistics_query(pipeline_statistics);
+        .pipeline_statistics_query(pipeline_statistics)
+        .shader_int64(int64_atomics);
     let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+        .shader_buffer_int64_atomics(int64_atomics)
         .vulkan_memory_model(true)
         .vulkan_memory_model_device_scope(true);
     // maintenance4 (every Vulkan 1.3 device has it): a fragment stage may leave some

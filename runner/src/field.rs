@@ -44,7 +44,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 16] = [
+pub const BINDINGS: [BindingSpec; 17] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -93,6 +93,9 @@ pub const BINDINGS: [BindingSpec; 16] = [
     // The compute rasterizer's visibility buffer (`passes::raster`), read by its
     // resolve.
     storage_in(layout::BINDING_VISIBILITY, vk::ShaderStageFlags::FRAGMENT),
+    // The compute rasterizer's indirect dispatch and resolve, written by the compute
+    // pass.
+    storage(layout::BINDING_RASTER_ARGS),
 ];
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -148,6 +151,9 @@ pub struct Field {
     /// The mesh path's indirect draws: one mesh grid per strip length
     /// (`meshlet::SEGMENT_BUCKETS`).
     pub mesh_draw: Buffer,
+    /// The compute rasterizer's indirect dispatch and resolve draw
+    /// (`layout::RASTER_DISPATCH`, `layout::RASTER_DRAW`).
+    pub raster_args: Buffer,
     /// The mesh path's level of detail per visible slot (`f32`).
     pub levels: Buffer,
     /// The mesh path's visible blades binned by strip length (`meshlet::StripBlade`).
@@ -267,6 +273,11 @@ impl Field {
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
         let levels = device_buffer("levels", u64::from(count) * 4, U::STORAGE_BUFFER)?;
+        let raster_args = device_buffer(
+            "raster arguments",
+            (layout::RASTER_ARGS_WORDS * 4) as u64,
+            U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
+        )?;
         let binned = device_buffer(
             "binned blades",
             u64::from(count) * size_of::<StripBlade>() as u64,
@@ -304,6 +315,7 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_LEVELS, storage, levels.buffer);
+        descriptors.write_buffer(layout::BINDING_RASTER_ARGS, storage, raster_args.buffer);
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
         // A placeholder until the compute rasterizer sizes its own for the target.
         descriptors.write_buffer(layout::BINDING_VISIBILITY, storage, visible.buffer);
@@ -319,6 +331,7 @@ impl Field {
             counters,
             draws,
             mesh_draw,
+            raster_args,
             levels,
             binned,
             dressed,

@@ -7,8 +7,8 @@ use shared::cull::{KEPT, cull_outcome};
 use shared::hiz::{level_size, reduce};
 use shared::layout::{
     CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE,
-    ChunkPush, CopyPush, FrameUniforms, HiZPush, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush,
-    far_slot, flat_index,
+    ChunkPush, CopyPush, FrameUniforms, HiZPush, PIPELINE_MESH, RASTER_DISPATCH, RASTER_DRAW,
+    SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -16,7 +16,9 @@ use shared::meshlet::{
     SEGMENT_BUCKETS, StripBlade, binned_counter, bucket_base, draw_segments, mesh_grid,
     strip_counter, strip_segments,
 };
-use shared::raster::{is_far, paper_covers, pixel_index, raster_blade};
+use shared::raster::{
+    RASTER_GRID_WIDTH, is_far, paper_covers, pixel_index, raster_blade, raster_dispatch,
+};
 use shared::simulate::simulate;
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_u_min, workgroup_memory_barrier_with_group_sync,
@@ -337,7 +339,8 @@ pub fn raster_far(
     let index = visible[far_slot(k, frame.grass.blades) as usize];
     let blade = &blades[index as usize];
     let camera = &frame.camera;
-    if paper_covers(blade, index, camera.position, camera.focal_pixels) {
+    let shape = (frame.grass.shape, frame.grass.tip_start);
+    if paper_covers(blade, index, shape, camera.position, camera.focal_pixels) {
         plot_blade(blade, k, frame, visibility);
     }
 }
@@ -437,7 +440,8 @@ pub fn copy_blades(
 }
 
 /// One thread per chunk: the draw command of its slice of the visible blades; the
-/// first also writes the mesh path's draws, one grid per strip length.
+/// first also writes the mesh path's draws, one grid per strip length, and the compute
+/// rasterizer's dispatch and resolve.
 #[spirv(compute(threads(64)))]
 pub fn write_draws(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -447,6 +451,7 @@ pub fn write_draws(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] draws: &mut [DrawIndirectCommand],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 12)]
     mesh_draws: &mut [DrawMeshTasksIndirectCommandEXT],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 16)] raster_args: &mut [u32],
 ) {
     let chunk = flat_index(id, workgroups, CHUNK_WORKGROUP);
     if chunk >= push.chunk_count {
@@ -454,6 +459,17 @@ pub fn write_draws(
     }
     let visible = counters[COUNTER_VISIBLE];
     if chunk == 0 {
+        // The rasterizer's dispatch and the resolve's three vertices, if there are far
+        // blades.
+        let far = counters[COUNTER_FAR];
+        let (x, y) = raster_dispatch(far, SIMULATE_WORKGROUP, RASTER_GRID_WIDTH);
+        raster_args[RASTER_DISPATCH] = x;
+        raster_args[RASTER_DISPATCH + 1] = y;
+        raster_args[RASTER_DISPATCH + 2] = 1;
+        raster_args[RASTER_DRAW] = if far > 0 { 3 } else { 0 };
+        raster_args[RASTER_DRAW + 1] = 1;
+        raster_args[RASTER_DRAW + 2] = 0;
+        raster_args[RASTER_DRAW + 3] = 0;
         let mut draw = 0;
         while draw < SEGMENT_BUCKETS {
             let n = draw_segments(draw);

@@ -86,6 +86,17 @@ pub const BINDING_BINNED: u32 = 14;
 /// Binding of the compute rasterizer's visibility buffer (storage, `u64` per pixel of
 /// the target, `raster::pack`): written by the compute pass, read by the resolve.
 pub const BINDING_VISIBILITY: u32 = 15;
+/// Binding of the compute rasterizer's indirect arguments (storage and indirect, `u32`
+/// words: its dispatch at [`RASTER_DISPATCH`], the resolve's draw at
+/// [`RASTER_DRAW`]), written by the compute pass from the far count, so a frame
+/// without far blades neither rasterizes nor resolves anything.
+pub const BINDING_RASTER_ARGS: u32 = 16;
+/// Word of the rasterizer's `VkDispatchIndirectCommand` in its arguments.
+pub const RASTER_DISPATCH: usize = 0;
+/// Word of the resolve's `VkDrawIndirectCommand` in the rasterizer's arguments.
+pub const RASTER_DRAW: usize = 4;
+/// Words of the rasterizer's arguments.
+pub const RASTER_ARGS_WORDS: usize = 8;
 
 /// Index in the counter buffer of the number of visible (drawn) blades.
 pub const COUNTER_VISIBLE: usize = cull::KEPT as usize;

@@ -17,6 +17,7 @@
 
 use crate::Blade;
 use crate::look::hash_unit;
+use crate::shape::shape_mean_width;
 use spirv_std::glam::{Mat4, Vec3, Vec4Swizzles};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -27,6 +28,9 @@ pub const EMPTY: u64 = u64::MAX;
 pub const V_BITS: u32 = 8;
 /// Bits of the far blade's slot in a packed value: 2^24 slots, 16,777,216 blades.
 pub const SLOT_BITS: u32 = 24;
+/// Widest x of the rasterizer's dispatch ([`raster_dispatch`]); the smallest
+/// `maxComputeWorkGroupCount[0]` Vulkan allows is 65,535.
+pub const RASTER_GRID_WIDTH: u32 = 32_768;
 /// Most straight segments a far blade is drawn with.
 pub const MAX_SEGMENTS: u32 = 4;
 
@@ -119,11 +123,19 @@ fn curve_on_screen(
     })
 }
 
-/// Whether the paper look draws far blade `blade` (index `index`) seen from `camera`:
-/// [`covers`] for its width on screen.
-pub fn paper_covers(blade: &Blade, index: u32, camera: Vec3, focal: f32) -> bool {
+/// Whether the paper look draws far blade `blade` (index `index`) of `shape` seen from
+/// `camera`: [`covers`] for its mean width on screen (its width times the shape's mean,
+/// `shape::shape_mean_width`), so the blades drawn cover what the blades would.
+pub fn paper_covers(
+    blade: &Blade,
+    index: u32,
+    (shape, tip_start): (u32, f32),
+    camera: Vec3,
+    focal: f32,
+) -> bool {
     let distance = (blade.v0.xyz() - camera).length();
-    covers(screen_height(blade.width(), distance, focal), index)
+    let width = blade.width() * shape_mean_width(shape, tip_start);
+    covers(screen_height(width, distance, focal), index)
 }
 
 /// Draws far blade `blade` (far slot `slot`): calls `plot(x, y, packed)` for each pixel
@@ -182,6 +194,15 @@ pub fn raster_blade(
     plotted
 }
 
+/// The rasterizer's dispatch for `far` blades, one thread each in workgroups of
+/// `workgroup` threads, as (x, y) workgroups no wider than `width` (x · workgroup
+/// threads a row, as `layout::flat_index` counts them); (0, 1) for none.
+pub fn raster_dispatch(far: u32, workgroup: u32, width: u32) -> (u32, u32) {
+    let groups = far.div_ceil(workgroup);
+    let x = groups.min(width);
+    (x, if x == 0 { 1 } else { groups.div_ceil(x) })
+}
+
 /// Index of pixel (x, y) in the visibility buffer of a target `width` wide.
 pub fn pixel_index(x: u32, y: u32, width: u32) -> usize {
     (y * width + x) as usize
@@ -237,7 +258,13 @@ mod tests {
         let focal = crate::lod::focal_pixels(1.0, 64.0);
         let camera = Vec3::new(0.0, 1.0, 10.0);
         let mut pixels = Vec::new();
-        assert!(paper_covers(&blade, 9, camera, focal));
+        assert!(paper_covers(
+            &blade,
+            9,
+            (crate::shape::SHAPE_QUAD, 0.5),
+            camera,
+            focal
+        ));
         let n = raster_blade(&blade, 5, view_proj, &params, |x, y, packed| {
             pixels.push((x, y, packed))
         });
@@ -261,6 +288,15 @@ mod tests {
             raster_blade(&behind, 0, view_proj, &params, |_, _, _| {}),
             0
         );
+    }
+
+    #[test]
+    fn the_dispatch_covers_every_far_blade() {
+        assert_eq!(raster_dispatch(0, 64, 32_768), (0, 1));
+        assert_eq!(raster_dispatch(1, 64, 32_768), (1, 1));
+        assert_eq!(raster_dispatch(65, 64, 32_768), (2, 1));
+        let (x, y) = raster_dispatch(16_777_216, 64, 32_768);
+        assert!(x <= 32_768 && x * y * 64 >= 16_777_216 && (x * (y - 1)) * 64 < 16_777_216);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use crate::vulkan::{Buffer, Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use shared::layout::{self, SIMULATE_WORKGROUP};
+use shared::layout;
 use shared::look::LOOK_NATURAL;
 use shared::shade::VIEW_LOD;
 use std::sync::Arc;
@@ -135,8 +135,8 @@ impl RasterPass {
     }
 
     /// Records the compute rasterizer after the compute pass: the visibility buffer
-    /// cleared, then one thread per blade the field could send (those past the far
-    /// count return at once), ready for the resolve's fragment stage.
+    /// cleared, then one thread per far blade (an indirect dispatch), ready for the
+    /// resolve's fragment stage.
     pub fn record(&self, rec: &Recorder, field: &Field, natural: bool) {
         let (Some((paper, natural_far)), Some(visibility)) = (&self.far, &self.visibility) else {
             return;
@@ -157,9 +157,9 @@ impl RasterPass {
             layout,
             set,
         );
-        let groups = field.blade_count.div_ceil(SIMULATE_WORKGROUP).max(1);
-        let x = groups.min(self.ctx.properties.limits.max_compute_work_group_count[0]);
-        rec.dispatch((x, groups.div_ceil(x)));
+        // As many threads as far blades (the compute pass wrote the counts).
+        let at = (layout::RASTER_DISPATCH * 4) as u64;
+        rec.dispatch_indirect(field.raster_args.buffer, at);
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ),
@@ -184,6 +184,8 @@ impl RasterPass {
             layout,
             set,
         );
-        rec.draw(0, 3);
+        // Three vertices with far blades, none without.
+        let at = (layout::RASTER_DRAW * 4) as u64;
+        rec.draw_indirect_at(field.raster_args.buffer, at);
     }
 }

@@ -350,6 +350,22 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// A compute dispatch whose workgroup counts are the `VkDispatchIndirectCommand` at
+    /// `offset` bytes in `buffer`.
+    pub fn dispatch_indirect(&self, buffer: vk::Buffer, offset: u64) {
+        unsafe { self.device.cmd_dispatch_indirect(self.cmd, buffer, offset) };
+    }
+
+    /// One draw whose counts are the `VkDrawIndirectCommand` at `offset` bytes in
+    /// `buffer`.
+    pub fn draw_indirect_at(&self, buffer: vk::Buffer, offset: u64) {
+        let stride = size_of::<vk::DrawIndirectCommand>() as u32;
+        unsafe {
+            self.device
+                .cmd_draw_indirect(self.cmd, buffer, offset, 1, stride)
+        };
+    }
+
     /// Launches a grid of `groups` mesh workgroups.
     pub fn draw_mesh_tasks(&self, mesh: &ash::ext::mesh_shader::Device, groups: [u32; 3]) {
         let [x, y, z] = groups;

@@ -86,6 +86,10 @@ pub struct BenchArgs {
     /// one --pipeline names]
     #[arg(long, value_delimiter = ',', value_enum)]
     pub pipelines: Vec<PipelineChoice>,
+    /// Compute-rasterizer thresholds to time (pixels; 0 off), comma-separated, each at
+    /// every point [default: the one --compute-raster-below gives]
+    #[arg(long, value_delimiter = ',', value_parser = range(0.0, 1e4))]
+    pub compute_raster: Vec<f32>,
     /// Camera preset.
     #[arg(long, value_enum, default_value_t = CameraPreset::Edge)]
     pub camera: CameraPreset,

@@ -110,7 +110,18 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         .iter()
         .map(|&choice| super::grass_pipeline(choice, &ctx))
         .collect::<Result<Vec<_>>>()?;
-    let total = counts.len() * configs.len() * looks.len() * pipelines.len();
+    let rasters = if args.compute_raster.is_empty() {
+        vec![None]
+    } else {
+        args.compute_raster.iter().map(|&b| Some(b)).collect()
+    };
+    if let (true, Err(why)) = (
+        rasters.iter().flatten().any(|&b| b > 0.0),
+        &ctx.int64_atomics,
+    ) {
+        anyhow::bail!("--compute-raster: {why} (64-bit atomics for its visibility buffer)");
+    }
+    let total = counts.len() * configs.len() * looks.len() * pipelines.len() * rasters.len();
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut points = Vec::new();
     let mut references = References::default();
@@ -145,39 +156,50 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 (Look::Paper, None) => 1,
                 _ => base.look.msaa,
             };
-            let uniforms = |config, pipeline| {
+            let uniforms = |config, pipeline, raster: Option<f32>| {
                 let mut settings = base;
                 settings.look.style = look;
                 settings.look.msaa = msaa;
                 settings.pipeline = pipeline;
+                if let Some(below) = raster {
+                    settings.compute_raster_below = below;
+                }
                 configure(&mut settings, config);
                 settings.uniforms(&eye, scene.blade_count(), &[])
             };
             let first = points.len();
             for &config in &configs {
                 for &pipeline in &pipelines {
-                    let what = format!("{config:?}, {look:?} look, {pipeline:?}, at {n} blades");
-                    progress.show(points.len(), &what);
-                    let frames = (&mut driver, &mut offscreen);
-                    let mut point = measure(frames, uniforms(config, pipeline), args, config, n)?;
-                    point.look = look;
-                    point.pipeline = pipeline;
-                    point.samples = ctx.supported_samples(msaa);
-                    points.push(point);
+                    for &raster in &rasters {
+                        let what =
+                            format!("{config:?}, {look:?} look, {pipeline:?}, at {n} blades");
+                        progress.show(points.len(), &what);
+                        let frames = (&mut driver, &mut offscreen);
+                        let frame = uniforms(config, pipeline, raster);
+                        let mut point = measure(frames, frame, args, config, n)?;
+                        point.look = look;
+                        point.pipeline = pipeline;
+                        point.samples = ctx.supported_samples(msaa);
+                        points.push(point);
+                    }
                 }
             }
-            // The blades as the sweep left them, without culling or LOD, then each
-            // configuration in the same state.
+            // The blades as the sweep left them, without culling or LOD and all through
+            // the hardware, then each configuration in the same state.
             let unculled_by: Vec<_> = pipelines
                 .iter()
-                .map(|&p| still(&mut driver, &mut offscreen, uniforms(BenchConfig::None, p)))
+                .map(|&p| {
+                    let frame = uniforms(BenchConfig::None, p, Some(0.0));
+                    still(&mut driver, &mut offscreen, frame)
+                })
                 .collect::<Result<_>>()?;
             unculled = unculled_by[0].clone();
             for point in &mut points[first..] {
+                let raster = Some(point.compute_below);
                 view = still(
                     &mut driver,
                     &mut offscreen,
-                    uniforms(point.config, point.pipeline),
+                    uniforms(point.config, point.pipeline, raster),
                 )?;
                 let at = pipelines.iter().position(|&p| p == point.pipeline);
                 let unculled = &unculled_by[at.unwrap_or(0)];
@@ -232,6 +254,7 @@ fn measure(
 ) -> Result<Point> {
     driver.clock = SimClock::default();
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
+    let mut compute_drawn = Vec::new();
     let mut triangles = Vec::new();
     let mut last = Instant::now();
     let slots = FRAMES_IN_FLIGHT as u32;
@@ -247,6 +270,7 @@ fn measure(
             cpu.push(now.duration_since(last).as_secs_f64() * 1000.0);
             times.extend(r.times);
             drawn.extend(r.counts.map(|c| f64::from(c.drawn)));
+            compute_drawn.extend(r.counts.map(|c| f64::from(c.compute)));
             triangles.extend(r.triangles.map(|t| t as f64));
         }
         last = now;
@@ -264,6 +288,8 @@ fn measure(
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,
+        compute_below: uniforms.raster.below,
+        compute_drawn: Spread::of(&compute_drawn).median,
         config,
         blades,
         drawn: Spread::of(&drawn).median,

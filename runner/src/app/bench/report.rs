@@ -61,12 +61,14 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
         args.width, args.height, args.camera, args.frames
     );
     println!(
-        "{:<8} {:<5} {:<20} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6} {:>8}",
+        "{:<8} {:<5} {:>6} {:<20} {:>9} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6} {:>8}",
         "look",
         "pipe",
+        "raster",
         "config",
         "blades",
         "drawn",
+        "compute",
         "triangles",
         "simulate+cull ms",
         "grass ms",
@@ -78,12 +80,14 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
     let cell = |s: Spread| format!("{:.3} ({:.3})", s.median, s.p95);
     for p in points {
         println!(
-            "{:<8} {:<5} {:<20} {:>9} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2} {:>8.2}",
+            "{:<8} {:<5} {:>6} {:<20} {:>9} {:>9.0} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2} {:>8.2}",
             format!("{:?}", p.look),
             format!("{:?}", p.pipeline).to_lowercase(),
+            p.compute_below,
             format!("{:?}", p.config),
             p.blades,
             p.drawn,
+            p.compute_drawn,
             p.triangles.map_or("-".into(), |t| format!("{t:.0}")),
             cell(p.simulate_cull),
             cell(p.grass),
@@ -172,7 +176,7 @@ pub fn write_csv(
          ground_ms_median,grass_ms_median,grass_ms_p95,triangles,mean_difference,\
          simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms,\
          look,msaa,shadow_ms_median,resolve_ms_median,tone_map_ms_median,pipeline,\
-         grass_ns_per_drawn_blade\n",
+         grass_ns_per_drawn_blade,compute_raster_below,drawn_by_compute\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -182,7 +186,7 @@ pub fn write_csv(
             .zip(r.triangles(p.pipeline))
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{:.3}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{:.3},{},{:.0}\n",
             common.scene,
             args.camera,
             args.width,
@@ -213,6 +217,8 @@ pub fn write_csv(
             p.tone_map.median,
             format!("{:?}", p.pipeline).to_lowercase(),
             ns_per_drawn_blade(p),
+            p.compute_below,
+            p.compute_drawn,
         );
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {

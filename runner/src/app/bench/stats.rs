@@ -44,6 +44,11 @@ pub struct Point {
     pub pipeline: shared::settings::GrassPipeline,
     /// Samples per pixel.
     pub samples: u32,
+    /// Blades shorter on screen than this (pixels) went to the compute rasterizer;
+    /// 0: off.
+    pub compute_below: f32,
+    /// Median blades the compute rasterizer drew.
+    pub compute_drawn: f64,
     /// Configuration.
     pub config: BenchConfig,
     /// Blades in the field.

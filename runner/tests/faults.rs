@@ -122,3 +122,33 @@ fn the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back() {
         "{stderr}"
     );
 }
+
+#[test]
+fn the_compute_rasterizer_without_64_bit_atomics_is_named_and_the_default_runs() {
+    if no_device_here() {
+        return;
+    }
+    let out = scratch("faults").join("raster.png");
+    let out = out.to_str().unwrap().to_string();
+    let env = [("GRASS_FAULT", "missing-feature:shaderBufferInt64Atomics")];
+    let run = |below: Option<&str>| {
+        let mut args = vec![
+            "render", "--frames", "4", "--blades", "64", "--width", "32", "--height", "32",
+            "--out", &out,
+        ];
+        if let Some(below) = below {
+            args.extend(["--compute-raster-below", below]);
+        }
+        let o = grass_with(&args, &env);
+        (o.status.code(), stderr_of(&args, &o))
+    };
+    let (code, stderr) = run(Some("8"));
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("--compute-raster-below") && stderr.contains("shaderBufferInt64Atomics"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let (code, stderr) = run(None);
+    assert_eq!(code, Some(0), "{stderr}");
+}

@@ -17,7 +17,7 @@ use shared::meshlet::{
     strip_counter, strip_segments,
 };
 use shared::raster::{
-    RASTER_GRID_WIDTH, is_far, paper_covers, pixel_index, raster_blade, raster_dispatch,
+    Coverage, RASTER_GRID_WIDTH, is_far, pixel_index, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
 use spirv_std::arch::{
@@ -319,8 +319,8 @@ pub fn bin_blades(
 }
 
 /// The compute rasterizer (`shared::raster`), paper look: one thread per far blade,
-/// its curve into the visibility buffer with an atomic minimum per pixel, if its width
-/// on screen covers it.
+/// its curve into the visibility buffer with an atomic minimum per pixel, where its
+/// width on screen covers it.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn raster_far(
@@ -340,9 +340,8 @@ pub fn raster_far(
     let blade = &blades[index as usize];
     let camera = &frame.camera;
     let shape = (frame.grass.shape, frame.grass.tip_start);
-    if paper_covers(blade, index, shape, camera.position, camera.focal_pixels) {
-        plot_blade(blade, k, frame, visibility);
-    }
+    let coverage = Coverage::of(blade, index, shape, camera.position, camera.focal_pixels);
+    plot_blade(blade, k, &coverage, frame, visibility);
 }
 
 /// [`raster_far`] for the natural look: the dressed blade, drawn if its coverage keeps
@@ -361,19 +360,30 @@ pub fn raster_far_natural(
     if k >= counters[COUNTER_FAR] {
         return;
     }
-    let drawn = &dressed[far_slot(k, frame.grass.blades) as usize];
+    let slot = far_slot(k, frame.grass.blades);
+    let drawn = &dressed[slot as usize];
     let (mask, _) = unpack_coverage(drawn.tint.w);
     if mask != 0 {
-        plot_blade(&drawn.blade, k, frame, visibility);
+        let (camera, shape) = (&frame.camera, (frame.grass.shape, frame.grass.tip_start));
+        let focal = camera.focal_pixels;
+        let coverage = Coverage::of(&drawn.blade, slot, shape, camera.position, focal);
+        plot_blade(&drawn.blade, k, &coverage, frame, visibility);
     }
 }
 
 /// Far blade `k`'s pixels into the visibility buffer, nearest first by atomic minimum.
-fn plot_blade(blade: &Blade, k: u32, frame: &FrameUniforms, visibility: &mut [u64]) {
+fn plot_blade(
+    blade: &Blade,
+    k: u32,
+    coverage: &Coverage,
+    frame: &FrameUniforms,
+    visibility: &mut [u64],
+) {
     let params = &frame.raster;
     raster_blade(
         blade,
         k,
+        coverage,
         frame.camera.view_proj,
         params,
         |x, y, packed| unsafe {

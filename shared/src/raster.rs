@@ -17,7 +17,7 @@
 
 use crate::Blade;
 use crate::look::hash_unit;
-use crate::shape::shape_mean_width;
+use crate::shape::{shape_tau, shape_width};
 use spirv_std::glam::{Mat4, Vec3, Vec4Swizzles};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -123,32 +123,64 @@ fn curve_on_screen(
     })
 }
 
-/// Whether the paper look draws far blade `blade` (index `index`) of `shape` seen from
-/// `camera`: [`covers`] for its mean width on screen (its width times the shape's mean,
-/// `shape::shape_mean_width`), so the blades drawn cover what the blades would.
-pub fn paper_covers(
-    blade: &Blade,
-    index: u32,
-    (shape, tip_start): (u32, f32),
-    camera: Vec3,
-    focal: f32,
-) -> bool {
-    let distance = (blade.v0.xyz() - camera).length();
-    let width = blade.width() * shape_mean_width(shape, tip_start);
-    covers(screen_height(width, distance, focal), index)
+/// How much of a pixel row a blade covers at each v: its width on screen in pixels
+/// (`width_px`, its shape's full width), narrowed by its shape function (`shape`,
+/// `tip_start`: `shape::shape_tau`), and the blade's index for the coverage hash.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Coverage {
+    /// Width on screen in pixels where the shape is widest.
+    pub width_px: f32,
+    /// One of `shape::SHAPE_*`.
+    pub shape: u32,
+    /// k of the triangle-tip shape.
+    pub tip_start: f32,
+    /// The blade's index (its hash decides the thin parts).
+    pub index: u32,
+}
+
+impl Coverage {
+    /// The coverage of `blade` seen from `camera` (`focal` in pixels) in `shape`.
+    pub fn of(
+        blade: &Blade,
+        index: u32,
+        (shape, tip_start): (u32, f32),
+        camera: Vec3,
+        focal: f32,
+    ) -> Self {
+        let distance = (blade.v0.xyz() - camera).length();
+        let width = blade.width() * shape_width(shape);
+        Self {
+            width_px: screen_height(width, distance, focal),
+            shape,
+            tip_start,
+            index,
+        }
+    }
+
+    /// Whether step `step` of the blade's line, at `v`, is drawn: [`covers`] for the
+    /// width the shape leaves there, hashed per blade and step, so a tapering blade
+    /// covers fewer pixels towards its tip, as the triangles it stands for would.
+    pub fn draws(&self, v: f32, step: u32) -> bool {
+        let (shape, k) = (self.shape, self.tip_start);
+        let taper = (shape_tau(shape, 1.0, v, k) - shape_tau(shape, 0.0, v, k)).abs();
+        covers(
+            self.width_px * taper,
+            self.index.wrapping_mul(0x9e37_79b1) ^ step,
+        )
+    }
 }
 
 /// Draws far blade `blade` (far slot `slot`): calls `plot(x, y, packed)` for each pixel
-/// its curve crosses, in `params.segments` straight segments, one pixel wide (whether
-/// a blade is drawn at all is the caller's: [`paper_covers`], or the natural look's
-/// coverage). Pixels off the target and depths outside 0..1 are skipped. Returns the
-/// pixels plotted.
+/// its curve crosses, in `params.segments` straight segments, one pixel wide, where its
+/// `coverage` draws. Pixels off the target and depths outside 0..1 are skipped.
+/// Returns the pixels plotted.
 // `(0.0..=1.0).contains(&depth)` makes rust-gpu emit a load through a pointer that is
 // not logical (spirv-val rejects it): the depth is compared by hand.
 #[allow(clippy::manual_range_contains)]
 pub fn raster_blade(
     blade: &Blade,
     slot: u32,
+    coverage: &Coverage,
     view_proj: Mat4,
     params: &RasterParams,
     mut plot: impl FnMut(u32, u32, u64),
@@ -158,6 +190,7 @@ pub fn raster_blade(
         return 0;
     };
     let mut plotted = 0;
+    let mut step = 0;
     let mut s = 1;
     while s <= segments {
         let Some(to) = curve_on_screen(blade, s as f32 / segments as f32, view_proj, params) else {
@@ -181,11 +214,12 @@ pub fn raster_blade(
                 && y < params.height as f32
                 && depth >= 0.0
                 && depth <= 1.0;
-            if inside {
-                let v = from.v + t * (to.v - from.v);
+            let v = from.v + t * (to.v - from.v);
+            if inside && coverage.draws(v, step) {
                 plot(x as u32, y as u32, pack(depth, slot, v));
                 plotted += 1;
             }
+            step += 1;
             i += 1;
         }
         from = to;
@@ -258,14 +292,9 @@ mod tests {
         let focal = crate::lod::focal_pixels(1.0, 64.0);
         let camera = Vec3::new(0.0, 1.0, 10.0);
         let mut pixels = Vec::new();
-        assert!(paper_covers(
-            &blade,
-            9,
-            (crate::shape::SHAPE_QUAD, 0.5),
-            camera,
-            focal
-        ));
-        let n = raster_blade(&blade, 5, view_proj, &params, |x, y, packed| {
+        let quad = (crate::shape::SHAPE_QUAD, 0.5);
+        let coverage = Coverage::of(&blade, 9, quad, camera, focal);
+        let n = raster_blade(&blade, 5, &coverage, view_proj, &params, |x, y, packed| {
             pixels.push((x, y, packed))
         });
         assert_eq!(n as usize, pixels.len());
@@ -285,9 +314,33 @@ mod tests {
         // Behind the camera: nothing.
         let behind = Blade::at_rest(Vec3::new(0.0, 0.0, 20.0), Vec3::Y, 0.0, 2.0, 2.0, 10.0);
         assert_eq!(
-            raster_blade(&behind, 0, view_proj, &params, |_, _, _| {}),
+            raster_blade(&behind, 0, &coverage, view_proj, &params, |_, _, _| {}),
             0
         );
+    }
+
+    #[test]
+    fn a_tapering_blade_covers_less_towards_its_tip() {
+        // A triangle blade half a pixel wide at the root: about half of its root's
+        // steps are drawn, and none at the tip, where it closes.
+        let c = Coverage {
+            width_px: 0.5,
+            shape: crate::shape::SHAPE_TRIANGLE,
+            tip_start: 0.5,
+            index: 3,
+        };
+        let root = (0..4000).filter(|&s| c.draws(0.0, s)).count();
+        let middle = (0..4000).filter(|&s| c.draws(0.5, s)).count();
+        assert!((1_800..2_200).contains(&root), "{root}");
+        assert!((800..1_200).contains(&middle), "{middle}");
+        assert_eq!((0..4000).filter(|&s| c.draws(1.0, s)).count(), 0);
+        // A quad blade wider than a pixel draws every step.
+        let wide = Coverage {
+            width_px: 1.5,
+            shape: crate::shape::SHAPE_QUAD,
+            ..c
+        };
+        assert!((0..100).all(|s| wide.draws(0.9, s)));
     }
 
     #[test]

@@ -28,26 +28,6 @@ pub fn shape_width(shape: u32) -> f32 {
     if shape == SHAPE_DANDELION { 3.0 } else { 1.0 }
 }
 
-/// The mean width of a leaf of `shape` along its height, as a share of its blade's
-/// width (∫₀¹ of the width its shape function leaves at v, times [`shape_width`]):
-/// 1 for the quad, ½ for the triangle, ⅔ for the quadratic shape, k + (1 − k)/2 for
-/// the triangle tip, ⅓ times 3 for the dandelion. The compute rasterizer's coverage
-/// of a blade (`raster`).
-pub fn shape_mean_width(shape: u32, tip_start: f32) -> f32 {
-    if shape == SHAPE_TRIANGLE {
-        0.5
-    } else if shape == SHAPE_QUADRATIC {
-        2.0 / 3.0
-    } else if shape == SHAPE_TRIANGLE_TIP {
-        let k = tip_start.clamp(0.0, 0.999);
-        k + 0.5 * (1.0 - k)
-    } else if shape == SHAPE_DANDELION {
-        shape_width(shape) / 3.0
-    } else {
-        1.0
-    }
-}
-
 /// The fewest segments along a leaf of `shape` whatever its size on screen: the
 /// dandelion's lobes need every segment there is ([`crate::lod::MAX_LEVEL`]); other
 /// shapes 1.
@@ -149,32 +129,6 @@ mod tests {
         assert!(above - below > 0.15, "{below} {above}");
         // Triangle-tip keeps the full width below k.
         assert_eq!(shape_tau(SHAPE_TRIANGLE_TIP, 1.0, 0.4, 0.5), 1.0);
-    }
-
-    #[test]
-    fn mean_widths_are_the_shapes_integrals() {
-        // Midpoint rule over v of |τ(1, v) − τ(0, v)|, times the leaf's width.
-        for shape in [
-            SHAPE_QUAD,
-            SHAPE_TRIANGLE,
-            SHAPE_QUADRATIC,
-            SHAPE_TRIANGLE_TIP,
-            SHAPE_DANDELION,
-        ] {
-            let n = 100_000;
-            let sum: f32 = (0..n)
-                .map(|i| {
-                    let v = (i as f32 + 0.5) / n as f32;
-                    (shape_tau(shape, 1.0, v, 0.4) - shape_tau(shape, 0.0, v, 0.4)).abs()
-                })
-                .sum();
-            let integral = sum / n as f32 * shape_width(shape);
-            let mean = shape_mean_width(shape, 0.4);
-            assert!(
-                (integral - mean).abs() < 1e-3,
-                "shape {shape}: {integral} against {mean}"
-            );
-        }
     }
 
     #[test]

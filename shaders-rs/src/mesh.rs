@@ -23,10 +23,29 @@ use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
+/// Sets a mesh workgroup's outputs for `strips` strips of `segments` and writes their
+/// triangles (one a lane); returns where invocation `lane`'s vertex lies: (strip,
+/// vertex of the strip). The grass's mesh stages and the triangle reference's.
+pub(crate) fn strip_outputs(
+    lane: u32,
+    strips: u32,
+    segments: u32,
+    indices: &mut [UVec3; 30],
+) -> (u32, u32) {
+    let (vertices, triangles) = (strip_vertices(segments), strip_triangles(segments));
+    unsafe { set_mesh_outputs_ext(strips * vertices, strips * triangles) };
+    if lane < strips * triangles {
+        let strip = lane / triangles;
+        indices[lane as usize] = strip_triangle(lane % triangles, strip * vertices);
+    }
+    strip_lane(lane, segments)
+}
+
 /// Sets the workgroup's outputs and writes its triangles, then gives this
 /// invocation's vertex: (output index, the binned blade's slot, the binned blade,
-/// (u, v, level)), if it has one. Draw `draw` holds the strips of [`draw_segments`] segments; workgroup `group`
-/// of the launch `groups` takes the next [`strips_per_group`] of them.
+/// (u, v, level)), if it has one. Draw `draw` holds the strips of [`draw_segments`]
+/// segments; workgroup `group` of the launch `groups` takes the next
+/// [`strips_per_group`] of them.
 fn strip_vertex(
     draw: u32,
     group: UVec3,
@@ -41,13 +60,7 @@ fn strip_vertex(
     let first = group_index(group, groups) * per;
     let count = counters[strip_counter(segments)];
     let strips = group_strips(count, first, per);
-    let (vertices, triangles) = (strip_vertices(segments), strip_triangles(segments));
-    unsafe { set_mesh_outputs_ext(strips * vertices, strips * triangles) };
-    if lane < strips * triangles {
-        let strip = lane / triangles;
-        indices[lane as usize] = strip_triangle(lane % triangles, strip * vertices);
-    }
-    let (strip, k) = strip_lane(lane, segments);
+    let (strip, k) = strip_outputs(lane, strips, segments, indices);
     if strip >= strips {
         return None;
     }

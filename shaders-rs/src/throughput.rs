@@ -3,14 +3,11 @@
 //! screen cells and shaded with one colour, so their draw time is what this device
 //! needs to make and rasterise that many triangles through each pipeline.
 
+use crate::mesh::strip_outputs;
 use shared::layout::ThroughputPush;
 use shared::lod::tess_levels;
-use shared::meshlet::{
-    group_index, strip_coord, strip_lane, strip_segments, strip_triangle, strip_triangles,
-    strip_vertices, strips_per_group,
-};
+use shared::meshlet::{group_index, strip_coord, strip_segments, strips_per_group};
 use shared::reference::{cell_point, patch_cell};
-use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
@@ -70,13 +67,7 @@ pub fn throughput_mesh(
 ) {
     let segments = strip_segments(push.level);
     let per = strips_per_group(segments);
-    let (vertices, triangles) = (strip_vertices(segments), strip_triangles(segments));
-    unsafe { set_mesh_outputs_ext(per * vertices, per * triangles) };
-    if lane < per * triangles {
-        let strip = lane / triangles;
-        indices[lane as usize] = strip_triangle(lane % triangles, strip * vertices);
-    }
-    let (strip, k) = strip_lane(lane, segments);
+    let (strip, k) = strip_outputs(lane, per, segments, indices);
     if strip < per {
         let cell = patch_cell(group_index(group, groups) * per + strip, push);
         let (u, v) = strip_coord(k, push.level);

@@ -220,3 +220,12 @@ pub fn render_image(args: &str) -> (runner::app::render::RenderReport, image::Rg
         .expect("image size");
     (report, image)
 }
+
+/// Share of the image's pixels that show grass: green above red and blue.
+pub fn grass_share(image: &image::RgbaImage) -> f64 {
+    let green = image
+        .pixels()
+        .filter(|p| p[1] > p[0] && p[1] > p[2])
+        .count();
+    green as f64 / f64::from(image.width() * image.height())
+}

@@ -4,7 +4,7 @@
 //! tessellator's fractional-odd rows (`shared::meshlet`), so blade edges move by a
 //! fraction of a pixel: the images agree within the stated tolerance, not exactly.
 
-use tests::{Difference, device_available, difference, render_image, save_failure};
+use tests::{Difference, device_available, difference, grass_share, render_image, save_failure};
 
 /// Small images: lavapipe tessellates slowly.
 const SIZE: &str = "192";
@@ -15,15 +15,6 @@ const OUTLIERS: f64 = 0.035;
 /// Relative difference allowed between the two paths' grass coverage (the share of
 /// green pixels; measured: at most 2.2 %; dropping every fourth blade gave up to 10.7 %).
 const COVERAGE: f64 = 0.04;
-
-/// Share of the image's pixels that show grass: green above red and blue.
-fn grass_share(image: &image::RgbaImage) -> f64 {
-    let green = image
-        .pixels()
-        .filter(|p| p[1] > p[0] && p[1] > p[2])
-        .count();
-    green as f64 / f64::from(image.width() * image.height())
-}
 
 /// The frame of `args` through both pipelines: their difference, whose mean must stay
 /// under `mean` (0..255 per channel).

@@ -7,6 +7,7 @@ use runner::scene::{BladeCount, Scene, SceneKind};
 use shared::layout::far_slot;
 use shared::raster::{Coverage, EMPTY, pixel_index, raster_blade, unpack};
 use shared::settings::Look;
+use tests::grass_share;
 
 /// The visibility buffer the GPU wrote for a frame with every visible blade far,
 /// against the host running `shared::raster` on the same blades: equal per pixel but
@@ -106,15 +107,6 @@ fn off_and_on(args: &str, below: f32) -> (tests::Difference, f64, f64, f64) {
     let share = f64::from(on_c.compute) / f64::from(off_c.drawn.max(1));
     let (diff, _) = tests::difference(&off, &on);
     (diff, share, grass_share(&off), grass_share(&on))
-}
-
-/// Share of the image's pixels that show grass: green above red and blue.
-fn grass_share(image: &image::RgbaImage) -> f64 {
-    let green = image
-        .pixels()
-        .filter(|p| p[1] > p[0] && p[1] > p[2])
-        .count();
-    green as f64 / f64::from(image.width() * image.height())
 }
 
 /// The frame with the compute rasterizer drawing the blades under 28 pixels tall (two

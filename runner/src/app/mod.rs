@@ -191,7 +191,8 @@ pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) 
             )
         }
         (Some(below), _) => below,
-        (None, _) => DEFAULT_COMPUTE_RASTER_BELOW,
+        (None, Ok(())) if !ctx.is_software() => DEFAULT_COMPUTE_RASTER_BELOW_GPU,
+        (None, _) => 0.0,
     };
     settings.look.msaa = msaa(common, ctx);
     settings.look.shadows = if common.no_shadows {
@@ -235,9 +236,13 @@ pub fn msaa(common: &Common, ctx: &Context) -> u32 {
     })
 }
 
-/// Blades shorter than this on screen (pixels) go to the compute rasterizer when
-/// `--compute-raster-below` is not given: 0, off, until measured faster.
-pub const DEFAULT_COMPUTE_RASTER_BELOW: f32 = 0.0;
+/// Blades shorter than this on screen (pixels) go to the compute rasterizer on a GPU
+/// with 64-bit atomics when `--compute-raster-below` is not given: at 10 pixels the
+/// NVIDIA H100 draws 4 M blades at the edge in 4.47 ms against 6.22, from the overview
+/// in 1.40 against 4.99, with the picture within a few tenths of a level of the
+/// hardware's (README, "Compute rasterizer"). Off on a software device, where it
+/// gained nothing measured.
+pub const DEFAULT_COMPUTE_RASTER_BELOW_GPU: f32 = 10.0;
 
 /// Samples per pixel on a GPU when `--msaa` is not given.
 pub const DEFAULT_MSAA_GPU: u32 = 4;

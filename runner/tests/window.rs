@@ -17,41 +17,66 @@ struct Xvfb {
 
 impl Xvfb {
     /// Starts Xvfb on a display no other run (nor this run's other `slot`s) uses;
-    /// `None` where it is not installed.
+    /// `None` where it is not installed. A display whose lock file is there (another
+    /// server, or one killed without cleaning up) is passed over, and a server that
+    /// quits at once (it found the display taken) makes the next one be tried.
     fn start(slot: u32) -> Option<Self> {
-        let number = 200 + (std::process::id() % 400) * 2 + slot;
-        let child = Command::new("Xvfb")
-            .args([
-                &format!(":{number}"),
-                "-screen",
-                "0",
-                "1280x800x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .ok()?;
-        let socket = format!("/tmp/.X11-unix/X{number}");
-        let start = Instant::now();
-        while !std::path::Path::new(&socket).exists() {
-            assert!(
-                start.elapsed() < Duration::from_secs(20),
-                "Xvfb did not start"
-            );
-            std::thread::sleep(Duration::from_millis(50));
+        let first = 200 + (std::process::id() % 400) * 2 + slot;
+        for number in (first..first + 400).step_by(2) {
+            let lock = format!("/tmp/.X{number}-lock");
+            if std::path::Path::new(&lock).exists() {
+                continue;
+            }
+            let mut child = Command::new("Xvfb")
+                .args([
+                    &format!(":{number}"),
+                    "-screen",
+                    "0",
+                    "1280x800x24",
+                    "-nolisten",
+                    "tcp",
+                ])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .ok()?;
+            let socket = format!("/tmp/.X11-unix/X{number}");
+            let start = Instant::now();
+            let mut quit = false;
+            while !std::path::Path::new(&socket).exists() {
+                if matches!(child.try_wait(), Ok(Some(_))) {
+                    quit = true;
+                    break;
+                }
+                assert!(
+                    start.elapsed() < Duration::from_secs(20),
+                    "Xvfb did not start"
+                );
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            if quit || matches!(child.try_wait(), Ok(Some(_))) {
+                continue;
+            }
+            return Some(Self {
+                child,
+                display: format!(":{number}"),
+            });
         }
-        Some(Self {
-            child,
-            display: format!(":{number}"),
-        })
+        panic!("no free X display from :{first}");
     }
 }
 
 impl Drop for Xvfb {
+    /// Ends the server with SIGTERM, so it removes its lock file and socket (SIGKILL
+    /// leaves them, and a later run on the same display number would find them).
     fn drop(&mut self) {
-        let _ = self.child.kill();
+        let terminated = Command::new("kill")
+            .arg(self.child.id().to_string())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !terminated {
+            let _ = self.child.kill();
+        }
         let _ = self.child.wait();
     }
 }

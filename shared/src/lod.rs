@@ -40,6 +40,13 @@ pub fn focal_pixels(fov_y: f32, height: f32) -> f32 {
     0.5 * height / (0.5 * fov_y).tan()
 }
 
+/// Height on screen in pixels of something `height` tall at `distance` from a camera
+/// of focal length `focal` ([`focal_pixels`]): the measure of the level of detail and of
+/// the compute rasterizer's threshold (`raster`).
+pub fn screen_height(height: f32, distance: f32, focal: f32) -> f32 {
+    height * focal / distance.max(1e-6)
+}
+
 /// Tessellation level along a blade of `height` at `distance` from the camera: its
 /// height on screen (`focal` from [`focal_pixels`]) over `pixels` per segment, between
 /// `fewest` and `most`, not rounded (continuous LOD), within 1..=[`MAX_LEVEL`]. With
@@ -52,7 +59,7 @@ pub fn screen_level(
     most: f32,
     fewest: f32,
 ) -> f32 {
-    let on_screen = height * focal / distance.max(1e-6);
+    let on_screen = screen_height(height, distance, focal);
     let level = clamp_unchecked(on_screen / pixels.max(1e-6), fewest.min(most), most);
     clamp_unchecked(level, 1.0, MAX_LEVEL)
 }
@@ -77,7 +84,8 @@ pub fn blade_level(blade: &crate::Blade, frame: &crate::layout::FrameUniforms) -
 }
 
 /// `x` within `lo..=hi` (for `lo <= hi`) without `f32::clamp`'s check of its bounds:
-/// that check is a panic path, which a task stage must not have (`crate::meshlet`).
+/// that check is a panic path (rust-gpu turns a panic into an early return), which
+/// the shader code that calls this (`crate::meshlet`) has no use for.
 #[allow(clippy::manual_clamp)]
 pub fn clamp_unchecked(x: f32, lo: f32, hi: f32) -> f32 {
     x.max(lo).min(hi)

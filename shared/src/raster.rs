@@ -16,6 +16,7 @@
 //! closure that takes the atomic minimum on the GPU and a plain minimum on the host.
 
 use crate::Blade;
+use crate::lod::screen_height;
 use crate::look::hash_unit;
 use crate::shape::{shape_tau, shape_width};
 use spirv_std::glam::{Mat4, Vec3, Vec4Swizzles};
@@ -47,12 +48,6 @@ pub struct RasterParams {
     pub below: f32,
     /// Straight segments along a far blade, 1 to [`MAX_SEGMENTS`].
     pub segments: u32,
-}
-
-/// Height on screen in pixels of a blade of `height` at `distance` (`focal` from
-/// `lod::focal_pixels`), as the level of detail measures it.
-pub fn screen_height(height: f32, distance: f32, focal: f32) -> f32 {
-    height * focal / distance.max(1e-6)
 }
 
 /// Whether `blade`, seen from `camera` with focal length `focal`, is drawn by the

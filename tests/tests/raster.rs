@@ -11,7 +11,8 @@ use tests::grass_share;
 
 /// The visibility buffer the GPU wrote for a frame with every visible blade far,
 /// against the host running `shared::raster` on the same blades: equal per pixel but
-/// where two blades tie.
+/// where two blades tie (at most 1 % of the covered pixels; measured on lavapipe: 0 of
+/// 3,110; a rasterizer storing v a 255th off made all 3,110 differ).
 #[test]
 fn visibility_buffer_equals_the_hosts() {
     tests::with_device("visibility_buffer_equals_the_hosts", |ctx| {

@@ -305,7 +305,7 @@ pub struct CullArgs {
     #[arg(long, global = true, default_value_t = shared::lod::PIXELS_PER_SEGMENT, value_parser = range(1.0, 1e4))]
     pub lod_pixels: f32,
     /// Blades shorter than this on screen (pixels) are drawn by the compute rasterizer
-    /// instead of the hardware pipeline; 0 turns it off [default: 10 on a GPU with
+    /// instead of the hardware pipeline; 0 turns it off [default: 16 on a GPU with
     /// 64-bit atomics, 0 on a software device].
     #[arg(long, global = true, value_parser = range(0.0, 1e4))]
     pub compute_raster_below: Option<f32>,

@@ -10,7 +10,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
 use shared::layout::{
-    self, ChunkPush, CopyPush, FrameUniforms, HiZPush, SimulatePush, SurfacePush, ThroughputPush,
+    self, ChunkPush, CopyPush, FrameUniforms, HiZPush, PreparePush, SimulatePush, SurfacePush,
+    ThroughputPush,
 };
 use shared::lod::blades_per_chunk;
 use shared::look::DressedBlade;
@@ -44,7 +45,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 17] = [
+pub const BINDINGS: [BindingSpec; 20] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -96,6 +97,20 @@ pub const BINDINGS: [BindingSpec; 17] = [
     // The compute rasterizer's indirect dispatch and resolve, written by the compute
     // pass.
     storage(layout::BINDING_RASTER_ARGS),
+    // The hardware's depth, copied for the compute rasterizer's depth test.
+    storage(layout::BINDING_HARDWARE_DEPTH),
+    // The depth targets it is copied from, single-sample and multisampled (written
+    // when the draw targets are made).
+    BindingSpec {
+        binding: layout::BINDING_DEPTH_IMAGE,
+        ty: vk::DescriptorType::SAMPLED_IMAGE,
+        stages: vk::ShaderStageFlags::COMPUTE,
+    },
+    BindingSpec {
+        binding: layout::BINDING_DEPTH_IMAGE_MS,
+        ty: vk::DescriptorType::SAMPLED_IMAGE,
+        stages: vk::ShaderStageFlags::COMPUTE,
+    },
 ];
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -119,7 +134,10 @@ pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
     max(
         max(
             max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
-            max(size_of::<HiZPush>(), size_of::<CopyPush>()),
+            max(
+                max(size_of::<HiZPush>(), size_of::<CopyPush>()),
+                size_of::<PreparePush>(),
+            ),
         ),
         max(size_of::<SurfacePush>(), size_of::<ThroughputPush>()),
     ) as u32,
@@ -152,7 +170,7 @@ pub struct Field {
     /// (`meshlet::SEGMENT_BUCKETS`).
     pub mesh_draw: Buffer,
     /// The compute rasterizer's indirect dispatch and resolve draw
-    /// (`layout::RASTER_DISPATCH`, `layout::RASTER_DRAW`).
+    /// (`layout::RASTER_DISPATCH`, `layout::RASTER_DRAW`, `layout::RASTER_PREPARE`).
     pub raster_args: Buffer,
     /// The mesh path's level of detail per visible slot (`f32`).
     pub levels: Buffer,
@@ -319,6 +337,7 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
         // A placeholder until the compute rasterizer sizes its own for the target.
         descriptors.write_buffer(layout::BINDING_VISIBILITY, storage, visible.buffer);
+        descriptors.write_buffer(layout::BINDING_HARDWARE_DEPTH, storage, visible.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {

@@ -25,6 +25,11 @@ pub const CLUMP_BLADES: &str = "compute::clump_blades";
 pub const RASTER_FAR: &str = "compute::raster_far";
 /// Compute: the compute rasterizer of far blades (natural look, dressed blades).
 pub const RASTER_FAR_NATURAL: &str = "compute::raster_far_natural";
+/// Compute: the compute rasterizer's preparation (the hardware's depth copied, the
+/// visibility buffer cleared).
+pub const RASTER_PREPARE: &str = "compute::raster_prepare";
+/// Compute: the preparation under MSAA (the farthest sample of the hardware's depth).
+pub const RASTER_PREPARE_MS: &str = "compute::raster_prepare_ms";
 /// The compute rasterizer's resolve: the full-screen triangle.
 pub const RESOLVE_VS: &str = "raster::resolve_vs";
 /// The resolve's fragment stage, paper look.

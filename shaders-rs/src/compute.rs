@@ -2,13 +2,15 @@
 //! blade, cull it, count each test's removals and compact the survivors, then write
 //! the indirect draw commands.
 
+use crate::{DepthImage, DepthImageMs};
 use shared::Blade;
 use shared::cull::{KEPT, cull_outcome};
 use shared::hiz::{level_size, reduce};
 use shared::layout::{
-    CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE,
-    ChunkPush, CopyPush, FrameUniforms, HiZPush, PIPELINE_MESH, RASTER_DISPATCH, RASTER_DRAW,
-    SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
+    CHUNK_WORKGROUP, COPY_WORKGROUP, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR,
+    COUNTER_RASTER_COVERED, COUNTER_RASTER_WRITTEN, COUNTER_VISIBLE, ChunkPush, CopyPush,
+    FrameUniforms, HiZPush, PIPELINE_MESH, PREPARE_WORKGROUP, PreparePush, RASTER_DISPATCH,
+    RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -17,13 +19,17 @@ use shared::meshlet::{
     strip_counter, strip_segments,
 };
 use shared::raster::{
-    Coverage, RASTER_GRID_WIDTH, is_far, pixel_index, raster_blade, raster_dispatch,
+    Coverage, EMPTY, RASTER_GRID_WIDTH, in_front, is_far, packed_depth, pixel_index,
+    prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
 use spirv_std::arch::{
-    atomic_i_add, atomic_i_increment, atomic_u_min, workgroup_memory_barrier_with_group_sync,
+    atomic_i_add, atomic_i_increment, atomic_load, atomic_u_min,
+    workgroup_memory_barrier_with_group_sync,
 };
-use spirv_std::glam::{UVec3, Vec4};
+use spirv_std::glam::{UVec2, UVec3, Vec4};
+use spirv_std::image::ImageWithMethods;
+use spirv_std::image::sample_with::sample_index;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
@@ -319,29 +325,38 @@ pub fn bin_blades(
 }
 
 /// The compute rasterizer (`shared::raster`), paper look: one thread per far blade,
-/// its curve into the visibility buffer with an atomic minimum per pixel, where its
-/// width on screen covers it.
+/// its line or, where it is wide, its surface (`raster_blade`), into the visibility
+/// buffer ([`RasterTarget::plot`]).
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn raster_far(
     #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 17)] hardware: &[f32],
+    #[spirv(workgroup)] tally: &mut [u32; 2],
 ) {
     let k = flat_index(id, workgroups, SIMULATE_WORKGROUP);
-    if k >= counters[COUNTER_FAR] {
-        return;
+    let mut target = RasterTarget {
+        frame,
+        visibility,
+        hardware,
+    };
+    let mut pixels = (0, 0);
+    if k < counters[COUNTER_FAR] {
+        let index = visible[far_slot(k, frame.grass.blades) as usize];
+        let blade = &blades[index as usize];
+        let camera = &frame.camera;
+        let shape = (frame.grass.shape, frame.grass.tip_start);
+        let coverage = Coverage::of(blade, index, shape, camera.position, camera.focal_pixels);
+        pixels = target.draw(blade, k, &coverage);
     }
-    let index = visible[far_slot(k, frame.grass.blades) as usize];
-    let blade = &blades[index as usize];
-    let camera = &frame.camera;
-    let shape = (frame.grass.shape, frame.grass.tip_start);
-    let coverage = Coverage::of(blade, index, shape, camera.position, camera.focal_pixels);
-    plot_blade(blade, k, &coverage, frame, visibility);
+    count_pixels(local, pixels, counters, tally);
 }
 
 /// [`raster_far`] for the natural look: the dressed blade, drawn if its coverage keeps
@@ -350,49 +365,179 @@ pub fn raster_far(
 #[spirv(compute(threads(64)))]
 pub fn raster_far_natural(
     #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 17)] hardware: &[f32],
+    #[spirv(workgroup)] tally: &mut [u32; 2],
 ) {
     let k = flat_index(id, workgroups, SIMULATE_WORKGROUP);
-    if k >= counters[COUNTER_FAR] {
-        return;
+    let mut target = RasterTarget {
+        frame,
+        visibility,
+        hardware,
+    };
+    let mut pixels = (0, 0);
+    if k < counters[COUNTER_FAR] {
+        let slot = far_slot(k, frame.grass.blades);
+        let drawn = &dressed[slot as usize];
+        let (mask, _) = unpack_coverage(drawn.tint.w);
+        if mask != 0 {
+            let (camera, shape) = (&frame.camera, (frame.grass.shape, frame.grass.tip_start));
+            let focal = camera.focal_pixels;
+            // The coverage hash of the blade's own index, as in the paper look: its
+            // slot changes from frame to frame with the compaction's order.
+            let index = visible[slot as usize];
+            let coverage = Coverage::of(&drawn.blade, index, shape, camera.position, focal);
+            pixels = target.draw(&drawn.blade, k, &coverage);
+        }
     }
-    let slot = far_slot(k, frame.grass.blades);
-    let drawn = &dressed[slot as usize];
-    let (mask, _) = unpack_coverage(drawn.tint.w);
-    if mask != 0 {
-        let (camera, shape) = (&frame.camera, (frame.grass.shape, frame.grass.tip_start));
-        let focal = camera.focal_pixels;
-        let coverage = Coverage::of(&drawn.blade, slot, shape, camera.position, focal);
-        plot_blade(&drawn.blade, k, &coverage, frame, visibility);
+    count_pixels(local, pixels, counters, tally);
+}
+
+/// What the rasterizer draws into: the frame, the visibility buffer and the
+/// hardware's depth.
+struct RasterTarget<'a> {
+    frame: &'a FrameUniforms,
+    visibility: &'a mut [u64],
+    hardware: &'a [f32],
+}
+
+impl RasterTarget<'_> {
+    /// Far blade `k` into the visibility buffer (`raster_blade`). Returns (pixels
+    /// covered, pixels written).
+    fn draw(&mut self, blade: &Blade, k: u32, coverage: &Coverage) -> (u32, u32) {
+        let (view_proj, params) = (self.frame.camera.view_proj, self.frame.raster);
+        let mut written = 0;
+        let covered = raster_blade(blade, k, coverage, view_proj, &params, |x, y, packed| {
+            if self.plot(x, y, packed) {
+                written += 1;
+            }
+        });
+        (covered, written)
+    }
+
+    /// A far blade's sample into the visibility buffer, nearest first by atomic
+    /// minimum: only where it is in front of the hardware's depth and of the value the
+    /// pixel holds (`shared::raster::in_front`), so a hidden pixel costs a load
+    /// instead of an atomic. Returns whether it took the atomic.
+    fn plot(&mut self, x: u32, y: u32, packed: u64) -> bool {
+        let i = pixel_index(x, y, self.frame.raster.width);
+        let held = unsafe {
+            atomic_load::<u64, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                &self.visibility[i],
+            )
+        };
+        let front = in_front(packed_depth(packed), self.hardware[i]) && packed < held;
+        if front {
+            unsafe {
+                atomic_u_min::<u64, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut self.visibility[i],
+                    packed,
+                );
+            }
+        }
+        front
     }
 }
 
-/// Far blade `k`'s pixels into the visibility buffer, nearest first by atomic minimum.
-fn plot_blade(
-    blade: &Blade,
-    k: u32,
-    coverage: &Coverage,
-    frame: &FrameUniforms,
-    visibility: &mut [u64],
+/// The compute rasterizer's preparation, one thread per pixel (an indirect dispatch,
+/// none without far blades): the visibility buffer's pixel cleared, and the
+/// hardware's depth copied from the depth target into the rasterizer's buffer
+/// (`shared::layout::BINDING_DEPTH_IMAGE`).
+#[spirv(compute(threads(8, 8)))]
+pub fn raster_prepare(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 17)] hardware: &mut [f32],
+    #[spirv(descriptor_set = 0, binding = 18)] depth: &DepthImage,
 ) {
     let params = &frame.raster;
-    raster_blade(
-        blade,
-        k,
-        coverage,
-        frame.camera.view_proj,
-        params,
-        |x, y, packed| unsafe {
-            atomic_u_min::<u64, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                &mut visibility[pixel_index(x, y, params.width)],
-                packed,
+    if id.x < params.width && id.y < params.height {
+        let i = pixel_index(id.x, id.y, params.width);
+        let texel: Vec4 = depth.fetch(UVec2::new(id.x, id.y));
+        visibility[i] = EMPTY;
+        hardware[i] = texel.x;
+    }
+}
+
+/// [`raster_prepare`] under MSAA: the farthest of the pixel's samples of the
+/// multisampled depth target (`shared::layout::BINDING_DEPTH_IMAGE_MS`), so a far
+/// blade is hidden early only where every sample hides it.
+#[spirv(compute(threads(8, 8)))]
+pub fn raster_prepare_ms(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(push_constant)] push: &PreparePush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 17)] hardware: &mut [f32],
+    #[spirv(descriptor_set = 0, binding = 19)] depth: &DepthImageMs,
+) {
+    let params = &frame.raster;
+    if id.x < params.width && id.y < params.height {
+        let i = pixel_index(id.x, id.y, params.width);
+        let mut farthest = 0.0f32;
+        let mut s = 0;
+        while s < push.samples {
+            let texel: Vec4 = depth.fetch_with(UVec2::new(id.x, id.y), sample_index(s));
+            farthest = farthest.max(texel.x);
+            s += 1;
+        }
+        visibility[i] = EMPTY;
+        hardware[i] = farthest;
+    }
+}
+
+/// Adds this thread's (covered, written) pixels to the rasterizer's counters: summed
+/// in workgroup memory, then one device atomic per workgroup and counter.
+fn count_pixels(
+    local: u32,
+    (covered, written): (u32, u32),
+    counters: &mut [u32],
+    tally: &mut [u32; 2],
+) {
+    if local < 2 {
+        tally[local as usize] = 0;
+    }
+    workgroup_memory_barrier_with_group_sync();
+    if covered > 0 {
+        unsafe {
+            atomic_i_add::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[0],
+                covered,
             );
-        },
-    );
+        }
+    }
+    if written > 0 {
+        unsafe {
+            atomic_i_add::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[1],
+                written,
+            );
+        }
+    }
+    workgroup_memory_barrier_with_group_sync();
+    if local < 2 {
+        let n = tally[local as usize];
+        if n > 0 {
+            let counter = if local == 0 {
+                COUNTER_RASTER_COVERED
+            } else {
+                COUNTER_RASTER_WRITTEN
+            };
+            unsafe {
+                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut counters[counter],
+                    n,
+                );
+            }
+        }
+    }
 }
 
 /// One thread per blade: the clump of its root (`shared::look::clump_at`, 27 cells of
@@ -451,7 +596,8 @@ pub fn copy_blades(
 
 /// One thread per chunk: the draw command of its slice of the visible blades; the
 /// first also writes the mesh path's draws, one grid per strip length, and the compute
-/// rasterizer's dispatch and resolve.
+/// rasterizer's preparation, dispatch and resolve.
+#[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn write_draws(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -462,6 +608,7 @@ pub fn write_draws(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 12)]
     mesh_draws: &mut [DrawMeshTasksIndirectCommandEXT],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 16)] raster_args: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
 ) {
     let chunk = flat_index(id, workgroups, CHUNK_WORKGROUP);
     if chunk >= push.chunk_count {
@@ -480,6 +627,11 @@ pub fn write_draws(
         raster_args[RASTER_DRAW + 1] = 1;
         raster_args[RASTER_DRAW + 2] = 0;
         raster_args[RASTER_DRAW + 3] = 0;
+        let size = (frame.raster.width, frame.raster.height);
+        let (x, y) = prepare_dispatch(far, size, PREPARE_WORKGROUP);
+        raster_args[RASTER_PREPARE] = x;
+        raster_args[RASTER_PREPARE + 1] = y;
+        raster_args[RASTER_PREPARE + 2] = 1;
         let mut draw = 0;
         while draw < SEGMENT_BUCKETS {
             let n = draw_segments(draw);

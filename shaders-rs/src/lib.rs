@@ -23,6 +23,14 @@ use spirv_std::glam::Vec3;
 /// The shadow map as the fragment stages declare it: a sampled depth image.
 pub type ShadowMap = spirv_std::Image!(2D, type=f32, sampled, depth);
 
+/// The depth target as the depth copy reads it: a sampled image fetched by texel,
+/// with no sampler (`shared::layout::BINDING_DEPTH_IMAGE`).
+pub type DepthImage = spirv_std::Image!(2D, type=f32, sampled);
+
+/// The multisampled depth target as the preparation reads it, sample by sample
+/// (`shared::layout::BINDING_DEPTH_IMAGE_MS`).
+pub type DepthImageMs = spirv_std::Image!(2D, type=f32, sampled, multisampled);
+
 /// The sun's light reaching `world`: 1 lit, 0 in shadow, from one fetch of the shadow
 /// map through its comparison sampler (the texture unit tests the four nearest texels
 /// and weighs them bilinearly: `shared::look::shadow_factor`); 1 with shadows off.

@@ -1,8 +1,9 @@
-//! The compute rasterizer's resolve (`shared::raster`): a full-screen triangle inside
-//! the frame's rendering scope, after the hardware-drawn grass and ground. Each pixel a
-//! far blade won in the visibility buffer is shaded with the fragment stages' functions
-//! at the blade's point and written with its depth, so the depth test composites it
-//! with what the hardware drew; the other pixels are discarded.
+//! The compute rasterizer's resolve (`shared::raster`): a full-screen triangle in a
+//! second rendering scope on the frame's images, after the hardware-drawn grass and
+//! ground and the rasterizer. Each pixel a far blade won in the visibility buffer is
+//! shaded with the fragment stages' functions at the blade's point and written with
+//! its depth, so the depth test composites it with what the hardware drew, sample by
+//! sample; the other pixels are discarded.
 
 use crate::ShadowMap;
 use crate::grass::{Leaf, natural_colour};

@@ -1,16 +1,21 @@
 //! The compute rasterizer for far blades (issue 18): blades a few pixels tall skip the
-//! fixed-function pipeline. Each is drawn by one compute thread as its Bezier curve in
-//! a few straight segments, one pixel wide, into a visibility buffer of one 64-bit
-//! value per pixel taken with an atomic minimum: the depth in the high 32 bits (a
-//! positive `f32`'s bits order as the float does), the blade's slot and the position
-//! along it in the low 32. A resolve pass shades each pixel's winner with the fragment
-//! stages' functions and writes its depth, so the depth test composites it with what
-//! the hardware drew. After Nanite's visibility buffer (Karis et al., *Nanite: a deep
-//! dive*, SIGGRAPH 2021), drawn for grass.
+//! fixed-function pipeline. Each is drawn by one compute thread into a visibility
+//! buffer of one 64-bit value per pixel taken with an atomic minimum: the depth in the
+//! high 32 bits (a positive `f32`'s bits order as the float does), the blade's slot and
+//! the position along it in the low 32. A narrow blade is drawn as its Bezier curve in
+//! a few straight segments, one pixel wide ([`raster_line`]); a wider one as its
+//! surface, each pixel whose centre it covers ([`raster_wide`]). A resolve pass shades
+//! each pixel's winner with the fragment stages' functions and writes its depth, so the
+//! depth test composites it with what the hardware drew. After Nanite's visibility
+//! buffer (Karis et al., *Nanite: a deep dive*, SIGGRAPH 2021), drawn for grass.
 //!
 //! Blades narrower than a pixel keep their expected coverage: a blade whose width is a
 //! fraction f of a pixel is drawn with probability f, by a hash of its index (the same
 //! every frame: no shimmer), and left out otherwise.
+//!
+//! The rasterizer runs once the hardware has drawn the near grass and the ground: each
+//! pixel is tested against their depth ([`in_front`]) and against the value the pixel
+//! holds, and only a sample in front of both takes the atomic.
 //!
 //! Every function here runs on the GPU and on the host: [`raster_blade`] with a
 //! closure that takes the atomic minimum on the GPU and a plain minimum on the host.
@@ -18,7 +23,7 @@
 use crate::Blade;
 use crate::lod::screen_height;
 use crate::look::hash_unit;
-use crate::shape::{shape_tau, shape_width};
+use crate::shape::{shape_tau, shape_width, surface_point};
 use spirv_std::glam::{Mat4, Vec3, Vec4Swizzles};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -32,8 +37,17 @@ pub const SLOT_BITS: u32 = 24;
 /// Widest x of the rasterizer's dispatch ([`raster_dispatch`]); the smallest
 /// `maxComputeWorkGroupCount[0]` Vulkan allows is 65,535.
 pub const RASTER_GRID_WIDTH: u32 = 32_768;
-/// Most straight segments a far blade is drawn with.
+/// Most straight segments a far blade is drawn with as a line.
 pub const MAX_SEGMENTS: u32 = 4;
+/// Most segments a wide blade is drawn with as its surface ([`WIDE_PX`]).
+pub const MAX_WIDE_SEGMENTS: u32 = 8;
+/// A blade at least this wide on screen where it is widest (pixels) is drawn as its
+/// surface, quad by quad, each pixel whose centre it covers, as the hardware samples
+/// it; a narrower one as a line with its expected coverage ([`Coverage::draws`]).
+pub const WIDE_PX: f32 = 1.5;
+/// Screen pixels of blade height per segment of a wide blade, as the hardware path's
+/// level of detail spaces them (`lod::LodSettings::pixels_per_segment`'s default).
+pub const WIDE_PIXELS_PER_SEGMENT: f32 = 16.0;
 
 /// What the rasterizer needs of the frame (`FrameUniforms::raster`).
 #[repr(C)]
@@ -78,6 +92,19 @@ pub fn unpack(value: u64) -> (f32, u32, f32) {
     )
 }
 
+/// Whether a far blade's sample at `depth` is in front of `hardware`, the depth the
+/// fixed-function pipeline left at its pixel: the resolve's depth test
+/// (`LESS_OR_EQUAL`, as every pipeline's), taken before the atomic, so a pixel the
+/// hardware's grass or ground hides costs the rasterizer a load rather than an atomic.
+pub fn in_front(depth: f32, hardware: f32) -> bool {
+    depth <= hardware
+}
+
+/// The depth of a packed value ([`pack`]).
+pub fn packed_depth(value: u64) -> f32 {
+    f32::from_bits((value >> 32) as u32)
+}
+
 /// Whether a blade `width_px` pixels wide is drawn at all: always from a pixel up, with
 /// probability `width_px` below (by the hash of its `index`).
 pub fn covers(width_px: f32, index: u32) -> bool {
@@ -105,7 +132,12 @@ fn curve_on_screen(
     let a = v0 + v * (v1 - v0);
     let b = v1 + v * (v2 - v1);
     let c = a + v * (b - a);
-    let clip = view_proj * c.extend(1.0);
+    on_screen(c, v, view_proj, params)
+}
+
+/// World point `p` (at `v` along its blade) on screen; `None` behind the camera.
+fn on_screen(p: Vec3, v: f32, view_proj: Mat4, params: &RasterParams) -> Option<ScreenPoint> {
+    let clip = view_proj * p.extend(1.0);
     if clip.w <= 1e-6 {
         return None;
     }
@@ -116,6 +148,114 @@ fn curve_on_screen(
         depth: ndc.z,
         v,
     })
+}
+
+/// Twice the signed area of the triangle (a, b, p): which side of a→b the point p is.
+fn edge(a: ScreenPoint, b: ScreenPoint, (x, y): (f32, f32)) -> f32 {
+    (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x)
+}
+
+/// Whether pixel centre `p` lies in triangle (a, b, c), either winding.
+fn in_triangle(a: ScreenPoint, b: ScreenPoint, c: ScreenPoint, p: (f32, f32)) -> bool {
+    let (e0, e1, e2) = (edge(a, b, p), edge(b, c, p), edge(c, a, p));
+    (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0)
+}
+
+/// The edges of a wide blade at `v`: its surface at u = 0 and u = 1 on screen (the
+/// shape's width there, `shape::surface_point`), and its centre line.
+fn edges_on_screen(
+    blade: &Blade,
+    v: f32,
+    coverage: &Coverage,
+    view_proj: Mat4,
+    params: &RasterParams,
+) -> Option<(ScreenPoint, ScreenPoint, ScreenPoint)> {
+    let (shape, k) = (coverage.shape, coverage.tip_start);
+    let left = surface_point(blade, 0.0, v, shape, k).position;
+    let right = surface_point(blade, 1.0, v, shape, k).position;
+    let centre = curve_on_screen(blade, v, view_proj, params)?;
+    Some((
+        on_screen(left, v, view_proj, params)?,
+        on_screen(right, v, view_proj, params)?,
+        centre,
+    ))
+}
+
+/// Whether a blade of `coverage` is drawn as its surface ([`raster_wide`]) rather than
+/// as a line.
+pub fn is_wide(coverage: &Coverage) -> bool {
+    coverage.width_px >= WIDE_PX
+}
+
+/// Draws a wide blade ([`is_wide`]) as its surface: a strip of quads between its edges
+/// at `segments` + 1 heights, each pixel whose centre a quad covers (its two triangles)
+/// plotted once per quad with the depth and v of its nearest point on the quad's
+/// centre line. `tile`² threads share the work, this one `lane` of them: the bounding
+/// box of each quad is walked in tiles of `tile` by `tile` pixels, each lane taking
+/// its pixel of every tile (a workgroup of 64 drawing one blade together in 8 by 8
+/// tiles, its lanes in step and each pixel's place found without a division; the host
+/// draws it alone, lane 0 of tiles of 1). Returns the pixels this lane plotted.
+// As in `raster_line`, the depth is compared by hand.
+#[allow(clippy::manual_range_contains, clippy::too_many_arguments)]
+pub fn raster_wide(
+    blade: &Blade,
+    slot: u32,
+    coverage: &Coverage,
+    view_proj: Mat4,
+    params: &RasterParams,
+    (lane, tile): (u32, u32),
+    mut plot: impl FnMut(u32, u32, u64),
+) -> u32 {
+    let segments = ((coverage.height_px / WIDE_PIXELS_PER_SEGMENT).ceil() as u32).clamp(
+        params.segments.clamp(1, MAX_WIDE_SEGMENTS),
+        MAX_WIDE_SEGMENTS,
+    );
+    let Some((mut l0, mut r0, mut c0)) = edges_on_screen(blade, 0.0, coverage, view_proj, params)
+    else {
+        return 0;
+    };
+    let (w, h) = (params.width as f32, params.height as f32);
+    let (lane_x, lane_y) = (lane % tile, lane / tile);
+    let mut plotted = 0;
+    let mut s = 1;
+    while s <= segments {
+        let v = s as f32 / segments as f32;
+        let Some((l1, r1, c1)) = edges_on_screen(blade, v, coverage, view_proj, params) else {
+            return plotted;
+        };
+        // The quad's pixels: every centre in its bounding box, on the target.
+        let x_min = l0.x.min(r0.x).min(l1.x).min(r1.x).max(0.0).floor() as u32;
+        let y_min = l0.y.min(r0.y).min(l1.y).min(r1.y).max(0.0).floor() as u32;
+        let x_end = l0.x.max(r0.x).max(l1.x).max(r1.x).min(w).ceil() as u32;
+        let y_end = l0.y.max(r0.y).max(l1.y).max(r1.y).min(h).ceil() as u32;
+        let axis = (c1.x - c0.x, c1.y - c0.y);
+        let length2 = (axis.0 * axis.0 + axis.1 * axis.1).max(1e-12);
+        let mut ty = y_min;
+        while ty < y_end {
+            let mut tx = x_min;
+            while tx < x_end {
+                let (x, y) = (tx + lane_x, ty + lane_y);
+                let p = (x as f32 + 0.5, y as f32 + 0.5);
+                if x < x_end
+                    && y < y_end
+                    && (in_triangle(l0, r0, r1, p) || in_triangle(l0, r1, l1, p))
+                {
+                    let t =
+                        (((p.0 - c0.x) * axis.0 + (p.1 - c0.y) * axis.1) / length2).clamp(0.0, 1.0);
+                    let depth = c0.depth + t * (c1.depth - c0.depth);
+                    if depth >= 0.0 && depth <= 1.0 {
+                        plot(x, y, pack(depth, slot, c0.v + t * (c1.v - c0.v)));
+                        plotted += 1;
+                    }
+                }
+                tx += tile;
+            }
+            ty += tile;
+        }
+        (l0, r0, c0) = (l1, r1, c1);
+        s += 1;
+    }
+    plotted
 }
 
 /// How much of a pixel row a blade covers at each v: its width on screen in pixels
@@ -131,6 +271,8 @@ pub struct Coverage {
     pub tip_start: f32,
     /// The blade's index (its hash decides the thin parts).
     pub index: u32,
+    /// Height on screen in pixels.
+    pub height_px: f32,
 }
 
 impl Coverage {
@@ -149,6 +291,7 @@ impl Coverage {
             shape,
             tip_start,
             index,
+            height_px: screen_height(blade.height(), distance, focal),
         }
     }
 
@@ -165,14 +308,31 @@ impl Coverage {
     }
 }
 
-/// Draws far blade `blade` (far slot `slot`): calls `plot(x, y, packed)` for each pixel
-/// its curve crosses, in `params.segments` straight segments, one pixel wide, where its
-/// `coverage` draws. Pixels off the target and depths outside 0..1 are skipped.
-/// Returns the pixels plotted.
+/// Draws far blade `blade` (far slot `slot`) alone: [`raster_wide`] where it is wide,
+/// else [`raster_line`]. Returns the pixels plotted.
+pub fn raster_blade(
+    blade: &Blade,
+    slot: u32,
+    coverage: &Coverage,
+    view_proj: Mat4,
+    params: &RasterParams,
+    plot: impl FnMut(u32, u32, u64),
+) -> u32 {
+    if is_wide(coverage) {
+        raster_wide(blade, slot, coverage, view_proj, params, (0, 1), plot)
+    } else {
+        raster_line(blade, slot, coverage, view_proj, params, plot)
+    }
+}
+
+/// Draws a narrow far blade `blade` (far slot `slot`): calls `plot(x, y, packed)` for
+/// each pixel its curve crosses, in `params.segments` straight segments, one pixel
+/// wide, where its `coverage` draws. Pixels off the target and depths outside 0..1 are
+/// skipped. Returns the pixels plotted.
 // `(0.0..=1.0).contains(&depth)` makes rust-gpu emit a load through a pointer that is
 // not logical (spirv-val rejects it): the depth is compared by hand.
 #[allow(clippy::manual_range_contains)]
-pub fn raster_blade(
+pub fn raster_line(
     blade: &Blade,
     slot: u32,
     coverage: &Coverage,
@@ -232,6 +392,18 @@ pub fn raster_dispatch(far: u32, workgroup: u32, width: u32) -> (u32, u32) {
     (x, if x == 0 { 1 } else { groups.div_ceil(x) })
 }
 
+/// The rasterizer's preparation's dispatch (one thread per pixel of a `width` by
+/// `height` target in workgroups of `side`²) when `far` blades are far; (0, 1), none,
+/// without, so a frame with no far blade neither copies the depth nor clears the
+/// visibility buffer.
+pub fn prepare_dispatch(far: u32, (width, height): (u32, u32), side: u32) -> (u32, u32) {
+    if far == 0 {
+        (0, 1)
+    } else {
+        (width.div_ceil(side), height.div_ceil(side))
+    }
+}
+
 /// Index of pixel (x, y) in the visibility buffer of a target `width` wide.
 pub fn pixel_index(x: u32, y: u32, width: u32) -> usize {
     (y * width + x) as usize
@@ -282,8 +454,9 @@ mod tests {
         let eye = Vec3::new(0.0, 1.0, 10.0);
         let view = rh::view::look_at_mat4(eye, Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
         let view_proj = rh::proj::vulkan::perspective(1.0, 1.0, 0.1, 100.0) * view;
-        // Wide enough to be drawn whatever the hash says.
-        let blade = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 2.0, 10.0);
+        // Wide enough to be drawn whatever the hash says (1.2 pixels), narrow enough
+        // to be drawn as a line.
+        let blade = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.2, 10.0);
         let focal = crate::lod::focal_pixels(1.0, 64.0);
         let camera = Vec3::new(0.0, 1.0, 10.0);
         let mut pixels = Vec::new();
@@ -315,6 +488,132 @@ mod tests {
     }
 
     #[test]
+    fn a_wide_blade_is_drawn_as_its_surface() {
+        // An upright blade 2 units tall and 1 wide, 10 units ahead, facing the camera:
+        // about 23.4 by 11.7 pixels, a quad, or a triangle of half its area.
+        let params = RasterParams {
+            width: 128,
+            height: 128,
+            below: 100.0,
+            segments: 3,
+        };
+        use spirv_std::glam::camera::rh;
+        let eye = Vec3::new(0.0, 1.0, 10.0);
+        let view = rh::view::look_at_mat4(eye, Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
+        let view_proj = rh::proj::vulkan::perspective(1.0, 1.0, 0.1, 100.0) * view;
+        let focal = crate::lod::focal_pixels(1.0, 128.0);
+        // Facing +z: its width along x.
+        let blade = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 1.0, 10.0);
+        assert!(blade.width_dir().x.abs() > 0.99, "{:?}", blade.width_dir());
+        let (tall, wide) = (
+            screen_height(2.0, 10.0, focal),
+            screen_height(1.0, 10.0, focal),
+        );
+        let draw = |shape| {
+            let coverage = Coverage::of(&blade, 4, (shape, 0.5), eye, focal);
+            assert!(coverage.width_px >= WIDE_PX);
+            let mut pixels = std::collections::BTreeMap::new();
+            let n = raster_blade(&blade, 2, &coverage, view_proj, &params, |x, y, p| {
+                // Within a quad each pixel once; a row shared by two quads twice at most.
+                let seen = pixels.entry((x, y)).or_insert((p, 0));
+                seen.0 = seen.0.min(p);
+                seen.1 += 1;
+            });
+            assert!(pixels.values().all(|&(_, times)| times <= 2), "{pixels:?}");
+            assert!(n as usize >= pixels.len());
+            pixels
+        };
+        let quad = draw(crate::shape::SHAPE_QUAD);
+        let area = tall * wide;
+        let covered = quad.len() as f32;
+        assert!(
+            (covered - area).abs() < 0.1 * area,
+            "{covered} pixels for {area}"
+        );
+        // Centred on column 64, as wide as the blade.
+        let xs: Vec<u32> = quad.keys().map(|&(x, _)| x).collect();
+        let (x_min, x_max) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
+        assert!(
+            ((x_max - x_min + 1) as f32 - wide).abs() <= 1.0,
+            "{x_min}..{x_max}"
+        );
+        assert!((x_min + x_max) / 2 == 63 || (x_min + x_max) / 2 == 64);
+        // v from the root (the bottom row: Vulkan's y points down) to the tip.
+        let v_at = |y: u32| {
+            quad.iter()
+                .filter(|((_, row), _)| *row == y)
+                .map(|(_, &(p, _))| unpack(p).2)
+                .fold(0.0f32, f32::max)
+        };
+        let ys: Vec<u32> = quad.keys().map(|&(_, y)| y).collect();
+        let (y_min, y_max) = (*ys.iter().min().unwrap(), *ys.iter().max().unwrap());
+        assert!(
+            v_at(y_max) < 0.15 && v_at(y_min) > 0.85,
+            "{} {}",
+            v_at(y_max),
+            v_at(y_min)
+        );
+        assert!(quad.values().all(|&(p, _)| unpack(p).1 == 2));
+        // Lanes sharing the blade plot the same pixels, each once.
+        let coverage = Coverage::of(&blade, 4, (crate::shape::SHAPE_QUAD, 0.5), eye, focal);
+        let mut shared = std::collections::BTreeMap::new();
+        let mut total = 0;
+        for lane in 0..9 {
+            total += raster_wide(
+                &blade,
+                2,
+                &coverage,
+                view_proj,
+                &params,
+                (lane, 3),
+                |x, y, p| {
+                    let seen = shared.entry((x, y)).or_insert(p);
+                    *seen = (*seen).min(p);
+                },
+            );
+        }
+        let alone = raster_blade(&blade, 2, &coverage, view_proj, &params, |_, _, _| {});
+        assert_eq!(total, alone);
+        assert!(
+            shared.iter().eq(quad
+                .iter()
+                .map(|(&k, &(p, _))| (k, p))
+                .collect::<std::collections::BTreeMap<_, _>>()
+                .iter())
+        );
+        // A triangle blade closes at its tip. At rest its v runs unevenly up the blade
+        // (h = 2v − v², the guide on the tip), so its outline is a parabola, not a
+        // triangle: about two thirds of the quad. Its strip of 3 quads is a polygon
+        // whose area (the shoelace formula over its edges) the pixels match.
+        let triangle = draw(crate::shape::SHAPE_TRIANGLE).len() as f32;
+        let coverage = Coverage::of(&blade, 4, (crate::shape::SHAPE_TRIANGLE, 0.5), eye, focal);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        for i in 0..=3 {
+            let (l, r, _) =
+                edges_on_screen(&blade, i as f32 / 3.0, &coverage, view_proj, &params).unwrap();
+            left.push((l.x, l.y));
+            right.push((r.x, r.y));
+        }
+        let outline: Vec<(f32, f32)> = left.into_iter().chain(right.into_iter().rev()).collect();
+        let polygon = 0.5
+            * (0..outline.len())
+                .map(|i| {
+                    let (a, b) = (outline[i], outline[(i + 1) % outline.len()]);
+                    a.0 * b.1 - b.0 * a.1
+                })
+                .sum::<f32>()
+                .abs();
+        assert!(
+            (polygon / area - 0.648).abs() < 0.01,
+            "the strip's area {polygon} against the quad's {area}"
+        );
+        assert!(
+            (triangle - polygon).abs() < 0.1 * polygon,
+            "{triangle} pixels for {polygon}"
+        );
+    }
+
+    #[test]
     fn a_tapering_blade_covers_less_towards_its_tip() {
         // A triangle blade half a pixel wide at the root: about half of its root's
         // steps are drawn, and none at the tip, where it closes.
@@ -323,6 +622,7 @@ mod tests {
             shape: crate::shape::SHAPE_TRIANGLE,
             tip_start: 0.5,
             index: 3,
+            height_px: 8.0,
         };
         let root = (0..4000).filter(|&s| c.draws(0.0, s)).count();
         let middle = (0..4000).filter(|&s| c.draws(0.5, s)).count();
@@ -345,6 +645,13 @@ mod tests {
         assert_eq!(raster_dispatch(65, 64, 32_768), (2, 1));
         let (x, y) = raster_dispatch(16_777_216, 64, 32_768);
         assert!(x <= 32_768 && x * y * 64 >= 16_777_216 && (x * (y - 1)) * 64 < 16_777_216);
+    }
+
+    #[test]
+    fn the_preparation_covers_every_pixel_only_with_far_blades() {
+        assert_eq!(prepare_dispatch(0, (1920, 1080), 8), (0, 1));
+        assert_eq!(prepare_dispatch(1, (1920, 1080), 8), (240, 135));
+        assert_eq!(prepare_dispatch(5, (13, 9), 8), (2, 2));
     }
 
     #[test]

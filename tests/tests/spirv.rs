@@ -316,6 +316,9 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                                 size_of::<layout::ToneMapPush>()
                             }
                             n if n == shaders::BUILD_HIZ => size_of::<layout::HiZPush>(),
+                            n if n == shaders::RASTER_PREPARE_MS => {
+                                size_of::<layout::PreparePush>()
+                            }
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
                             n if n == shaders::THROUGHPUT_VS || n == shaders::THROUGHPUT_MESH => {
@@ -342,6 +345,10 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
         (shaders::CLUMP_BLADES, layout::SIMULATE_WORKGROUP),
         (shaders::BIN_BLADES, layout::SIMULATE_WORKGROUP),
+        (shaders::RASTER_FAR, layout::SIMULATE_WORKGROUP),
+        (shaders::RASTER_FAR_NATURAL, layout::SIMULATE_WORKGROUP),
+        (shaders::RASTER_PREPARE, layout::PREPARE_WORKGROUP),
+        (shaders::RASTER_PREPARE_MS, layout::PREPARE_WORKGROUP),
         (shaders::PAPER_MESH, shared::meshlet::MESH_THREADS),
         (shaders::NATURAL_MESH, shared::meshlet::MESH_THREADS),
     ] {

@@ -237,12 +237,15 @@ pub fn msaa(common: &Common, ctx: &Context) -> u32 {
 }
 
 /// Blades shorter than this on screen (pixels) go to the compute rasterizer on a GPU
-/// with 64-bit atomics when `--compute-raster-below` is not given: at 10 pixels the
-/// NVIDIA H100 draws 4 M blades at the edge in 4.47 ms against 6.22, from the overview
-/// in 1.40 against 4.99, with the picture within a few tenths of a level of the
-/// hardware's (README, "Compute rasterizer"). Off on a software device, where it
-/// gained nothing measured.
-pub const DEFAULT_COMPUTE_RASTER_BELOW_GPU: f32 = 10.0;
+/// with 64-bit atomics when `--compute-raster-below` is not given. Where blades are
+/// about a pixel wide, two samplings of one field differ pixel by pixel however they
+/// are drawn; at this threshold the frame differs from the all-hardware frame less than
+/// that frame differs from itself with the camera turned by a third of a pixel, from
+/// 640x360 up (`tests/tests/raster.rs`: 1.83 and 1.42 against 3.37 and 3.59 in the
+/// paper and natural looks; 24 pixels gave 4.44). On the NVIDIA H100 it draws 4 M
+/// blades at the edge in 3.6 ms against 6.2 without (README, "Compute rasterizer").
+/// Off on a software device, where it gained nothing measured.
+pub const DEFAULT_COMPUTE_RASTER_BELOW_GPU: f32 = 16.0;
 
 /// Samples per pixel on a GPU when `--msaa` is not given.
 pub const DEFAULT_MSAA_GPU: u32 = 4;

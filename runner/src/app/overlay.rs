@@ -170,7 +170,8 @@ fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) 
                     ("shadow map", t.shadow),
                     ("ground", t.ground),
                     ("grass", t.grass),
-                    ("MSAA resolve", t.resolve),
+                    ("compute raster", t.raster),
+                    ("far resolve + MSAA resolve", t.resolve),
                     ("sky + tone map", t.tone_map),
                     ("overlay", t.overlay),
                     ("GPU total", t.total),
@@ -215,6 +216,12 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
         ui.label(c.compute.to_string());
         ui.label(format!("{:.1} %", share(c.compute)));
         ui.end_row();
+        if c.compute > 0 {
+            ui.label("their pixels written");
+            ui.label(c.raster_written.to_string());
+            ui.label(format!("of {} covered", c.raster_covered));
+            ui.end_row();
+        }
     });
     if !r.occluders {
         ui.label("(flat ground, no rock: nothing here can occlude)");

@@ -50,12 +50,14 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     if let Some(t) = report.times {
         log::info!(
             "GPU ms: uploads + depth pyramid {:.3}, simulate+cull {:.3}, shadow map {:.3}, \
-             ground {:.3}, grass {:.3}, resolve {:.3}, sky + tone map {:.3}, total {:.3}",
+             ground {:.3}, grass {:.3}, compute raster {:.3}, resolve {:.3}, sky + tone map \
+             {:.3}, total {:.3}",
             t.depth_pyramid,
             t.simulate_cull,
             t.shadow,
             t.ground,
             t.grass,
+            t.raster,
             t.resolve,
             t.tone_map,
             t.total
@@ -78,9 +80,11 @@ pub fn describe(c: &CullCounts) -> String {
         .map(|(name, n)| format!("{name} {n}"))
         .collect();
     format!(
-        "{} drawn, {} by compute, removed by {} (total {})",
+        "{} drawn, {} by compute ({} of their {} pixels written), removed by {} (total {})",
         c.drawn,
         c.compute,
+        c.raster_written,
+        c.raster_covered,
         removed.join(", "),
         c.examined
     )

@@ -1,17 +1,19 @@
-//! The compute rasterizer of far blades (`shared::raster`, issue 18): a compute pass
-//! draws each far blade's curve into the visibility buffer, one 64-bit atomic minimum
-//! per pixel; inside the frame's rendering scope, after the hardware-drawn grass and
-//! ground, a full-screen resolve shades each pixel a far blade won and writes its
-//! depth, so the depth test composites the two.
+//! The compute rasterizer of far blades (`shared::raster`, issue 18). Once the
+//! hardware has drawn the near grass and the ground, a compute pass copies their depth
+//! into a buffer (the farthest sample under MSAA), and another draws each far blade
+//! into the visibility buffer: a pixel behind that depth costs a load, one in front a
+//! 64-bit atomic minimum. A second rendering scope then resolves it: a
+//! full-screen draw shades each pixel a far blade won and writes its depth, so the
+//! depth test composites the two paths.
 
-use crate::field::Field;
+use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
-use crate::vulkan::{Buffer, Context, Recorder};
+use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use shared::layout;
+use shared::layout::{self, PreparePush};
 use shared::look::LOOK_NATURAL;
 use shared::shade::VIEW_LOD;
 use std::sync::Arc;
@@ -31,8 +33,11 @@ struct Resolve {
 pub struct RasterPass {
     ctx: Arc<Context>,
     far: Option<(Pipeline, Pipeline)>,
+    /// The preparation, single-sample and multisampled.
+    prepare: Option<(Pipeline, Pipeline)>,
     resolve: Option<Resolve>,
     visibility: Option<Buffer>,
+    hardware_depth: Option<Buffer>,
 }
 
 impl RasterPass {
@@ -55,11 +60,22 @@ impl RasterPass {
             }
             Err(_) => None,
         };
+        let prepare = match &far {
+            Some(_) => {
+                let layout = &field.layout;
+                let single = Pipeline::compute(ctx, layout, module, shaders::RASTER_PREPARE)?;
+                let ms = Pipeline::compute(ctx, layout, module, shaders::RASTER_PREPARE_MS)?;
+                Some((single, ms))
+            }
+            None => None,
+        };
         let mut pass = Self {
             ctx: ctx.clone(),
             far,
+            prepare,
             resolve: None,
             visibility: None,
+            hardware_depth: None,
         };
         pass.retarget(module, field, color_format, samples)?;
         Ok(pass)
@@ -105,27 +121,26 @@ impl RasterPass {
         Ok(())
     }
 
-    /// A visibility buffer for a target of `extent`, bound for the passes.
+    /// A visibility buffer and a buffer for the hardware's depth, for a target of
+    /// `extent`, bound for the passes.
     pub fn resize(&mut self, field: &Field, extent: vk::Extent2D) -> Result<()> {
         if self.far.is_none() {
             return Ok(());
         }
         self.ctx.wait_idle()?;
-        let pixels = u64::from(extent.width) * u64::from(extent.height);
-        let buffer = Buffer::new(
-            &self.ctx,
-            "visibility",
-            pixels.max(1) * 8,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST
-                | vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::GpuOnly,
-        )?;
+        let pixels = (u64::from(extent.width) * u64::from(extent.height)).max(1);
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
+        let gpu = MemoryLocation::GpuOnly;
+        let visibility = Buffer::new(&self.ctx, "visibility", pixels * 8, usage, gpu)?;
+        let depth = Buffer::new(&self.ctx, "hardware depth", pixels * 4, usage, gpu)?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
-        field
-            .descriptors
-            .write_buffer(layout::BINDING_VISIBILITY, storage, buffer.buffer);
-        self.visibility = Some(buffer);
+        let set = &field.descriptors;
+        set.write_buffer(layout::BINDING_VISIBILITY, storage, visibility.buffer);
+        set.write_buffer(layout::BINDING_HARDWARE_DEPTH, storage, depth.buffer);
+        self.visibility = Some(visibility);
+        self.hardware_depth = Some(depth);
         Ok(())
     }
 
@@ -134,39 +149,79 @@ impl RasterPass {
         self.visibility.as_ref()
     }
 
-    /// Records the compute rasterizer after the compute pass: the visibility buffer
-    /// cleared, then one thread per far blade (an indirect dispatch), ready for the
-    /// resolve's fragment stage.
-    pub fn record(&self, rec: &Recorder, field: &Field, natural: bool) {
-        let (Some((paper, natural_far)), Some(visibility)) = (&self.far, &self.visibility) else {
+    /// The hardware's depth as the rasterizer read it, once sized.
+    pub fn hardware_depth(&self) -> Option<&Buffer> {
+        self.hardware_depth.as_ref()
+    }
+
+    /// Records the compute rasterizer between the hardware's rendering scope and the
+    /// resolve's. Its preparation (an indirect dispatch, none without far blades)
+    /// clears the visibility buffer and copies the hardware's depth for the
+    /// rasterizer from `depth`, the scope's depth image with `samples` per pixel (the
+    /// farthest of them), in DEPTH_ATTACHMENT_OPTIMAL and left so; then one thread per
+    /// far blade (an indirect dispatch), ready for the resolve's fragment stage.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        field: &Field,
+        natural: bool,
+        depth: &Image,
+        samples: u32,
+    ) {
+        let (Some((paper, natural_far)), Some((single, multi)), Some(_)) =
+            (&self.far, &self.prepare, &self.visibility)
+        else {
             return;
         };
-        rec.fill_buffer(visibility.buffer, u32::MAX);
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        let aspect = vk::ImageAspectFlags::DEPTH;
+        let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
+        let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let (attachment, sampled) = (
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        );
+        let written = (S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE);
+        let read = (S::COMPUTE_SHADER, A::SHADER_SAMPLED_READ);
+        rec.image_barrier(depth.image, aspect, (attachment, sampled), written, read);
+        if samples > 1 {
+            rec.bind_pipeline(compute, multi.pipeline, layout, set);
+            let push = PreparePush { samples };
+            rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        } else {
+            rec.bind_pipeline(compute, single.pipeline, layout, set);
+        }
+        rec.dispatch_indirect(
+            field.raster_args.buffer,
+            (layout::RASTER_PREPARE * 4) as u64,
+        );
+        rec.image_barrier(
+            depth.image,
+            aspect,
+            (sampled, attachment),
+            (S::COMPUTE_SHADER, A::NONE),
+            (tests, depth_rw),
+        );
         rec.memory_barrier(
-            (
-                S::CLEAR | S::COPY | S::COMPUTE_SHADER,
-                A::TRANSFER_WRITE | A::SHADER_WRITE,
-            ),
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
         );
         let pipeline = if natural { natural_far } else { paper };
-        let (layout, set) = (field.layout.layout, field.descriptors.set);
-        rec.bind_pipeline(
-            vk::PipelineBindPoint::COMPUTE,
-            pipeline.pipeline,
-            layout,
-            set,
-        );
+        rec.bind_pipeline(compute, pipeline.pipeline, layout, set);
         // As many threads as far blades (the compute pass wrote the counts).
         let at = (layout::RASTER_DISPATCH * 4) as u64;
         rec.dispatch_indirect(field.raster_args.buffer, at);
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
-            (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ),
+            (
+                S::FRAGMENT_SHADER | S::COPY,
+                A::SHADER_STORAGE_READ | A::TRANSFER_READ,
+            ),
         );
     }
 
-    /// Records the resolve inside the frame's rendering scope, in `view` and the look
+    /// Records the resolve inside its rendering scope, in `view` and the look
     /// `style`.
     pub fn record_resolve(&self, rec: &Recorder, field: &Field, view: u32, style: u32) {
         let Some(resolve) = &self.resolve else {

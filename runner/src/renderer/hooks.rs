@@ -26,7 +26,8 @@ impl Renderer {
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
         let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
-        self.record_compute(rec, queries, push, false, mesh);
+        self.record_compute(rec, push, false, mesh);
+        self.copy_counters(rec, queries);
     }
 
     /// Copies a device buffer into host memory and returns `count` values of `T`.
@@ -63,5 +64,11 @@ impl Renderer {
     /// a frame sized it on a device that has it.
     pub fn visibility(&self) -> Option<&Buffer> {
         self.raster.visibility()
+    }
+
+    /// The hardware's depth as the compute rasterizer read it (`f32` per pixel of the
+    /// target), once a frame sized it on a device that has the rasterizer.
+    pub fn hardware_depth(&self) -> Option<&Buffer> {
+        self.raster.hardware_depth()
     }
 }

@@ -23,7 +23,7 @@ use crate::passes::tonemap::ToneMapPass;
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::pipeline::ShaderModules;
-use crate::vulkan::{Context, Recorder};
+use crate::vulkan::{Attachments, Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
@@ -222,6 +222,11 @@ impl Renderer {
             self.raster.resize(&self.field, extent)?;
         }
         let targets = DrawTargets::new(&self.ctx, spec, self.color_format)?;
+        let set = &self.field.descriptors;
+        set.write_sampled_image(shared::layout::BINDING_DEPTH_IMAGE, targets.depth.view);
+        if let Some(ms) = &targets.depth_ms {
+            set.write_sampled_image(shared::layout::BINDING_DEPTH_IMAGE_MS, ms.view);
+        }
         if let Some(hdr) = &targets.hdr {
             self.tonemap.set_source(hdr.view);
         }
@@ -279,7 +284,6 @@ impl Renderer {
         if !self.raster.supported() {
             uniforms.raster.below = 0.0;
         }
-        let far = uniforms.raster.below > 0.0;
         let stamps = queries.timestamps.as_ref().map(|t| t.pool);
         let stamp = |mark: Mark| {
             if let Some(pool) = stamps {
@@ -308,10 +312,7 @@ impl Renderer {
             self.clumped = Some(clumps);
         }
         let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
-        self.record_compute(rec, queries, input.push, natural, mesh);
-        if far {
-            self.raster.record(rec, &self.field, natural);
-        }
+        self.record_compute(rec, input.push, natural, mesh);
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             let balls = used_balls(&uniforms);
@@ -321,6 +322,7 @@ impl Renderer {
         stamp(Mark::Shadow);
         self.record_draw(rec, targets, &target, &uniforms, &stamp, triangles);
         stamp(Mark::Resolve);
+        self.copy_counters(rec, queries);
         if natural {
             self.record_tone_map(rec, targets, &target, &uniforms)?;
         }
@@ -375,18 +377,19 @@ impl Renderer {
         );
     }
 
-    /// Simulate, cull and compact (and for the `mesh` path bin by strip length), then
-    /// copy the counters for the read-back.
-    fn record_compute(
-        &self,
-        rec: &Recorder,
-        queries: &FrameQueries,
-        push: SimulatePush,
-        natural: bool,
-        mesh: bool,
-    ) {
+    /// Simulate, cull and compact (and for the `mesh` path bin by strip length).
+    fn record_compute(&self, rec: &Recorder, push: SimulatePush, natural: bool, mesh: bool) {
+        self.simulate.record(rec, &self.field, push, natural, mesh);
+    }
+
+    /// Copies the counters for the read-back, once the compute pass and the compute
+    /// rasterizer have written them.
+    fn copy_counters(&self, rec: &Recorder, queries: &FrameQueries) {
         let field = &self.field;
-        self.simulate.record(rec, field, push, natural, mesh);
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (S::COPY, A::TRANSFER_READ),
+        );
         rec.copy_buffer(
             field.counters.buffer,
             queries.counters.buffer,
@@ -400,7 +403,10 @@ impl Renderer {
     /// after each, the grass's triangles counted into `triangles`. Grass first: the
     /// ground under it then fails the early depth test instead of being shaded and
     /// drawn over (performance notes, attempt 12); the blades that surfaces hide are
-    /// culled before (the occlusion test).
+    /// culled before (the occlusion test). With the compute rasterizer on, that scope
+    /// ends, the rasterizer reads its depth ([`Mark::Raster`]), and a second scope on
+    /// the same images resolves the far blades; the multisample resolve comes at the
+    /// end of the last scope.
     fn record_draw(
         &self,
         rec: &Recorder,
@@ -418,8 +424,9 @@ impl Renderer {
             Some(ms) => ((ms.image, ms.view), Some(single)),
             None => (single, None),
         };
-        let depth = targets.depth_ms.as_ref().unwrap_or(&targets.depth);
-        let depth = (depth.image, depth.view);
+        let far = uniforms.raster.below > 0.0;
+        let depth_image = targets.depth_ms.as_ref().unwrap_or(&targets.depth);
+        let depth = (depth_image.image, depth_image.view);
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
@@ -435,7 +442,8 @@ impl Renderer {
                 color_out,
             );
         }
-        // After the pre-pass's copy (or the last frame's tests) is done with it.
+        // After the pre-pass's copy (or the last frame's tests, copy and compute
+        // reads) is done with it.
         rec.image_barrier(
             depth.0,
             vk::ImageAspectFlags::DEPTH,
@@ -443,18 +451,21 @@ impl Renderer {
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
             ),
-            (depth_tests | S::COPY, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+            (
+                depth_tests | S::COPY | S::COMPUTE_SHADER,
+                A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            ),
             (depth_tests, depth_rw),
         );
         // The natural look's sky is drawn by the tone map where alpha leaves room.
         let clear = if targets.hdr.is_some() { [0.0; 4] } else { SKY };
         let extent = target.extent;
-        rec.begin_rendering_resolved(
-            Some((color.1, Some(clear))),
-            resolve.map(|r| r.1),
-            Some(depth.1),
-            extent,
-        );
+        let hardware = Attachments {
+            color: Some((color.1, Some(clear))),
+            color_resolve: if far { None } else { resolve.map(|r| r.1) },
+            depth: Some((depth.1, true)),
+        };
+        rec.begin_rendering_with(&hardware, extent);
         if let Some(pool) = triangles {
             rec.begin_query(pool);
         }
@@ -466,10 +477,24 @@ impl Renderer {
         }
         stamp(Mark::Grass);
         self.ground.record(rec, &self.field, used_balls(uniforms));
-        if uniforms.raster.below > 0.0 {
-            self.raster.record_resolve(rec, &self.field, view, style);
-        }
         stamp(Mark::Ground);
+        if far {
+            rec.end_rendering();
+            let natural = uniforms.look.style == LOOK_NATURAL;
+            let samples = targets.spec.samples;
+            self.raster
+                .record(rec, &self.field, natural, depth_image, samples);
+            stamp(Mark::Raster);
+            let far_blades = Attachments {
+                color: Some((color.1, None)),
+                color_resolve: resolve.map(|r| r.1),
+                depth: Some((depth.1, false)),
+            };
+            rec.begin_rendering_with(&far_blades, extent);
+            self.raster.record_resolve(rec, &self.field, view, style);
+        } else {
+            stamp(Mark::Raster);
+        }
         rec.end_rendering();
     }
 

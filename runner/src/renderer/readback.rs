@@ -29,7 +29,11 @@ pub enum Mark {
     /// After the ground and the ball (inside the rendering scope: before its
     /// resolve).
     Ground,
-    /// After the rendering scope ended: its multisample resolve, when there is one.
+    /// After the compute rasterizer (`passes::raster`): the hardware's rendering scope
+    /// ended, its depth copied, the far blades drawn; at once without it.
+    Raster,
+    /// After the last rendering scope ended: the compute rasterizer's resolve and the
+    /// multisample resolve, when there are any.
     Resolve,
     /// After the sky and the tone map (natural look).
     ToneMap,
@@ -39,7 +43,7 @@ pub enum Mark {
 
 impl Mark {
     /// Timestamps per frame.
-    pub const COUNT: u32 = 9;
+    pub const COUNT: u32 = 10;
 }
 
 /// How the compute pass sorted the blades of one frame: drawn, or removed by the
@@ -60,6 +64,11 @@ pub struct CullCounts {
     pub examined: u32,
     /// Visible blades drawn by the compute rasterizer (not in `drawn`).
     pub compute: u32,
+    /// Pixels the compute rasterizer's blades covered on the target.
+    pub raster_covered: u32,
+    /// Of those, the pixels it wrote (in front of the hardware's depth and of the far
+    /// blade the pixel held).
+    pub raster_written: u32,
 }
 
 impl CullCounts {
@@ -72,6 +81,8 @@ impl CullCounts {
             occlusion: c[layout::COUNTER_OCCLUSION],
             examined: c[layout::COUNTER_EXAMINED],
             compute: c[layout::COUNTER_FAR],
+            raster_covered: c[layout::COUNTER_RASTER_COVERED],
+            raster_written: c[layout::COUNTER_RASTER_WRITTEN],
         }
     }
     /// Blades removed by any test.
@@ -104,7 +115,10 @@ pub struct PassTimes {
     pub ground: f64,
     /// Grass.
     pub grass: f64,
-    /// The end of the draw's rendering scope: the multisample resolve.
+    /// The compute rasterizer: the hardware's depth copied, the visibility buffer
+    /// cleared, the far blades drawn.
+    pub raster: f64,
+    /// The compute rasterizer's resolve and the multisample resolve.
     pub resolve: f64,
     /// Sky and tone map.
     pub tone_map: f64,
@@ -124,7 +138,8 @@ impl PassTimes {
             shadow: at(Mark::Shadow) - at(Mark::SimulateCull),
             grass: at(Mark::Grass) - at(Mark::Shadow),
             ground: at(Mark::Ground) - at(Mark::Grass),
-            resolve: at(Mark::Resolve) - at(Mark::Ground),
+            raster: at(Mark::Raster) - at(Mark::Ground),
+            resolve: at(Mark::Resolve) - at(Mark::Raster),
             tone_map: at(Mark::ToneMap) - at(Mark::Resolve),
             overlay: at(Mark::Overlay) - at(Mark::ToneMap),
             total: at(Mark::Overlay),

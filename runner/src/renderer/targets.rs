@@ -33,7 +33,8 @@ pub struct TargetSpec {
 pub struct DrawTargets {
     /// What they were made for.
     pub spec: TargetSpec,
-    /// Single-sample depth: the occlusion pre-pass's, and the draw's without MSAA.
+    /// Single-sample depth: the occlusion pre-pass's, and the draw's without MSAA
+    /// (read by the compute rasterizer's preparation).
     pub depth: Image,
     /// The resolved HDR image the tone map reads (natural look).
     pub hdr: Option<Image>,
@@ -57,7 +58,8 @@ impl DrawTargets {
             "depth",
             extent,
             DEPTH_FORMAT,
-            U::DEPTH_STENCIL_ATTACHMENT | U::TRANSFER_SRC,
+            // Copied into the pyramid, read for the compute rasterizer.
+            U::DEPTH_STENCIL_ATTACHMENT | U::TRANSFER_SRC | U::SAMPLED,
             depth,
         )?;
         let hdr = spec
@@ -80,12 +82,13 @@ impl DrawTargets {
                 color,
                 samples,
             )?;
+            // Read by the compute rasterizer's preparation (its farthest sample).
             let d = Image::multisampled(
                 ctx,
                 "depth (MSAA)",
                 extent,
                 DEPTH_FORMAT,
-                U::DEPTH_STENCIL_ATTACHMENT | transient,
+                U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED,
                 depth,
                 samples,
             )?;

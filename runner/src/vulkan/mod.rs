@@ -16,7 +16,7 @@ pub mod swapchain;
 pub use buffer::Buffer;
 pub use context::{Context, ContextOptions, ValidationChecks};
 pub use image::Image;
-pub use recorder::Recorder;
+pub use recorder::{Attachments, Recorder};
 
 /// True when `GRASS_REQUIRE_GPU=1` (as in CI): tests that need a Vulkan device then
 /// fail instead of skipping. The one place every test asks.

@@ -5,6 +5,18 @@ use super::image::subresource_range;
 use ash::vk;
 use std::cell::Cell;
 
+/// The attachments of one rendering scope ([`Recorder::begin_rendering_with`]).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Attachments {
+    /// The colour view, cleared to the value given or (`None`) loaded.
+    pub color: Option<(vk::ImageView, Option<[f32; 4]>)>,
+    /// Where the multisampled colour is averaged when rendering ends
+    /// (COLOR_ATTACHMENT_OPTIMAL).
+    pub color_resolve: Option<vk::ImageView>,
+    /// The depth view, cleared to 1 (`true`) or loaded.
+    pub depth: Option<(vk::ImageView, bool)>,
+}
+
 /// A command buffer being recorded on a device.
 #[derive(Clone)]
 pub struct Recorder<'a> {
@@ -183,23 +195,30 @@ impl<'a> Recorder<'a> {
         depth: Option<vk::ImageView>,
         extent: vk::Extent2D,
     ) {
-        self.begin_rendering_resolved(color, None, depth, extent);
+        let attachments = Attachments {
+            color,
+            depth: depth.map(|view| (view, true)),
+            ..Default::default()
+        };
+        self.begin_rendering_with(&attachments, extent);
     }
 
-    /// [`Recorder::begin_rendering`], the colour (multisampled) averaged into `resolve`
-    /// (COLOR_ATTACHMENT_OPTIMAL) when rendering ends.
-    pub fn begin_rendering_resolved(
-        &self,
-        color: Option<(vk::ImageView, Option<[f32; 4]>)>,
-        resolve: Option<vk::ImageView>,
-        depth: Option<vk::ImageView>,
-        extent: vk::Extent2D,
-    ) {
-        let color_attachment: Vec<_> = color
+    /// Begins dynamic rendering into `attachments` over `extent`, with the viewport
+    /// and scissor covering it.
+    pub fn begin_rendering_with(&self, attachments: &Attachments, extent: vk::Extent2D) {
+        let load = |clear: bool| {
+            if clear {
+                vk::AttachmentLoadOp::CLEAR
+            } else {
+                vk::AttachmentLoadOp::LOAD
+            }
+        };
+        let color_attachment: Vec<_> = attachments
+            .color
             .iter()
             .map(|&(view, clear)| {
                 let info = vk::RenderingAttachmentInfo::default();
-                let info = match resolve {
+                let info = match attachments.color_resolve {
                     Some(target) => info
                         .resolve_mode(vk::ResolveModeFlags::AVERAGE)
                         .resolve_image_view(target)
@@ -208,11 +227,7 @@ impl<'a> Recorder<'a> {
                 };
                 info.image_view(view)
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(if clear.is_some() {
-                        vk::AttachmentLoadOp::CLEAR
-                    } else {
-                        vk::AttachmentLoadOp::LOAD
-                    })
+                    .load_op(load(clear.is_some()))
                     .store_op(vk::AttachmentStoreOp::STORE)
                     .clear_value(vk::ClearValue {
                         color: vk::ClearColorValue {
@@ -221,11 +236,11 @@ impl<'a> Recorder<'a> {
                     })
             })
             .collect();
-        let depth_attachment = depth.map(|view| {
+        let depth_attachment = attachments.depth.map(|(view, clear)| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(view)
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .load_op(load(clear))
                 .store_op(vk::AttachmentStoreOp::STORE)
                 .clear_value(vk::ClearValue {
                     depth_stencil: vk::ClearDepthStencilValue {

@@ -22,7 +22,7 @@ use crate::scene::{BladeCount, Scene};
 use crate::vulkan::Context;
 use anyhow::{Context as _, Result};
 use glam::Vec3;
-use report::{print_looks, print_references, print_table, write_csv};
+use report::{print_looks, print_raster, print_references, print_table, write_csv};
 use shared::layout::FrameUniforms;
 use shared::settings::{GrassPipeline, Look, Settings};
 use shared::simulate::SimClock;
@@ -215,6 +215,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     let device = ctx.device_name();
     print_table(&device, args, &points);
     print_looks(&points);
+    print_raster(&points);
     print_references(counts.last().copied().unwrap_or(0), &references, &points);
     write_csv(&args.out, &device, common, args, &points, &references)
         .with_context(|| format!("write {}", args.out.display()))?;
@@ -254,7 +255,7 @@ fn measure(
 ) -> Result<Point> {
     driver.clock = SimClock::default();
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
-    let mut compute_drawn = Vec::new();
+    let (mut compute_drawn, mut covered, mut written) = (Vec::new(), Vec::new(), Vec::new());
     let mut triangles = Vec::new();
     let mut last = Instant::now();
     let slots = FRAMES_IN_FLIGHT as u32;
@@ -271,6 +272,8 @@ fn measure(
             times.extend(r.times);
             drawn.extend(r.counts.map(|c| f64::from(c.drawn)));
             compute_drawn.extend(r.counts.map(|c| f64::from(c.compute)));
+            covered.extend(r.counts.map(|c| f64::from(c.raster_covered)));
+            written.extend(r.counts.map(|c| f64::from(c.raster_written)));
             triangles.extend(r.triangles.map(|t| t as f64));
         }
         last = now;
@@ -290,6 +293,8 @@ fn measure(
         samples: 1,
         compute_below: uniforms.raster.below,
         compute_drawn: Spread::of(&compute_drawn).median,
+        raster_covered: Spread::of(&covered).median,
+        raster_written: Spread::of(&written).median,
         config,
         blades,
         drawn: Spread::of(&drawn).median,
@@ -300,6 +305,7 @@ fn measure(
         shadow: pass(|t| t.shadow),
         ground: pass(|t| t.ground),
         grass: pass(|t| t.grass),
+        raster: pass(|t| t.raster),
         resolve: pass(|t| t.resolve),
         tone_map: pass(|t| t.tone_map),
         triangles,

@@ -39,7 +39,10 @@ pub fn print_references(blades: u32, r: &References, points: &[Point]) {
                 100.0 * gbs / copy
             );
         }
-        if let (Some(triangles), Some(t)) = (p.triangles, r.triangles(p.pipeline)) {
+        // (Nothing to compare where the compute rasterizer took every blade.)
+        if let (Some(triangles), Some(t), true) =
+            (p.triangles, r.triangles(p.pipeline), p.drawn > 0.0)
+        {
             let ideal = t.grass_ms(p.drawn, triangles);
             line += &format!(
                 "; {:?} grass {:.1} M triangles, reference {ideal:.3} ms ({:>5.1} % of its speed)",
@@ -61,7 +64,7 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
         args.width, args.height, args.camera, args.frames
     );
     println!(
-        "{:<8} {:<5} {:>6} {:<20} {:>9} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6} {:>8}",
+        "{:<8} {:<5} {:>6} {:<20} {:>9} {:>9} {:>9} {:>11} {:>18} {:>18} {:>18} {:>18} {:>18} {:>6} {:>8}",
         "look",
         "pipe",
         "raster",
@@ -72,6 +75,7 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
         "triangles",
         "simulate+cull ms",
         "grass ms",
+        "compute raster ms",
         "GPU frame ms",
         "CPU frame ms",
         "diff",
@@ -80,7 +84,7 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
     let cell = |s: Spread| format!("{:.3} ({:.3})", s.median, s.p95);
     for p in points {
         println!(
-            "{:<8} {:<5} {:>6} {:<20} {:>9} {:>9.0} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>6.2} {:>8.2}",
+            "{:<8} {:<5} {:>6} {:<20} {:>9} {:>9.0} {:>9.0} {:>11} {:>18} {:>18} {:>18} {:>18} {:>18} {:>6.2} {:>8}",
             format!("{:?}", p.look),
             format!("{:?}", p.pipeline).to_lowercase(),
             p.compute_below,
@@ -91,17 +95,61 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
             p.triangles.map_or("-".into(), |t| format!("{t:.0}")),
             cell(p.simulate_cull),
             cell(p.grass),
+            cell(p.raster),
             cell(p.gpu),
             cell(p.cpu),
             p.difference,
-            ns_per_drawn_blade(p)
+            ns_per_drawn_blade(p).map_or("-".into(), |ns| format!("{ns:.2}"))
         );
     }
 }
 
-/// The grass pass's median time per drawn blade, in nanoseconds.
-pub fn ns_per_drawn_blade(p: &Point) -> f64 {
-    p.grass.median * 1e6 / p.drawn.max(1.0)
+/// The grass pass's median time per blade it drew, in nanoseconds; `None` where the
+/// hardware drew none (the compute rasterizer took them all).
+pub fn ns_per_drawn_blade(p: &Point) -> Option<f64> {
+    (p.drawn > 0.0).then(|| p.grass.median * 1e6 / p.drawn)
+}
+
+/// The compute rasterizer's median time (depth copy, clear and far blades) per blade
+/// it drew, per pixel its blades covered and per pixel it wrote, in nanoseconds;
+/// `None` where it drew none. A covered pixel costs a depth test, a written one an
+/// atomic too: where near grass hides the far field (the edge camera) few are
+/// written, and the time per covered pixel is the one to read.
+pub fn raster_costs(p: &Point) -> Option<(f64, f64, f64)> {
+    (p.compute_drawn > 0.0).then(|| {
+        let ns = p.raster.median * 1e6;
+        (
+            ns / p.compute_drawn,
+            ns / p.raster_covered.max(1.0),
+            ns / p.raster_written.max(1.0),
+        )
+    })
+}
+
+/// For each point where the compute rasterizer drew blades: its time, its blades and
+/// pixels, and what one of each cost.
+pub fn print_raster(points: &[Point]) {
+    for p in points {
+        let Some((per_blade, per_covered, per_written)) = raster_costs(p) else {
+            continue;
+        };
+        println!(
+            "compute rasterizer, {:?} {:?} {} blades at {} px: {:.3} ms for {:.0} blades \
+             ({:.0} % of those drawn), {:.0} pixels covered, {:.0} written \
+             ({:.0} %); {per_blade:.2} ns per blade, {per_covered:.2} ns per pixel covered, \
+             {per_written:.2} ns per pixel written",
+            p.look,
+            p.config,
+            p.blades,
+            p.compute_below,
+            p.raster.median,
+            p.compute_drawn,
+            100.0 * p.compute_drawn / (p.compute_drawn + p.drawn).max(1.0),
+            p.raster_covered,
+            p.raster_written,
+            100.0 * p.raster_written / p.raster_covered.max(1.0),
+        );
+    }
 }
 
 /// With both looks measured: for each count and configuration, the natural look's GPU
@@ -176,7 +224,9 @@ pub fn write_csv(
          ground_ms_median,grass_ms_median,grass_ms_p95,triangles,mean_difference,\
          simulate_cull_gb_s,copy_reference_gb_s,grass_reference_ms,\
          look,msaa,shadow_ms_median,resolve_ms_median,tone_map_ms_median,pipeline,\
-         grass_ns_per_drawn_blade,compute_raster_below,drawn_by_compute\n",
+         grass_ns_per_drawn_blade,compute_raster_below,drawn_by_compute,\
+         raster_ms_median,raster_pixels_covered,raster_pixels_written,\
+         raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -185,8 +235,9 @@ pub fn write_csv(
             .triangles
             .zip(r.triangles(p.pipeline))
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
+        let costs = raster_costs(p);
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{:.3},{},{:.0}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{}\n",
             common.scene,
             args.camera,
             args.width,
@@ -216,9 +267,15 @@ pub fn write_csv(
             p.resolve.median,
             p.tone_map.median,
             format!("{:?}", p.pipeline).to_lowercase(),
-            ns_per_drawn_blade(p),
+            optional(ns_per_drawn_blade(p), 3),
             p.compute_below,
             p.compute_drawn,
+            p.raster.median,
+            p.raster_covered,
+            p.raster_written,
+            optional(costs.map(|c| c.0), 3),
+            optional(costs.map(|c| c.1), 3),
+            optional(costs.map(|c| c.2), 3),
         );
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {

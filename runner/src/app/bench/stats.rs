@@ -49,6 +49,11 @@ pub struct Point {
     pub compute_below: f32,
     /// Median blades the compute rasterizer drew.
     pub compute_drawn: f64,
+    /// Median pixels its blades covered on the target.
+    pub raster_covered: f64,
+    /// Median pixels it wrote (in front of the hardware's depth and of the far blade
+    /// the pixel held).
+    pub raster_written: f64,
     /// Configuration.
     pub config: BenchConfig,
     /// Blades in the field.
@@ -69,7 +74,9 @@ pub struct Point {
     pub ground: Spread,
     /// Grass.
     pub grass: Spread,
-    /// The multisample resolve.
+    /// The compute rasterizer (depth copy, clear, far blades).
+    pub raster: Spread,
+    /// The compute rasterizer's resolve and the multisample resolve.
     pub resolve: Spread,
     /// Sky and tone map.
     pub tone_map: Spread,

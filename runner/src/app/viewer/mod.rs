@@ -307,7 +307,9 @@ impl Running {
 
     /// Once a second: frame rate and visible blades in the title and the log.
     fn report(&mut self) {
-        let visible = self.gpu.driver.readback.visible().unwrap_or(0);
+        let readback = &self.gpu.driver.readback;
+        // The hardware's blades and the compute rasterizer's.
+        let visible = readback.counts.map_or(0, |c| c.drawn + c.compute);
         let line = format!(
             "{:.1} fps, {visible} of {} blades visible, {}, wind {:?}, shape {:?}",
             self.pace.fps,

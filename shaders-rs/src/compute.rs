@@ -23,6 +23,7 @@ use shared::raster::{
     prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
+use shared::tiles::{TilePush, tile_blade};
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
@@ -537,6 +538,24 @@ fn count_pixels(
                 );
             }
         }
+    }
+}
+
+/// One thread per blade of one tile (`shared::tiles`, issue 19): blade `i` of the
+/// pushed tile as the camera sees it, into slot `i` of the scratch binding (width 0
+/// where its rank has left it). The GPU side of the tiled field's generation, checked
+/// against the host's.
+#[spirv(compute(threads(64)))]
+pub fn generate_tile(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(push_constant)] push: &TilePush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [Blade],
+) {
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    let params = &push.params;
+    if index < params.per_side * params.per_side {
+        out[index as usize] = tile_blade(push.tile, index, push.camera.truncate(), params);
     }
 }
 

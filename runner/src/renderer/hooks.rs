@@ -2,10 +2,14 @@
 //! compute part of a frame alone, and a device buffer copied back to the host.
 
 use super::{FrameQueries, Renderer};
+use crate::field::PUSH_CONSTANTS;
+use crate::shaders;
+use crate::vulkan::pipeline::Pipeline;
 use crate::vulkan::{Buffer, Recorder};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use shared::Blade;
 use shared::layout::{FrameUniforms, SimulatePush};
 
 impl Renderer {
@@ -64,6 +68,56 @@ impl Renderer {
     /// a frame sized it on a device that has it.
     pub fn visibility(&self) -> Option<&Buffer> {
         self.raster.visibility()
+    }
+
+    /// The blades of one tile as the GPU generates them (`compute::generate_tile`,
+    /// `shared::tiles`): `per_side`² blades, width 0 where a blade's rank has left it.
+    pub fn generate_tile(&self, push: &shared::tiles::TilePush) -> Result<Vec<Blade>> {
+        let count = (push.params.per_side * push.params.per_side) as usize;
+        let out = Buffer::new(
+            &self.ctx,
+            "tile blades",
+            (count.max(1) * size_of::<Blade>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let pipeline = Pipeline::compute(
+            &self.ctx,
+            &self.field.layout,
+            &self.module,
+            shaders::GENERATE_TILE,
+        )?;
+        self.ctx.wait_idle()?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let descriptors = &self.field.descriptors;
+        descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, out.buffer);
+        let (layout, set) = (self.field.layout.layout, descriptors.set);
+        let groups = (count as u32).div_ceil(shared::layout::SIMULATE_WORKGROUP);
+        let result = self.pool.one_shot(|rec| {
+            rec.bind_pipeline(
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.pipeline,
+                layout,
+                set,
+            );
+            rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(push));
+            rec.dispatch((groups, 1));
+            rec.memory_barrier(
+                (
+                    vk::PipelineStageFlags2::COMPUTE_SHADER,
+                    vk::AccessFlags2::SHADER_WRITE,
+                ),
+                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+            );
+        });
+        // Back to the frame's own binding (the bandwidth reference binds its own).
+        descriptors.write_buffer(
+            shared::layout::BINDING_SCRATCH,
+            storage,
+            self.field.visible.buffer,
+        );
+        result?;
+        out.read(count)
     }
 
     /// The hardware's depth as the compute rasterizer read it (`f32` per pixel of the

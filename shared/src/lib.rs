@@ -25,6 +25,7 @@ pub mod settings;
 pub mod shade;
 pub mod shape;
 pub mod simulate;
+pub mod terrain;
 pub mod tiles;
 pub mod validate;
 pub mod wind;

@@ -22,7 +22,8 @@
 
 use crate::Blade;
 use crate::look::hash_u32;
-use spirv_std::glam::{IVec2, UVec2, Vec2, Vec3, Vec4};
+use crate::terrain;
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec3, Vec4};
 
 /// Heights, widths and stiffnesses are drawn from the course's ranges
 /// (`generate::HEIGHT`, `WIDTH`, `STIFFNESS`; repeated here, `generate` being host-only).
@@ -48,7 +49,17 @@ pub struct TileParams {
     pub seed: u32,
     /// Up to this distance from the camera every blade is kept.
     pub full_distance: f32,
+    /// The ground the blades stand on: [`TERRAIN_FLAT`] or [`TERRAIN_VALLEY`].
+    pub terrain: u32,
+    /// Padding to 32 bytes.
+    pub pad: UVec3,
 }
+
+/// Blades on the plane y = 0, up +Y.
+pub const TERRAIN_FLAT: u32 = 0;
+/// Blades on the valley (`terrain::valley_height`), up its normal, none on the bare
+/// path.
+pub const TERRAIN_VALLEY: u32 = 1;
 
 impl Default for TileParams {
     /// Tiles of 8 units at the course's density (about 36 blades a square unit: 48
@@ -59,6 +70,8 @@ impl Default for TileParams {
             per_side: 48,
             seed: 1,
             full_distance: 16.0,
+            terrain: TERRAIN_FLAT,
+            pad: UVec3::ZERO,
         }
     }
 }
@@ -128,16 +141,28 @@ pub fn width_scale(rank: f32, density: f32) -> f32 {
     fade * (1.0 / density.min(1.0)).min(MAX_WIDENING)
 }
 
-/// Blade `index` of `tile` at rest on the ground plane (up = +Y), seen from `camera`,
-/// its width carrying [`width_scale`]: 0 (not [`kept`]) when its rank has left it at
-/// that distance.
+/// Blade `index` of `tile` at rest on its ground (`params.terrain`: the plane y = 0,
+/// up +Y, or the valley, up its normal), seen from `camera`, its width carrying
+/// [`width_scale`]: 0 (not [`kept`]) when its rank has left it at that distance or it
+/// stands on bare ground.
 pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) -> Blade {
     let root2 = root_of(tile, index, params);
-    let root = Vec3::new(root2.x, 0.0, root2.y);
-    let scale = width_scale(
-        rank_of(tile, index, params),
-        density((root - camera).length(), params),
-    );
+    let valley = params.terrain == TERRAIN_VALLEY;
+    let (height_at, up) = if valley {
+        (terrain::valley_height(root2), terrain::valley_normal(root2))
+    } else {
+        (0.0, Vec3::Y)
+    };
+    let root = Vec3::new(root2.x, height_at, root2.y);
+    let grows = !(valley && terrain::bare(root2));
+    let scale = if grows {
+        width_scale(
+            rank_of(tile, index, params),
+            density((root - camera).length(), params),
+        )
+    } else {
+        0.0
+    };
     let seed = params.seed;
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * unit(blade_hash(tile, index, seed, k));
@@ -145,7 +170,7 @@ pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) ->
     let height = pick(4, HEIGHT);
     let width = pick(5, WIDTH) * scale;
     let stiffness = pick(6, STIFFNESS);
-    Blade::at_rest(root, Vec3::Y, orientation, height, width, stiffness)
+    Blade::at_rest(root, up, orientation, height, width, stiffness)
 }
 
 /// Whether a generated blade is drawn: its rank has not left it ([`tile_blade`]).
@@ -290,6 +315,42 @@ mod tests {
             last.unwrap().len() < (all * 0.05) as usize,
             "few left far away"
         );
+    }
+
+    #[test]
+    fn on_the_valley_blades_stand_on_its_surface_and_not_on_the_path() {
+        let params = TileParams {
+            terrain: TERRAIN_VALLEY,
+            full_distance: 1e6,
+            ..TileParams::default()
+        };
+        // The tiles across the path at z = 100 (its centre line at x = 31.9).
+        let z = 100.0f32;
+        let x = 60.0 * (z / 180.0).sin();
+        let row = tile_of(Vec2::new(x, z), &params).y;
+        let (mut on_path, mut kept_blades) = (0, 0);
+        for tx in -2..=2 {
+            let tile = IVec2::new(tile_of(Vec2::new(x, z), &params).x + tx, row);
+            for i in 0..params.per_side * params.per_side {
+                let b = tile_blade(tile, i, NEAR, &params);
+                let p = Vec2::new(b.root().x, b.root().z);
+                if terrain::bare(p) {
+                    on_path += 1;
+                    assert!(!kept(&b), "a blade on the path at {p}");
+                    continue;
+                }
+                assert!(kept(&b));
+                kept_blades += 1;
+                assert!((b.root().y - terrain::valley_height(p)).abs() < 1e-4);
+                assert!((b.up_dir() - terrain::valley_normal(p)).length() < 1e-5);
+                // At rest along its ground's normal.
+                let along = (b.tip() - b.root()).normalize();
+                assert!((along - b.up_dir()).length() < 1e-4);
+            }
+        }
+        // The path (5 m wide) crosses the 40 m of tiles: about an eighth of the blades.
+        let share = on_path as f32 / (on_path + kept_blades) as f32;
+        assert!((0.09..0.16).contains(&share), "{share} on the path");
     }
 
     #[test]

@@ -4,17 +4,19 @@ use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
 use runner::scene::{BladeCount, Scene, SceneKind};
 use shared::glam::{IVec2, Vec3};
-use shared::tiles::{TileParams, TilePush, kept, tile_blade};
+use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, TilePush, kept, tile_blade};
 
 /// `compute::generate_tile` against the host running `shared::tiles::tile_blade` on
 /// the same tile: the same blades kept (at most 0.2 % decided differently, where a
 /// blade's rank lies within rounding of its density: the GPU's square root need not be
 /// correctly rounded), and each kept blade's control points, width and stiffness
-/// within 1e-5 (relative, of at least 1). Three tiles: one beside the camera (every
-/// blade at its own width), one 40 units off (a fifth kept, widened), one 120 units
-/// off (a few kept). Measured on lavapipe: every blade decided alike and equal to the
-/// bit (2,304, 490 and 40 kept). Planted fault: the GPU generating blade i + 1 in
-/// slot i failed (control points 6.1 apart).
+/// within 1e-5 (relative, of at least 1). Three tiles of the plane: one beside the
+/// camera (every blade at its own width), one 40 units off (a fifth kept, widened),
+/// one 120 units off (a few kept); and one of the valley across its bare path, the
+/// camera some 20 metres above it. Measured on lavapipe: every blade decided alike,
+/// equal to the bit on the plane and within 2.1e-7 on the valley (its sines); 2,304,
+/// 490, 40 and 432 kept. Planted fault: the GPU generating blade i + 1 in slot i
+/// failed (control points 6.1 apart).
 #[test]
 fn the_gpu_generates_the_hosts_blades() {
     tests::with_device("the_gpu_generates_the_hosts_blades", |ctx| {
@@ -27,13 +29,18 @@ fn the_gpu_generates_the_hosts_blades() {
         )
         .unwrap();
         let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
-        let params = TileParams::default();
         let camera = Vec3::new(4.0, 1.7, 4.0);
-        for (tile, at_least, at_most) in [
-            (IVec2::new(0, 0), 1.0, 1.0),
-            (IVec2::new(4, 2), 0.1, 0.4),
-            (IVec2::new(-15, 2), 0.0, 0.05),
+        for (terrain, tile, at_least, at_most) in [
+            (TERRAIN_FLAT, IVec2::new(0, 0), 1.0, 1.0),
+            (TERRAIN_FLAT, IVec2::new(4, 2), 0.1, 0.4),
+            (TERRAIN_FLAT, IVec2::new(-15, 2), 0.0, 0.05),
+            // Across the valley's path near the origin (its centre line at x = 0).
+            (TERRAIN_VALLEY, IVec2::new(-1, 0), 0.1, 0.6),
         ] {
+            let params = TileParams {
+                terrain,
+                ..TileParams::default()
+            };
             let push = TilePush {
                 params,
                 tile,

@@ -16,7 +16,7 @@ use shared::layout::{
 use shared::lod::blades_per_chunk;
 use shared::look::DressedBlade;
 use shared::meshlet::{SEGMENT_BUCKETS, StripBlade};
-use shared::tiles::TilePush;
+use shared::tiles::{SelectPush, TilePush};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -137,7 +137,10 @@ pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
             max(size_of::<SimulatePush>(), size_of::<ChunkPush>()),
             max(
                 max(size_of::<HiZPush>(), size_of::<CopyPush>()),
-                max(size_of::<PreparePush>(), size_of::<TilePush>()),
+                max(
+                    size_of::<PreparePush>(),
+                    max(size_of::<TilePush>(), size_of::<SelectPush>()),
+                ),
             ),
         ),
         max(size_of::<SurfacePush>(), size_of::<ThroughputPush>()),

@@ -19,6 +19,9 @@ pub const SIMULATE_CULL_NATURAL: &str = "compute::simulate_cull_natural";
 pub const COPY_BLADES: &str = "compute::copy_blades";
 /// Compute: one level of the occluders' depth pyramid.
 pub const BUILD_HIZ: &str = "compute::build_hiz";
+/// Compute: the tiles in view around the camera (`shared::tiles`), into the scratch
+/// binding.
+pub const SELECT_TILES: &str = "compute::select_tiles";
 /// Compute: one tile's blades (`shared::tiles`), into the scratch binding.
 pub const GENERATE_TILE: &str = "compute::generate_tile";
 /// Compute: each blade's clump, when the field or the clumps' settings change.

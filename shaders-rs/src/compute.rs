@@ -23,7 +23,7 @@ use shared::raster::{
     prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
-use shared::tiles::{TilePush, tile_blade};
+use shared::tiles::{SelectPush, TilePush, tile_blade, tile_in_view};
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
@@ -556,6 +556,41 @@ pub fn generate_tile(
     let params = &push.params;
     if index < params.per_side * params.per_side {
         out[index as usize] = tile_blade(push.tile, index, push.camera.truncate(), params);
+    }
+}
+
+/// One thread per candidate tile of a square around the camera (`shared::tiles`,
+/// issue 19): the tiles [`tile_in_view`] keeps, appended to the scratch binding after
+/// their count (word 0), two words each (x, z). The GPU side of the tiled field's
+/// selection, checked against the host's.
+#[spirv(compute(threads(64)))]
+pub fn select_tiles(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(push_constant)] push: &SelectPush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [u32],
+) {
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    if index < push.count.x * push.count.y {
+        let tile = push.first + UVec2::new(index % push.count.x, index / push.count.x).as_ivec2();
+        let camera = push.camera.truncate();
+        let ground = (push.ground.x, push.ground.y);
+        if tile_in_view(
+            tile,
+            push.view_proj,
+            camera,
+            &push.params,
+            ground,
+            push.camera.w,
+        ) {
+            let at = unsafe {
+                atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut out[0],
+                )
+            };
+            out[1 + 2 * at as usize] = tile.x as u32;
+            out[2 + 2 * at as usize] = tile.y as u32;
+        }
     }
 }
 

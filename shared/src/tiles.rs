@@ -23,7 +23,7 @@
 use crate::Blade;
 use crate::look::hash_u32;
 use crate::terrain;
-use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec3, Vec4};
+use spirv_std::glam::{IVec2, Mat4, UVec2, UVec3, Vec2, Vec3, Vec4};
 
 /// Heights, widths and stiffnesses are drawn from the course's ranges
 /// (`generate::HEIGHT`, `WIDTH`, `STIFFNESS`; repeated here, `generate` being host-only).
@@ -176,6 +176,82 @@ pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) ->
 /// Whether a generated blade is drawn: its rank has not left it ([`tile_blade`]).
 pub fn kept(blade: &Blade) -> bool {
     blade.width() > 0.0
+}
+
+/// Whether `tile` can show a blade to a camera at `camera` with `view_proj`: its box
+/// (the tile's square, from `ground.0` to `ground.1` + the tallest blade in height)
+/// not wholly outside one plane of the view volume (the eight corners in clip space),
+/// and its nearest point within `reach` of the camera (beyond, [`density`] has left
+/// too few blades to draw: the caller's choice).
+pub fn tile_in_view(
+    tile: IVec2,
+    view_proj: Mat4,
+    camera: Vec3,
+    params: &TileParams,
+    ground: (f32, f32),
+    reach: f32,
+) -> bool {
+    let lo = tile.as_vec2() * params.size;
+    let hi = lo + Vec2::splat(params.size);
+    let (bottom, top) = (ground.0, ground.1 + HEIGHT.1);
+    let nearest = Vec3::new(
+        camera.x.clamp(lo.x, hi.x),
+        camera.y.clamp(bottom, top),
+        camera.z.clamp(lo.y, hi.y),
+    );
+    if (nearest - camera).length() > reach {
+        return false;
+    }
+    // Outside a plane: every corner beyond it (x < −w, x > w, y < −w, y > w, z < 0,
+    // z > w). One bit per plane, cleared by a corner inside it (rust-gpu cannot fill a
+    // bool array).
+    let mut outside = 0b11_1111u32;
+    let mut corner = 0;
+    while corner < 8 {
+        let p = Vec3::new(
+            if corner & 1 == 0 { lo.x } else { hi.x },
+            if corner & 2 == 0 { bottom } else { top },
+            if corner & 4 == 0 { lo.y } else { hi.y },
+        );
+        let c = view_proj * p.extend(1.0);
+        let beyond = [
+            c.x < -c.w,
+            c.x > c.w,
+            c.y < -c.w,
+            c.y > c.w,
+            c.z < 0.0,
+            c.z > c.w,
+        ];
+        let mut plane = 0;
+        while plane < 6 {
+            if !beyond[plane] {
+                outside &= !(1 << plane);
+            }
+            plane += 1;
+        }
+        corner += 1;
+    }
+    outside == 0
+}
+
+/// What the GPU's tile selection pushes: the camera, the square of candidate tiles
+/// (`first`, `count` along x and z), the layout, the ground's height range and the
+/// reach ([`tile_in_view`]).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SelectPush {
+    /// The camera's view-projection.
+    pub view_proj: Mat4,
+    /// The camera's position (xyz) and the reach (w).
+    pub camera: Vec4,
+    /// The first candidate tile.
+    pub first: IVec2,
+    /// Candidates along x and z.
+    pub count: UVec2,
+    /// The ground's lowest and highest points, and padding.
+    pub ground: Vec4,
+    /// The world's tiles.
+    pub params: TileParams,
 }
 
 /// What the GPU's tile generation pushes: the layout, the tile and the camera.
@@ -351,6 +427,65 @@ mod tests {
         // The path (5 m wide) crosses the 40 m of tiles: about an eighth of the blades.
         let share = on_path as f32 / (on_path + kept_blades) as f32;
         assert!((0.09..0.16).contains(&share), "{share} on the path");
+    }
+
+    /// Planted faults: the box without the blades' height (a tile whose ground is
+    /// below the view but whose tips are in it, with the camera looking up) failed,
+    /// and so did a right plane at half the view's width.
+    #[test]
+    fn the_tiles_in_view_are_those_a_blade_of_could_be_seen_in() {
+        use spirv_std::glam::camera::rh;
+        let params = TileParams::default();
+        let eye = Vec3::new(0.0, 1.7, 0.0);
+        let view_proj = |look: Vec3| {
+            let view = rh::view::look_at_mat4(eye, look, Vec3::Y);
+            rh::proj::vulkan::perspective(1.0, 16.0 / 9.0, 0.1, 2000.0) * view
+        };
+        let down = view_proj(Vec3::new(0.0, 1.0, -20.0));
+        let seen = |t: IVec2| tile_in_view(t, down, eye, &params, (0.0, 0.0), 300.0);
+        // Ahead (−z), beside the camera, behind it, out of reach.
+        assert!(seen(IVec2::new(0, -3)) && seen(IVec2::new(-1, -1)) && seen(IVec2::new(0, -1)));
+        assert!(!seen(IVec2::new(0, 3)), "behind");
+        assert!(!seen(IVec2::new(0, -60)), "beyond the reach");
+        assert!(!seen(IVec2::new(30, -3)), "far to the side");
+        // Against blades: every blade of a tile out of view is outside the view volume
+        // (root and tip), over every tile within reach; and most tiles in view hold a
+        // blade inside it. Looking a little down, and up (the near ground out of view,
+        // the near tips in it).
+        let every = TileParams {
+            full_distance: 1e6,
+            ..params
+        };
+        for look in [Vec3::new(0.0, 1.0, -20.0), Vec3::new(0.0, 6.0, -20.0)] {
+            let view_proj = view_proj(look);
+            let (mut in_view, mut with_blade) = (0, 0);
+            for tx in -40..40 {
+                for tz in -40..40 {
+                    let tile = IVec2::new(tx, tz);
+                    let visible = tile_in_view(tile, view_proj, eye, &params, (0.0, 0.0), 300.0);
+                    let mut any = false;
+                    for i in (0..params.per_side * params.per_side).step_by(7) {
+                        let b = tile_blade(tile, i, eye, &every);
+                        for p in [b.root(), b.tip()] {
+                            let c = view_proj * p.extend(1.0);
+                            let inside = c.w > 0.0
+                                && c.x.abs() <= c.w
+                                && c.y.abs() <= c.w
+                                && (0.0..=c.w).contains(&c.z)
+                                && (p - eye).length() <= 300.0;
+                            assert!(visible || !inside, "tile {tile} culled with {p} in view");
+                            any |= inside;
+                        }
+                    }
+                    in_view += u32::from(visible);
+                    with_blade += u32::from(visible && any);
+                }
+            }
+            assert!(
+                with_blade * 10 >= in_view * 9,
+                "{with_blade} of {in_view} tiles in view hold a blade in it"
+            );
+        }
     }
 
     #[test]

@@ -322,6 +322,9 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             n if n == shaders::GENERATE_TILE => {
                                 size_of::<shared::tiles::TilePush>()
                             }
+                            n if n == shaders::SELECT_TILES => {
+                                size_of::<shared::tiles::SelectPush>()
+                            }
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
                             n if n == shaders::THROUGHPUT_VS || n == shaders::THROUGHPUT_MESH => {
@@ -353,6 +356,7 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::RASTER_PREPARE, layout::PREPARE_WORKGROUP),
         (shaders::RASTER_PREPARE_MS, layout::PREPARE_WORKGROUP),
         (shaders::GENERATE_TILE, layout::SIMULATE_WORKGROUP),
+        (shaders::SELECT_TILES, layout::SIMULATE_WORKGROUP),
         (shaders::PAPER_MESH, shared::meshlet::MESH_THREADS),
         (shaders::NATURAL_MESH, shared::meshlet::MESH_THREADS),
     ] {

@@ -80,3 +80,56 @@ fn the_gpu_generates_the_hosts_blades() {
         }
     });
 }
+
+/// `compute::select_tiles` against the host running `shared::tiles::tile_in_view` on
+/// the same square of candidates (80 × 80 tiles of 8 units around the camera, reach
+/// 300): the same tiles, but where a corner lies within rounding of a plane of the
+/// view (at most 0.5 % of those selected; measured on lavapipe: none of the 1,169
+/// and 1,151 selected differ). Two cameras, looking a little down and a little up.
+/// Planted fault: the GPU reaching half as far failed (856 tiles differ).
+#[test]
+fn the_gpu_selects_the_hosts_tiles() {
+    use shared::glam::camera::rh;
+    use shared::glam::{UVec2, Vec4};
+    use shared::tiles::{SelectPush, tile_in_view};
+    tests::with_device("the_gpu_selects_the_hosts_tiles", |ctx| {
+        let scene = Scene::build(
+            &SceneKind::Plane,
+            None,
+            BladeCount::Total(64),
+            5,
+            |_| Ok(()),
+        )
+        .unwrap();
+        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+        let params = TileParams::default();
+        let eye = Vec3::new(3.0, 1.7, -2.0);
+        for look in [Vec3::new(10.0, 1.0, -20.0), Vec3::new(-5.0, 6.0, -20.0)] {
+            let view = rh::view::look_at_mat4(eye, look, Vec3::Y);
+            let view_proj = rh::proj::vulkan::perspective(1.0, 16.0 / 9.0, 0.1, 2000.0) * view;
+            let push = SelectPush {
+                view_proj,
+                camera: eye.extend(300.0),
+                first: IVec2::new(-40, -40),
+                count: UVec2::new(80, 80),
+                ground: Vec4::new(0.0, 0.0, 0.0, 0.0),
+                params,
+            };
+            let mut gpu = renderer.select_tiles(&push).unwrap();
+            gpu.sort_by_key(|t| (t.x, t.y));
+            let host: Vec<IVec2> = (-40..40)
+                .flat_map(|x| (-40..40).map(move |z| IVec2::new(x, z)))
+                .filter(|&t| tile_in_view(t, view_proj, eye, &params, (0.0, 0.0), 300.0))
+                .collect();
+            let differ = host.iter().filter(|t| !gpu.contains(t)).count()
+                + gpu.iter().filter(|t| !host.contains(t)).count();
+            println!(
+                "looking at {look}: {} tiles on the GPU, {} on the host, {differ} differ",
+                gpu.len(),
+                host.len()
+            );
+            assert!(host.len() > 100, "{} tiles in view", host.len());
+            assert!(differ * 200 <= host.len(), "{differ} tiles differ");
+        }
+    });
+}

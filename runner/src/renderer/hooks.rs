@@ -10,6 +10,7 @@ use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
+use shared::glam::IVec2;
 use shared::layout::{FrameUniforms, SimulatePush};
 
 impl Renderer {
@@ -74,48 +75,79 @@ impl Renderer {
     /// `shared::tiles`): `per_side`² blades, width 0 where a blade's rank has left it.
     pub fn generate_tile(&self, push: &shared::tiles::TilePush) -> Result<Vec<Blade>> {
         let count = (push.params.per_side * push.params.per_side) as usize;
+        self.run_into_scratch(
+            shaders::GENERATE_TILE,
+            bytemuck::bytes_of(push),
+            count,
+            count,
+        )
+    }
+
+    /// The tiles in view as the GPU selects them (`compute::select_tiles`), in the
+    /// order its threads appended them.
+    pub fn select_tiles(&self, push: &shared::tiles::SelectPush) -> Result<Vec<IVec2>> {
+        let candidates = (push.count.x * push.count.y) as usize;
+        let words: Vec<u32> = self.run_into_scratch(
+            shaders::SELECT_TILES,
+            bytemuck::bytes_of(push),
+            candidates,
+            1 + 2 * candidates,
+        )?;
+        let selected = (words[0] as usize).min(candidates);
+        Ok((0..selected)
+            .map(|i| IVec2::new(words[1 + 2 * i] as i32, words[2 + 2 * i] as i32))
+            .collect())
+    }
+
+    /// Runs compute entry point `entry` once, `threads` threads in workgroups of
+    /// `SIMULATE_WORKGROUP`, with `push` as its push constants and the scratch
+    /// binding pointed at a zeroed host-visible buffer of `count` values of `T`, and
+    /// returns them (the scratch binding goes back to the frame's own after).
+    fn run_into_scratch<T: bytemuck::Pod>(
+        &self,
+        entry: &str,
+        push: &[u8],
+        threads: usize,
+        count: usize,
+    ) -> Result<Vec<T>> {
         let out = Buffer::new(
             &self.ctx,
-            "tile blades",
-            (count.max(1) * size_of::<Blade>()) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            "scratch read-back",
+            (count.max(1) * size_of::<T>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let pipeline = Pipeline::compute(
-            &self.ctx,
-            &self.field.layout,
-            &self.module,
-            shaders::GENERATE_TILE,
-        )?;
+        let pipeline = Pipeline::compute(&self.ctx, &self.field.layout, &self.module, entry)?;
         self.ctx.wait_idle()?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let descriptors = &self.field.descriptors;
         descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, out.buffer);
         let (layout, set) = (self.field.layout.layout, descriptors.set);
-        let groups = (count as u32).div_ceil(shared::layout::SIMULATE_WORKGROUP);
+        let groups = (threads as u32).div_ceil(shared::layout::SIMULATE_WORKGROUP);
+        use vk::AccessFlags2 as A;
+        use vk::PipelineStageFlags2 as S;
         let result = self.pool.one_shot(|rec| {
+            rec.fill_buffer(out.buffer, 0);
+            rec.memory_barrier(
+                (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
+                (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
+            );
             rec.bind_pipeline(
                 vk::PipelineBindPoint::COMPUTE,
                 pipeline.pipeline,
                 layout,
                 set,
             );
-            rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(push));
+            rec.push_constants(layout, PUSH_CONSTANTS.0, push);
             rec.dispatch((groups, 1));
             rec.memory_barrier(
-                (
-                    vk::PipelineStageFlags2::COMPUTE_SHADER,
-                    vk::AccessFlags2::SHADER_WRITE,
-                ),
-                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+                (S::COMPUTE_SHADER, A::SHADER_WRITE),
+                (S::HOST, A::HOST_READ),
             );
         });
         // Back to the frame's own binding (the bandwidth reference binds its own).
-        descriptors.write_buffer(
-            shared::layout::BINDING_SCRATCH,
-            storage,
-            self.field.visible.buffer,
-        );
+        let frame_own = self.field.visible.buffer;
+        descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, frame_own);
         result?;
         out.read(count)
     }

@@ -6,6 +6,19 @@ use runner::scene::{BladeCount, Scene, SceneKind};
 use shared::glam::{IVec2, Vec3};
 use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, TilePush, kept, tile_blade};
 
+/// A renderer to run the tile passes with (its own field is a few blades of the plane).
+fn renderer(ctx: &std::sync::Arc<runner::vulkan::Context>) -> Renderer {
+    let scene = Scene::build(
+        &SceneKind::Plane,
+        None,
+        BladeCount::Total(64),
+        5,
+        |_| Ok(()),
+    )
+    .unwrap();
+    Renderer::new(ctx, &scene.meshes(), FORMAT).unwrap()
+}
+
 /// `compute::generate_tile` against the host running `shared::tiles::tile_blade` on
 /// the same tile: the same blades kept (at most 0.2 % decided differently, where a
 /// blade's rank lies within rounding of its density: the GPU's square root need not be
@@ -20,15 +33,7 @@ use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, TilePush, kept, ti
 #[test]
 fn the_gpu_generates_the_hosts_blades() {
     tests::with_device("the_gpu_generates_the_hosts_blades", |ctx| {
-        let scene = Scene::build(
-            &SceneKind::Plane,
-            None,
-            BladeCount::Total(64),
-            5,
-            |_| Ok(()),
-        )
-        .unwrap();
-        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+        let renderer = renderer(&ctx);
         let camera = Vec3::new(4.0, 1.7, 4.0);
         for (terrain, tile, at_least, at_most) in [
             (TERRAIN_FLAT, IVec2::new(0, 0), 1.0, 1.0),
@@ -93,15 +98,7 @@ fn the_gpu_selects_the_hosts_tiles() {
     use shared::glam::{UVec2, Vec4};
     use shared::tiles::{SelectPush, tile_in_view};
     tests::with_device("the_gpu_selects_the_hosts_tiles", |ctx| {
-        let scene = Scene::build(
-            &SceneKind::Plane,
-            None,
-            BladeCount::Total(64),
-            5,
-            |_| Ok(()),
-        )
-        .unwrap();
-        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+        let renderer = renderer(&ctx);
         let params = TileParams::default();
         let eye = Vec3::new(3.0, 1.7, -2.0);
         for look in [Vec3::new(10.0, 1.0, -20.0), Vec3::new(-5.0, 6.0, -20.0)] {

@@ -5,7 +5,8 @@
 //! frame in order, [`renderer`] records one frame start to end, and [`app`] the
 //! frame driver (`app::driver`: slots, submission, presentation or capture, the
 //! simulation clock, read-back) and the shells that use it (window viewer, `render`,
-//! `bench`, `soak`). The settings are typed (`shared::settings`) and become the
+//! `bench`, `soak`); [`tiles`] the tiled field's host side (issue 19, first pieces).
+//! The settings are typed (`shared::settings`) and become the
 //! shaders' numbers in one place, `Settings::uniforms`.
 
 pub mod app;
@@ -18,4 +19,5 @@ pub mod passes;
 pub mod renderer;
 pub mod scene;
 pub mod shaders;
+pub mod tiles;
 pub mod vulkan;

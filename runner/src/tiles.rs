@@ -1,0 +1,184 @@
+//! The tiled field's host side (issue 19, first pieces): which tiles hold simulated
+//! state. A fixed number of slots, each the state of one tile's blades (the paper's
+//! v1, v2 and collision strength), so device memory depends on the pool, not on the
+//! world. A tile keeps its slot while it is needed (near the camera) or pinned (a
+//! collider trampled it and its strength has not decayed); a needed tile without a
+//! slot takes a free one, else the least recently needed unpinned tile's, else it is
+//! dropped for the frame (drawn from its generated pose) and counted.
+
+use shared::glam::IVec2;
+use std::collections::HashMap;
+
+/// One slot's tile and when it was last needed (in [`TilePool::update`] calls).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+struct Slot {
+    tile: IVec2,
+    last_needed: u64,
+}
+
+/// What one [`TilePool::update`] decided.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PoolUpdate {
+    /// Slots given to tiles this frame, (slot, tile): their blades start from the
+    /// generated pose.
+    pub placed: Vec<(usize, IVec2)>,
+    /// Tiles that lost their slot to a needed one (their state is gone).
+    pub evicted: Vec<IVec2>,
+    /// Needed tiles that found no slot (every slot needed or pinned).
+    pub dropped: usize,
+}
+
+/// The slots of simulated tiles.
+#[derive(Clone, Debug)]
+pub struct TilePool {
+    slots: Vec<Option<Slot>>,
+    by_tile: HashMap<IVec2, usize>,
+    frame: u64,
+    /// Tiles evicted since the pool was made (the overlay's count).
+    pub evictions: u64,
+}
+
+impl TilePool {
+    /// A pool of `slots` tiles, all free.
+    pub fn new(slots: usize) -> Self {
+        Self {
+            slots: vec![None; slots],
+            by_tile: HashMap::new(),
+            frame: 0,
+            evictions: 0,
+        }
+    }
+
+    /// The slot of `tile`, if it holds one.
+    pub fn slot_of(&self, tile: IVec2) -> Option<usize> {
+        self.by_tile.get(&tile).copied()
+    }
+
+    /// One frame: `needed` tiles, most needed first, and `pinned` saying which held
+    /// tiles must keep their state (trampled, not yet recovered). Needed tiles keep or
+    /// take slots in that order; see the module's text for who gives way.
+    pub fn update(&mut self, needed: &[IVec2], pinned: impl Fn(IVec2) -> bool) -> PoolUpdate {
+        self.frame += 1;
+        let frame = self.frame;
+        let mut update = PoolUpdate::default();
+        // First mark every needed tile that holds a slot, so none of them is evicted
+        // for a tile later in the list.
+        for tile in needed {
+            if let Some(s) = self
+                .by_tile
+                .get(tile)
+                .and_then(|&slot| self.slots[slot].as_mut())
+            {
+                s.last_needed = frame;
+            }
+        }
+        for &tile in needed {
+            if self.by_tile.contains_key(&tile) {
+                continue;
+            }
+            let free = self.slots.iter().position(Option::is_none);
+            let slot = free.or_else(|| {
+                // The least recently needed slot not needed now and not pinned.
+                self.slots
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, s)| s.map(|s| (i, s)))
+                    .filter(|(_, s)| s.last_needed < frame && !pinned(s.tile))
+                    .min_by_key(|&(i, s)| (s.last_needed, i))
+                    .map(|(i, s)| {
+                        self.by_tile.remove(&s.tile);
+                        update.evicted.push(s.tile);
+                        self.evictions += 1;
+                        i
+                    })
+            });
+            match slot {
+                Some(slot) => {
+                    self.slots[slot] = Some(Slot {
+                        tile,
+                        last_needed: frame,
+                    });
+                    self.by_tile.insert(tile, slot);
+                    update.placed.push((slot, tile));
+                }
+                None => update.dropped += 1,
+            }
+        }
+        update
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tiles(range: std::ops::Range<i32>) -> Vec<IVec2> {
+        range.map(|x| IVec2::new(x, 0)).collect()
+    }
+
+    #[test]
+    fn a_needed_tile_keeps_its_slot() {
+        let mut pool = TilePool::new(8);
+        let first = pool.update(&tiles(0..5), |_| false);
+        assert_eq!(first.placed.len(), 5);
+        let slots: Vec<_> = tiles(0..5).iter().map(|&t| pool.slot_of(t)).collect();
+        // The camera moves on by one tile: four stay where they were, one is placed.
+        let next = pool.update(&tiles(1..6), |_| false);
+        assert_eq!(next.placed, vec![(5, IVec2::new(5, 0))]);
+        assert!(next.evicted.is_empty());
+        for (t, s) in tiles(0..5).iter().zip(&slots).skip(1) {
+            assert_eq!(pool.slot_of(*t), *s);
+        }
+    }
+
+    /// Planted fault: the most recently needed giving way instead failed.
+    #[test]
+    fn the_least_recently_needed_gives_way_and_no_slot_is_shared() {
+        let mut pool = TilePool::new(4);
+        pool.update(&tiles(0..4), |_| false);
+        pool.update(&tiles(2..4), |_| false);
+        pool.update(&tiles(1..4), |_| false);
+        // Tile 0 was needed longest ago: it goes first, then tile 1.
+        let update = pool.update(&tiles(2..6), |_| false);
+        assert_eq!(update.evicted, vec![IVec2::new(0, 0), IVec2::new(1, 0)]);
+        assert_eq!(pool.evictions, 2);
+        let mut held: Vec<usize> = tiles(2..6)
+            .iter()
+            .filter_map(|&t| pool.slot_of(t))
+            .collect();
+        held.sort_unstable();
+        assert_eq!(held, vec![0, 1, 2, 3]);
+        assert_eq!(pool.slot_of(IVec2::new(0, 0)), None);
+    }
+
+    #[test]
+    fn a_trampled_tile_keeps_its_state_until_it_recovers() {
+        let mut pool = TilePool::new(3);
+        let trail = IVec2::new(0, 0);
+        pool.update(&tiles(0..3), |_| false);
+        // The camera turns away: three other tiles needed, the trampled one pinned.
+        let away = [IVec2::new(7, 7), IVec2::new(8, 7), IVec2::new(9, 7)];
+        let update = pool.update(&away, |t| t == trail);
+        assert_eq!(pool.slot_of(trail), Some(0));
+        assert_eq!(update.placed.len(), 2);
+        assert_eq!(update.dropped, 1, "no slot for the third");
+        // Back again: it is still there with its state.
+        let back = pool.update(&tiles(0..1), |t| t == trail);
+        assert!(back.placed.is_empty());
+        assert_eq!(pool.slot_of(trail), Some(0));
+        // Recovered (no longer pinned) and not needed: it gives way.
+        pool.update(&away, |_| false);
+        assert_eq!(pool.slot_of(trail), None);
+    }
+
+    #[test]
+    fn needed_tiles_are_served_in_order_when_slots_run_out() {
+        let mut pool = TilePool::new(3);
+        let update = pool.update(&tiles(0..5), |_| false);
+        assert_eq!(update.placed.len(), 3);
+        assert_eq!(update.dropped, 2);
+        // The first three (the nearest) hold the slots.
+        assert!(tiles(0..3).iter().all(|&t| pool.slot_of(t).is_some()));
+        assert!(tiles(3..5).iter().all(|&t| pool.slot_of(t).is_none()));
+    }
+}

@@ -3,12 +3,9 @@
 use crate::Blade;
 use spirv_std::glam::Vec3;
 
-/// Heights are drawn in this range (course defaults).
-pub const HEIGHT: (f32, f32) = (1.3, 2.5);
-/// Widths are drawn in this range.
-pub const WIDTH: (f32, f32) = (0.1, 0.14);
-/// Stiffnesses are drawn in this range.
-pub const STIFFNESS: (f32, f32) = (7.0, 13.0);
+/// The ranges heights, widths and stiffnesses are drawn in (course defaults), shared
+/// with the tiles' generation on the GPU.
+pub use crate::tiles::{HEIGHT, STIFFNESS, WIDTH};
 /// Blades per square unit of the course scene (2^13 blades on 15 × 15).
 pub const DENSITY: f32 = 8192.0 / 225.0;
 

@@ -8,6 +8,7 @@
 //! gradient is analytic (each sine differentiated, the carve through the smoothstep),
 //! so normals need no finite differences.
 
+use crate::look::smoothstep;
 use spirv_std::glam::{Vec2, Vec3};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -66,7 +67,7 @@ fn hills_height(p: Vec2) -> f32 {
 /// from [`PATH_HALF_WIDTH`] off it.
 fn path_carve(p: Vec2) -> f32 {
     let (d, _) = across_path(p);
-    PATH_DEPTH * (1.0 - smoothstep(d.abs() / PATH_HALF_WIDTH))
+    PATH_DEPTH * (1.0 - smoothstep(0.0, PATH_HALF_WIDTH, d.abs()))
 }
 
 /// Gradient (∂h/∂x, ∂h/∂z) of [`valley_height`], analytic.
@@ -97,12 +98,6 @@ pub fn valley_normal(p: Vec2) -> Vec3 {
 /// Whether the ground at `p` is bare: on the path, where no blade grows.
 pub fn bare(p: Vec2) -> bool {
     across_path(p).0.abs() < PATH_BARE
-}
-
-/// 3t² − 2t³ on 0..1, 1 beyond.
-fn smoothstep(t: f32) -> f32 {
-    let t = t.clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
 }
 
 #[cfg(test)]

@@ -25,12 +25,12 @@ use crate::look::hash_u32;
 use crate::terrain;
 use spirv_std::glam::{IVec2, Mat4, UVec2, UVec3, Vec2, Vec3, Vec4};
 
-/// Heights, widths and stiffnesses are drawn from the course's ranges
-/// (`generate::HEIGHT`, `WIDTH`, `STIFFNESS`; repeated here, `generate` being host-only).
+/// Heights are drawn in this range (the course's defaults; the stored field's
+/// `generate` draws from the same).
 pub const HEIGHT: (f32, f32) = (1.3, 2.5);
-/// Width range (before widening).
+/// Widths are drawn in this range (before widening).
 pub const WIDTH: (f32, f32) = (0.1, 0.14);
-/// Stiffness range.
+/// Stiffnesses are drawn in this range.
 pub const STIFFNESS: (f32, f32) = (7.0, 13.0);
 /// The share of its rank's range over which a blade thins before it leaves.
 pub const FADE: f32 = 0.1;

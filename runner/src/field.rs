@@ -13,10 +13,10 @@ use shared::layout::{
     self, ChunkPush, CopyPush, FrameUniforms, HiZPush, PreparePush, SimulatePush, SurfacePush,
     ThroughputPush,
 };
+use shared::layout::{SelectPush, TilePush};
 use shared::lod::blades_per_chunk;
 use shared::look::DressedBlade;
 use shared::meshlet::{SEGMENT_BUCKETS, StripBlade};
-use shared::tiles::{SelectPush, TilePush};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see

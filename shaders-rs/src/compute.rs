@@ -12,6 +12,7 @@ use shared::layout::{
     FrameUniforms, HiZPush, PIPELINE_MESH, PREPARE_WORKGROUP, PreparePush, RASTER_DISPATCH,
     RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
 };
+use shared::layout::{SelectPush, TilePush};
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
 use shared::meshlet::{
@@ -23,7 +24,7 @@ use shared::raster::{
     prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
-use shared::tiles::{SelectPush, TilePush, tile_blade, tile_in_view};
+use shared::tiles::{tile_blade, tile_in_view};
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,

@@ -10,7 +10,8 @@ use crate::look::LookParams;
 use crate::raster::RasterParams;
 use crate::shade::Light;
 use crate::simulate::Environment;
-use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
+use crate::tiles::TileParams;
+use spirv_std::glam::{IVec2, Mat4, UVec2, UVec3, Vec3, Vec4};
 
 /// Threads per workgroup of the simulate-and-cull pass.
 pub const SIMULATE_WORKGROUP: u32 = 64;
@@ -106,6 +107,41 @@ pub const BINDING_DEPTH_IMAGE_MS: u32 = 19;
 /// Threads of the rasterizer's preparation's workgroups along x and y (one per
 /// pixel).
 pub const PREPARE_WORKGROUP: u32 = 8;
+
+/// What the GPU's tile selection pushes: the camera, the square of candidate tiles
+/// (`first`, `count` along x and z), the layout, the ground's height range and the
+/// reach (`tiles::tile_in_view`), read by `compute::select_tiles`.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SelectPush {
+    /// The camera's view-projection.
+    pub view_proj: Mat4,
+    /// The camera's position (xyz) and the reach (w).
+    pub camera: Vec4,
+    /// The first candidate tile.
+    pub first: IVec2,
+    /// Candidates along x and z.
+    pub count: UVec2,
+    /// The ground's lowest and highest points, and padding.
+    pub ground: Vec4,
+    /// The world's tiles.
+    pub params: TileParams,
+}
+
+/// What the GPU's tile generation pushes (`compute::generate_tile`, `tiles::tile_blade`):
+/// the layout, the tile and the camera.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TilePush {
+    /// The world's tiles.
+    pub params: TileParams,
+    /// The tile generated.
+    pub tile: IVec2,
+    /// Padding to the camera's 16-byte alignment.
+    pub pad: UVec2,
+    /// The camera's position (w unused).
+    pub camera: Vec4,
+}
 
 /// Push constants of the rasterizer's preparation under MSAA.
 #[repr(C)]

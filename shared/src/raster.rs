@@ -82,7 +82,7 @@ pub fn pack(depth: f32, slot: u32, v: f32) -> u64 {
 
 /// [`pack`]'s inverse: (depth, slot, v), v to 1/255.
 pub fn unpack(value: u64) -> (f32, u32, f32) {
-    let depth = f32::from_bits((value >> 32) as u32);
+    let depth = packed_depth(value);
     let low = value as u32;
     let v_max = ((1u32 << V_BITS) - 1) as f32;
     (
@@ -440,25 +440,40 @@ mod tests {
         assert!((0..100).all(|i| !covers(0.0, i)));
     }
 
+    /// A square target `size` pixels wide with threshold `below` and `segments`, and
+    /// a camera 10 units in front of the origin at height 1 looking down −z (1 radian
+    /// of view): (params, eye, view-projection, focal length in pixels).
+    fn looking_at_the_origin(
+        size: u32,
+        below: f32,
+        segments: u32,
+    ) -> (RasterParams, Vec3, Mat4, f32) {
+        use spirv_std::glam::camera::rh;
+        let params = RasterParams {
+            width: size,
+            height: size,
+            below,
+            segments,
+        };
+        let eye = Vec3::new(0.0, 1.0, 10.0);
+        let view = rh::view::look_at_mat4(eye, Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
+        let view_proj = rh::proj::vulkan::perspective(1.0, 1.0, 0.1, 100.0) * view;
+        (
+            params,
+            eye,
+            view_proj,
+            crate::lod::focal_pixels(1.0, size as f32),
+        )
+    }
+
     #[test]
     fn a_blade_is_drawn_as_its_curve_a_pixel_wide() {
         // An upright blade 2 units tall 10 units ahead, seen by a camera looking down
         // -z: its curve is a vertical run of pixels from the root to the tip.
-        let params = RasterParams {
-            width: 64,
-            height: 64,
-            below: 16.0,
-            segments: 2,
-        };
-        use spirv_std::glam::camera::rh;
-        let eye = Vec3::new(0.0, 1.0, 10.0);
-        let view = rh::view::look_at_mat4(eye, Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
-        let view_proj = rh::proj::vulkan::perspective(1.0, 1.0, 0.1, 100.0) * view;
+        let (params, camera, view_proj, focal) = looking_at_the_origin(64, 16.0, 2);
         // Wide enough to be drawn whatever the hash says (1.2 pixels), narrow enough
         // to be drawn as a line.
         let blade = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.2, 10.0);
-        let focal = crate::lod::focal_pixels(1.0, 64.0);
-        let camera = Vec3::new(0.0, 1.0, 10.0);
         let mut pixels = Vec::new();
         let quad = (crate::shape::SHAPE_QUAD, 0.5);
         let coverage = Coverage::of(&blade, 9, quad, camera, focal);
@@ -491,17 +506,7 @@ mod tests {
     fn a_wide_blade_is_drawn_as_its_surface() {
         // An upright blade 2 units tall and 1 wide, 10 units ahead, facing the camera:
         // about 23.4 by 11.7 pixels, a quad, or a triangle of half its area.
-        let params = RasterParams {
-            width: 128,
-            height: 128,
-            below: 100.0,
-            segments: 3,
-        };
-        use spirv_std::glam::camera::rh;
-        let eye = Vec3::new(0.0, 1.0, 10.0);
-        let view = rh::view::look_at_mat4(eye, Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
-        let view_proj = rh::proj::vulkan::perspective(1.0, 1.0, 0.1, 100.0) * view;
-        let focal = crate::lod::focal_pixels(1.0, 128.0);
+        let (params, eye, view_proj, focal) = looking_at_the_origin(128, 100.0, 3);
         // Facing +z: its width along x.
         let blade = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 1.0, 10.0);
         assert!(blade.width_dir().x.abs() > 0.99, "{:?}", blade.width_dir());

@@ -21,9 +21,9 @@
 //! same functions the GPU pass will).
 
 use crate::Blade;
-use crate::look::hash_u32;
+use crate::look::{hash_u32, hash_unit};
 use crate::terrain;
-use spirv_std::glam::{IVec2, Mat4, UVec2, UVec3, Vec2, Vec3, Vec4};
+use spirv_std::glam::{IVec2, Mat4, UVec3, Vec2, Vec3};
 
 /// Heights are drawn in this range (the course's defaults; the stored field's
 /// `generate` draws from the same).
@@ -76,14 +76,10 @@ impl Default for TileParams {
     }
 }
 
-/// One of 2^24 uniform steps in 0..1 from `x`.
-fn unit(x: u32) -> f32 {
-    (x >> 8) as f32 / 16_777_216.0
-}
-
-/// The hash of blade `index` of `tile`, attribute `k`, in world `seed`.
-fn blade_hash(tile: IVec2, index: u32, seed: u32, k: u32) -> u32 {
-    hash_u32(
+/// Uniform in 0..1 for blade `index` of `tile`, attribute `k`, in world `seed`
+/// (`look::hash_unit` of the four mixed).
+fn blade_unit(tile: IVec2, index: u32, seed: u32, k: u32) -> f32 {
+    hash_unit(
         (tile.x as u32).wrapping_mul(0x8da6_b343)
             ^ (tile.y as u32).wrapping_mul(0xd816_3841)
             ^ hash_u32(index ^ hash_u32(seed.wrapping_add(k.wrapping_mul(0x9e37_79b9)))),
@@ -101,8 +97,8 @@ pub fn root_of(tile: IVec2, index: u32, params: &TileParams) -> Vec2 {
     let n = params.per_side.max(1);
     let cell = Vec2::new((index % n) as f32, (index / n) as f32);
     let jitter = Vec2::new(
-        unit(blade_hash(tile, index, params.seed, 0)),
-        unit(blade_hash(tile, index, params.seed, 1)),
+        blade_unit(tile, index, params.seed, 0),
+        blade_unit(tile, index, params.seed, 1),
     );
     (tile.as_vec2() + (cell + jitter) / n as f32) * params.size
 }
@@ -125,7 +121,7 @@ pub fn kept_share(distance: f32, params: &TileParams) -> f32 {
 
 /// A blade's rank: it is kept while [`kept_share`] at its distance is above this.
 pub fn rank_of(tile: IVec2, index: u32, params: &TileParams) -> f32 {
-    unit(blade_hash(tile, index, params.seed, 2))
+    blade_unit(tile, index, params.seed, 2)
 }
 
 /// How wide a blade of `rank` is drawn at `density` ([`density`]): 0 once its rank
@@ -164,8 +160,7 @@ pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) ->
         0.0
     };
     let seed = params.seed;
-    let pick =
-        |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * unit(blade_hash(tile, index, seed, k));
+    let pick = |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, seed, k);
     let orientation = pick(3, (0.0, core::f32::consts::TAU));
     let height = pick(4, HEIGHT);
     let width = pick(5, WIDTH) * scale;
@@ -232,40 +227,6 @@ pub fn tile_in_view(
         corner += 1;
     }
     outside == 0
-}
-
-/// What the GPU's tile selection pushes: the camera, the square of candidate tiles
-/// (`first`, `count` along x and z), the layout, the ground's height range and the
-/// reach ([`tile_in_view`]).
-#[repr(C)]
-#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct SelectPush {
-    /// The camera's view-projection.
-    pub view_proj: Mat4,
-    /// The camera's position (xyz) and the reach (w).
-    pub camera: Vec4,
-    /// The first candidate tile.
-    pub first: IVec2,
-    /// Candidates along x and z.
-    pub count: UVec2,
-    /// The ground's lowest and highest points, and padding.
-    pub ground: Vec4,
-    /// The world's tiles.
-    pub params: TileParams,
-}
-
-/// What the GPU's tile generation pushes: the layout, the tile and the camera.
-#[repr(C)]
-#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct TilePush {
-    /// The world's tiles.
-    pub params: TileParams,
-    /// The tile generated.
-    pub tile: IVec2,
-    /// Padding to the camera's 16-byte alignment.
-    pub pad: UVec2,
-    /// The camera's position (w unused).
-    pub camera: Vec4,
 }
 
 #[cfg(test)]

@@ -320,10 +320,10 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                                 size_of::<layout::PreparePush>()
                             }
                             n if n == shaders::GENERATE_TILE => {
-                                size_of::<shared::tiles::TilePush>()
+                                size_of::<shared::layout::TilePush>()
                             }
                             n if n == shaders::SELECT_TILES => {
-                                size_of::<shared::tiles::SelectPush>()
+                                size_of::<shared::layout::SelectPush>()
                             }
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),

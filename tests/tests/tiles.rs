@@ -4,7 +4,8 @@ use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
 use runner::scene::{BladeCount, Scene, SceneKind};
 use shared::glam::{IVec2, Vec3};
-use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, TilePush, kept, tile_blade};
+use shared::layout::TilePush;
+use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, kept, tile_blade};
 
 /// A renderer to run the tile passes with (its own field is a few blades of the plane).
 fn renderer(ctx: &std::sync::Arc<runner::vulkan::Context>) -> Renderer {
@@ -96,7 +97,8 @@ fn the_gpu_generates_the_hosts_blades() {
 fn the_gpu_selects_the_hosts_tiles() {
     use shared::glam::camera::rh;
     use shared::glam::{UVec2, Vec4};
-    use shared::tiles::{SelectPush, tile_in_view};
+    use shared::layout::SelectPush;
+    use shared::tiles::tile_in_view;
     tests::with_device("the_gpu_selects_the_hosts_tiles", |ctx| {
         let renderer = renderer(&ctx);
         let params = TileParams::default();

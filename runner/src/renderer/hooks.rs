@@ -73,7 +73,7 @@ impl Renderer {
 
     /// The blades of one tile as the GPU generates them (`compute::generate_tile`,
     /// `shared::tiles`): `per_side`² blades, width 0 where a blade's rank has left it.
-    pub fn generate_tile(&self, push: &shared::tiles::TilePush) -> Result<Vec<Blade>> {
+    pub fn generate_tile(&self, push: &shared::layout::TilePush) -> Result<Vec<Blade>> {
         let count = (push.params.per_side * push.params.per_side) as usize;
         self.run_into_scratch(
             shaders::GENERATE_TILE,
@@ -85,7 +85,7 @@ impl Renderer {
 
     /// The tiles in view as the GPU selects them (`compute::select_tiles`), in the
     /// order its threads appended them.
-    pub fn select_tiles(&self, push: &shared::tiles::SelectPush) -> Result<Vec<IVec2>> {
+    pub fn select_tiles(&self, push: &shared::layout::SelectPush) -> Result<Vec<IVec2>> {
         let candidates = (push.count.x * push.count.y) as usize;
         let words: Vec<u32> = self.run_into_scratch(
             shaders::SELECT_TILES,

@@ -18,15 +18,22 @@ use tests::grass_share;
 /// lavapipe: 0 of 3,110; a rasterizer storing v a 255th off made all 3,110 differ).
 /// The rasterizer's counters against the host's: every covered pixel counted, and at
 /// least as many written as the host's frame keeps (each kept pixel was written once
-/// at least) but no more than the covered pixels in front of the hardware's depth.
+/// at least) but no more than the covered pixels in front of the hardware's depth
+/// (planted faults: covered counted as written failed, 6,804 against 16,165; every
+/// covered pixel counted as written failed, 16,165 against at most 15,680).
 /// Two cameras: the scene's framing at 160x120, where nearly every blade is drawn as
 /// a line, and one 3 times nearer at 320x240, where most are wide enough to be drawn
 /// as their surfaces (`raster::raster_wide`). The first again at 4 samples a pixel,
 /// where the preparation keeps the farthest sample of the multisampled depth: against
 /// the single-sample frame's depth, never nearer (at most 0.5 % of the pixels, where
 /// the sample pattern misses a pixel centre's surface; measured 0) and the same in
-/// most pixels (at least 80 %; measured 89.5 %). Planted fault: the preparation
-/// writing 0 under MSAA (every far blade hidden early) failed it, keeping no pixel.
+/// most pixels (at least 80 %; measured 89.5 %). Planted faults: the preparation
+/// keeping the nearest sample failed it (2,071 pixels nearer); writing 0 under MSAA
+/// (every far blade hidden early) failed it too, keeping no pixel. (An image test of
+/// the natural look at 4x could not tell these apart from the hardware's frame: fog
+/// and the ground's green hide far blades, 1.077 against 1.181 with every far blade
+/// hidden, 1.099 with the resolve shading the root's colour; so MSAA is checked
+/// here.)
 #[test]
 fn visibility_buffer_equals_the_hosts() {
     tests::with_device("visibility_buffer_equals_the_hosts", |ctx| {
@@ -277,11 +284,6 @@ fn the_compute_rasterizer_draws_the_field_the_hardware_draws() {
     for (name, args, mean) in [
         ("plane paper", "--look paper --pitch 10", 2.0),
         ("plane natural", "--look natural --pitch 10", 1.65),
-        (
-            "plane natural 4x",
-            "--look natural --msaa 4 --pitch 10",
-            1.4,
-        ),
         ("hills", "--scene hills --look paper", 4.6),
         ("walls", "--scene walls --look paper --pitch 8", 1.55),
         ("planet", "--scene planet --look paper", 1.3),

@@ -17,6 +17,8 @@ pub struct OrbitCamera {
     pub distance: f32,
     /// Vertical field of view, radians.
     pub fov_y: f32,
+    /// Distance of the far plane; 0 for four times the distance (at least 200).
+    pub far: f32,
 }
 
 impl OrbitCamera {
@@ -41,6 +43,7 @@ impl OrbitCamera {
             pitch: 0.38,
             distance: side * 0.75 + 6.0,
             fov_y: 50f32.to_radians(),
+            far: 0.0,
         }
     }
 
@@ -54,7 +57,11 @@ impl OrbitCamera {
     /// World to clip (Vulkan: y down, depth 0..1), for `aspect` = width / height.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         let view = rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y);
-        let far = (self.distance * 4.0).max(200.0);
+        let far = if self.far > 0.0 {
+            self.far
+        } else {
+            (self.distance * 4.0).max(200.0)
+        };
         rh::proj::vulkan::perspective(self.fov_y, aspect.max(1e-3), 0.1, far) * view
     }
 

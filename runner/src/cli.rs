@@ -161,6 +161,15 @@ impl BenchConfig {
     }
 }
 
+/// Where a field's blades come from (`--field`).
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum FieldChoice {
+    /// Generated once and stored, every blade simulated.
+    Stored,
+    /// Generated from tiles every frame; a pool of near tiles simulated.
+    Tiles,
+}
+
 /// Where the benchmark's camera stands.
 #[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
 pub enum CameraPreset {
@@ -168,6 +177,9 @@ pub enum CameraPreset {
     Edge,
     /// High above, the whole field in view.
     Overview,
+    /// On the valley: a walker's eye flying down the path, 6 units a second
+    /// (`scene::valley_camera`).
+    Flight,
 }
 
 /// Options every command takes.
@@ -184,6 +196,12 @@ pub struct Common {
     /// walls hiding grass: occlusion culling), or a .gltf, .glb or .obj file.
     #[arg(long, global = true, default_value = "plane")]
     pub scene: String,
+    /// Where the blades come from: `stored` (generated once, every blade simulated:
+    /// the paper's field) or `tiles` (generated from tiles every frame, the near ones
+    /// simulated in a pool: a world of any size in bounded memory; plane and valley)
+    /// [default: tiles on the valley, stored elsewhere].
+    #[arg(long, global = true, value_enum)]
+    pub field: Option<FieldChoice>,
     /// Wind field.
     #[arg(long, global = true, value_enum, default_value_t = WindField::Breeze)]
     pub wind: WindField,

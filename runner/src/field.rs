@@ -46,7 +46,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 20] = [
+pub const BINDINGS: [BindingSpec; 22] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -112,6 +112,9 @@ pub const BINDINGS: [BindingSpec; 20] = [
         ty: vk::DescriptorType::SAMPLED_IMAGE,
         stages: vk::ShaderStageFlags::COMPUTE,
     },
+    // A tiled field's tile words and blade ids (placeholders in a stored field).
+    storage(layout::BINDING_TILES),
+    storage(layout::BINDING_IDS),
 ];
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -151,10 +154,44 @@ const fn max(a: usize, b: usize) -> usize {
     if a > b { a } else { b }
 }
 
+/// Where a field's blades come from.
+#[derive(Copy, Clone, Debug)]
+pub enum FieldBlades<'a> {
+    /// These blades, uploaded once and simulated in place.
+    Stored(&'a [Blade]),
+    /// A tiled field (issue 19): room for `simulated` pool blades, simulated in
+    /// place, then for `far` blades generated every frame, and `tile_words` words of
+    /// tile lists (`layout::BINDING_TILES`).
+    Tiled {
+        /// Blades of the pool's slots.
+        simulated: u32,
+        /// Room for the far tiles' blades.
+        far: u32,
+        /// Words of the tile buffer.
+        tile_words: u32,
+    },
+}
+
+impl FieldBlades<'_> {
+    /// Blades the field holds.
+    pub fn count(&self) -> u64 {
+        match *self {
+            Self::Stored(blades) => blades.len() as u64,
+            Self::Tiled { simulated, far, .. } => u64::from(simulated) + u64::from(far),
+        }
+    }
+}
+
 /// The field's buffers and their bindings.
 pub struct Field {
     /// Number of blades.
     pub blade_count: u32,
+    /// Blades simulated: all of a stored field, the pool's of a tiled one.
+    pub simulated: u32,
+    /// A tiled field's tile words (`layout::BINDING_TILES`).
+    pub tiles: Option<Buffer>,
+    /// A tiled field's blade ids (`layout::BINDING_IDS`).
+    pub ids: Option<Buffer>,
     /// Blades per indirect draw command.
     pub chunk_size: u32,
     /// Number of indirect draw commands.
@@ -246,23 +283,41 @@ impl Field {
         Ok(())
     }
 
-    /// Uploads `blades` and creates the rest, checking the device's limits first.
-    pub fn new(ctx: &Arc<Context>, pool: &CommandPool, blades: &[Blade]) -> Result<Self> {
-        Self::check_limits(ctx, blades.len() as u64)?;
-        let count = blades.len() as u32;
+    /// Uploads the blades (or makes room for a tiled field's) and creates the rest,
+    /// checking the device's limits first.
+    pub fn new(ctx: &Arc<Context>, pool: &CommandPool, source: FieldBlades) -> Result<Self> {
+        Self::check_limits(ctx, source.count())?;
+        let count = source.count() as u32;
         let chunk_size = blades_per_chunk();
         let chunk_count = count.div_ceil(chunk_size);
 
         use vk::BufferUsageFlags as U;
         let gpu = MemoryLocation::GpuOnly;
         let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
-        let blade_buffer = Buffer::upload(
-            ctx,
-            pool,
-            "blades",
-            blades,
-            U::STORAGE_BUFFER | U::TRANSFER_SRC,
-        )?;
+        let blade_usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
+        let (blade_buffer, simulated, tiles, ids) = match source {
+            FieldBlades::Stored(blades) => {
+                let buffer = Buffer::upload(ctx, pool, "blades", blades, blade_usage)?;
+                (buffer, count, None, None)
+            }
+            FieldBlades::Tiled {
+                simulated,
+                tile_words,
+                ..
+            } => {
+                let size = u64::from(count) * size_of::<Blade>() as u64;
+                let blades = device_buffer("blades", size, blade_usage | U::TRANSFER_DST)?;
+                let ids = device_buffer("blade ids", u64::from(count) * 4, U::STORAGE_BUFFER)?;
+                let tiles = device_buffer(
+                    "tiles",
+                    u64::from(tile_words) * 4,
+                    U::STORAGE_BUFFER | U::INDIRECT_BUFFER | U::TRANSFER_DST,
+                )?;
+                // Every slot empty (width 0) until a tile fills it.
+                pool.one_shot(|rec| rec.fill_buffer(blades.buffer, 0))?;
+                (blades, simulated, Some(tiles), Some(ids))
+            }
+        };
         let strengths = device_buffer(
             "collision strengths",
             u64::from(count) * 4,
@@ -342,10 +397,20 @@ impl Field {
         // A placeholder until the compute rasterizer sizes its own for the target.
         descriptors.write_buffer(layout::BINDING_VISIBILITY, storage, visible.buffer);
         descriptors.write_buffer(layout::BINDING_HARDWARE_DEPTH, storage, visible.buffer);
+        let (tile_words, blade_ids) = match (&tiles, &ids) {
+            (Some(t), Some(i)) => (t.buffer, i.buffer),
+            // Never read in a stored field (`GrassParams::tiled` is 0).
+            _ => (visible.buffer, visible.buffer),
+        };
+        descriptors.write_buffer(layout::BINDING_TILES, storage, tile_words);
+        descriptors.write_buffer(layout::BINDING_IDS, storage, blade_ids);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {
             blade_count: count,
+            simulated,
+            tiles,
+            ids,
             chunk_size,
             chunk_count,
             blades: blade_buffer,

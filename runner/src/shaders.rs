@@ -24,6 +24,12 @@ pub const BUILD_HIZ: &str = "compute::build_hiz";
 pub const SELECT_TILES: &str = "compute::select_tiles";
 /// Compute: one tile's blades (`shared::tiles`), into the scratch binding.
 pub const GENERATE_TILE: &str = "compute::generate_tile";
+/// Compute: a tile entering the tiled field's pool (`shared::tiles`).
+pub const GENERATE_POOL_TILE: &str = "compute::generate_pool_tile";
+/// Compute: the far tiles in view of a tiled frame, listed for their generation.
+pub const SELECT_FAR_TILES: &str = "compute::select_far_tiles";
+/// Compute: the far tiles' blades of a tiled frame, one workgroup per tile.
+pub const GENERATE_FAR: &str = "compute::generate_far";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).

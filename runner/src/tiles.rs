@@ -1,13 +1,117 @@
-//! The tiled field's host side (issue 19, first pieces): which tiles hold simulated
-//! state. A fixed number of slots, each the state of one tile's blades (the paper's
+//! The tiled field's host side (issue 19): its layout and budget ([`TiledSpec`]),
+//! and which tiles hold simulated state. A fixed number of slots, each the state of one tile's blades (the paper's
 //! v1, v2 and collision strength), so device memory depends on the pool, not on the
 //! world. A tile keeps its slot while it is needed (near the camera) or pinned (a
 //! collider trampled it and its strength has not decayed); a needed tile without a
 //! slot takes a free one, else the least recently needed unpinned tile's, else it is
 //! dropped for the frame (drawn from its generated pose) and counted.
 
-use shared::glam::IVec2;
+use shared::glam::{IVec2, Vec2, Vec3, Vec4};
+use shared::tiles::TileParams;
 use std::collections::HashMap;
+
+/// A tiled field's layout and budget: the world's tiles, the pool's size and reach,
+/// the room for far blades and how far tiles are drawn.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct TiledSpec {
+    /// The world's tiles (`shared::tiles`).
+    pub params: TileParams,
+    /// Slots of simulated tiles.
+    pub pool_tiles: u32,
+    /// Tiles whose square comes within this distance of the camera (on the ground
+    /// plane) are simulated.
+    pub pool_radius: f32,
+    /// Room for the far tiles' blades each frame.
+    pub far_blades: u32,
+    /// Tiles beyond this distance are not drawn.
+    pub reach: f32,
+    /// The ground's lowest and highest points (the tiles' boxes).
+    pub ground: (f32, f32),
+}
+
+impl TiledSpec {
+    /// Blades of one tile.
+    pub fn tile_blades(&self) -> u32 {
+        self.params.per_side * self.params.per_side
+    }
+
+    /// Blades of the pool's slots (the simulated part of the field, first).
+    pub fn pool_blades(&self) -> u32 {
+        self.pool_tiles * self.tile_blades()
+    }
+
+    /// Blades the field holds: the pool's, then room for the far ones.
+    pub fn capacity(&self) -> u32 {
+        self.pool_blades() + self.far_blades
+    }
+
+    /// Blades the world could grow at full density (every tile, every blade): what
+    /// a stored field of the same world would hold.
+    pub fn potential_blades(&self) -> f64 {
+        let side = 2.0 * f64::from(self.params.half_extent);
+        let per_unit = f64::from(self.params.per_side) / f64::from(self.params.size);
+        side * side * per_unit * per_unit
+    }
+
+    /// The tiles inside the world whose square comes within `radius` of `at` on the
+    /// ground plane (x, z), nearest first.
+    pub fn tiles_within(&self, at: Vec2, radius: f32) -> Vec<IVec2> {
+        let size = self.params.size;
+        let lo = ((at - Vec2::splat(radius)) / size).floor().as_ivec2();
+        let hi = ((at + Vec2::splat(radius)) / size).floor().as_ivec2();
+        let half = self.params.half_extent;
+        let mut near: Vec<(f32, IVec2)> = Vec::new();
+        for z in lo.y..=hi.y {
+            for x in lo.x..=hi.x {
+                let tile = IVec2::new(x, z);
+                let min = tile.as_vec2() * size;
+                let max = min + Vec2::splat(size);
+                let inside = max.x > -half && max.y > -half && min.x < half && min.y < half;
+                let distance = at.clamp(min, max).distance(at);
+                if inside && distance <= radius {
+                    near.push((distance, tile));
+                }
+            }
+        }
+        near.sort_by(|a, b| {
+            a.0.total_cmp(&b.0)
+                .then(a.1.x.cmp(&b.1.x))
+                .then(a.1.y.cmp(&b.1.y))
+        });
+        near.into_iter().map(|(_, t)| t).collect()
+    }
+
+    /// The tiles the pool should hold for a camera at `camera`: those within
+    /// [`TiledSpec::pool_radius`], nearest first (not only those in view, so a tile
+    /// keeps its state while the camera turns).
+    pub fn needed(&self, camera: Vec3) -> Vec<IVec2> {
+        self.tiles_within(Vec2::new(camera.x, camera.z), self.pool_radius)
+    }
+
+    /// The tiles a collider ball (centre xyz, radius w) can bend blades in: those its
+    /// ground shadow, grown by the tallest blade, touches.
+    pub fn touched(&self, ball: Vec4) -> Vec<IVec2> {
+        let reach = ball.w + shared::tiles::HEIGHT.1;
+        self.tiles_within(Vec2::new(ball.x, ball.z), reach)
+    }
+}
+
+/// How long a trampled tile keeps its slot after a collider last touched it: until
+/// its collision strength has decayed (η falls linearly from at most
+/// `collide::MAX_STRENGTH` at `decay` a second) and its blades stood up again (a few
+/// seconds of recovery); for ever without decay.
+pub fn trail_hold(decay: f32) -> f32 {
+    if decay > 0.0 {
+        shared::collide::MAX_STRENGTH / decay + RECOVERY_SECONDS
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// Seconds a blade takes to stand up again once its collision strength is gone (the
+/// recovery force at the default stiffness brings it within a few per cent in about
+/// this: `shared/tests/stability.rs`).
+pub const RECOVERY_SECONDS: f32 = 3.0;
 
 /// One slot's tile and when it was last needed (in [`TilePool::update`] calls).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -52,6 +156,11 @@ impl TilePool {
     /// The slot of `tile`, if it holds one.
     pub fn slot_of(&self, tile: IVec2) -> Option<usize> {
         self.by_tile.get(&tile).copied()
+    }
+
+    /// The tiles held and their slots.
+    pub fn held(&self) -> impl Iterator<Item = (IVec2, usize)> + '_ {
+        self.by_tile.iter().map(|(&tile, &slot)| (tile, slot))
     }
 
     /// One frame: `needed` tiles, most needed first, and `pinned` saying which held

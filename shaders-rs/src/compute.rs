@@ -12,7 +12,10 @@ use shared::layout::{
     FrameUniforms, HiZPush, PIPELINE_MESH, PREPARE_WORKGROUP, PreparePush, RASTER_DISPATCH,
     RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
 };
-use shared::layout::{SelectPush, TilePush};
+use shared::layout::{
+    COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT, GENERATE_WORKGROUP, SelectPush,
+    TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+};
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
 use shared::meshlet::{
@@ -24,12 +27,12 @@ use shared::raster::{
     prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
-use shared::tiles::{tile_blade, tile_in_view};
+use shared::tiles::{blade_id, far_count, kept, tile_blade, tile_in_view};
 use spirv_std::arch::{
-    atomic_i_add, atomic_i_increment, atomic_load, atomic_u_min,
+    atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
 };
-use spirv_std::glam::{UVec2, UVec3, Vec4};
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec4};
 use spirv_std::image::ImageWithMethods;
 use spirv_std::image::sample_with::sample_index;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
@@ -44,6 +47,7 @@ pub struct BladeBuffers<'a> {
     strengths: &'a mut [f32],
     pyramid: &'a [f32],
     levels: &'a mut [f32],
+    ids: &'a [u32],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -68,6 +72,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -77,9 +82,11 @@ pub fn simulate_cull(
         strengths,
         pyramid,
         levels,
+        ids,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
-    let prepare = |_: u32, kept: &Blade| ((), if mesh { blade_level(kept, frame) } else { 0.0 });
+    let prepare =
+        |_: u32, _: u32, kept: &Blade| ((), if mesh { blade_level(kept, frame) } else { 0.0 });
     simulate_and_cull(
         id,
         local,
@@ -113,6 +120,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &mut [DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -122,11 +130,12 @@ pub fn simulate_cull_natural(
         strengths,
         pyramid,
         levels,
+        ids,
     };
     let camera = frame.camera.position;
-    let prepare = |index: u32, kept: &Blade| {
+    let prepare = |index: u32, id: u32, kept: &Blade| {
         let clump = Clump::unpack(clumps[index as usize]);
-        let (blade, tint) = dress(kept, &clump, index, camera, &frame.cull, &frame.look);
+        let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
         let (mask, _) = unpack_coverage(tint.w);
         let mesh = frame.grass.pipeline == PIPELINE_MESH;
         let level = if mesh && mask != 0 {
@@ -142,9 +151,13 @@ pub fn simulate_cull_natural(
     );
 }
 
-/// The body of both simulate-and-cull entry points: `prepare(index, blade)` runs for
-/// each visible blade and gives what `store(slot, ..)` writes once its slot of the
+/// The body of both simulate-and-cull entry points: `prepare(index, id, blade)` runs
+/// for each visible blade and gives what `store(slot, ..)` writes once its slot of the
 /// visible list is known, and its level of detail on the mesh path (0: not drawn).
+/// In a tiled field (`GrassParams::tiled`) only the pool's blades are simulated, the
+/// far tiles' blades count as far as this frame generated them, an empty blade
+/// (width 0: a free slot, a blade its rank left) is skipped, and a blade's name is
+/// its id (`tiles::blade_id`) rather than its index.
 #[allow(clippy::too_many_arguments)]
 fn simulate_and_cull<T: Copy + Default>(
     id: UVec3,
@@ -154,7 +167,7 @@ fn simulate_and_cull<T: Copy + Default>(
     push: &SimulatePush,
     buffers: BladeBuffers,
     tally: &mut [u32; COUNTER_COUNT],
-    mut prepare: impl FnMut(u32, &Blade) -> (T, f32),
+    mut prepare: impl FnMut(u32, u32, &Blade) -> (T, f32),
     mut store: impl FnMut(usize, T),
 ) {
     let BladeBuffers {
@@ -164,6 +177,7 @@ fn simulate_and_cull<T: Copy + Default>(
         strengths,
         pyramid,
         levels,
+        ids,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
@@ -171,27 +185,40 @@ fn simulate_and_cull<T: Copy + Default>(
     workgroup_memory_barrier_with_group_sync();
 
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
-    let in_field = index < frame.grass.blades;
-    let mesh = frame.grass.pipeline == PIPELINE_MESH;
+    let grass = &frame.grass;
+    let tiled = grass.tiled != 0;
+    let simulated = index < grass.simulated;
+    let mut in_field = index < grass.blades
+        && (simulated || (tiled && index - grass.simulated < counters[COUNTER_TILE_BLADES]));
+    let mesh = grass.pipeline == PIPELINE_MESH;
     let mut outcome = KEPT;
     let mut far = false;
     let mut place = 0;
     let mut prepared = T::default();
     let mut level = 0.0;
+    let mut name = index;
+    if in_field && tiled {
+        in_field = kept(&blades[index as usize]);
+        name = ids[index as usize];
+    }
     if in_field {
         let i = index as usize;
-        let (blade, strength) = simulate(
-            (blades[i], strengths[i]),
-            &frame.forces,
-            &frame.colliders,
-            push.first_step,
-            push.steps,
-        );
-        blades[i] = blade;
-        strengths[i] = strength;
+        let mut blade = blades[i];
+        if simulated {
+            let strength;
+            (blade, strength) = simulate(
+                (blade, strengths[i]),
+                &frame.forces,
+                &frame.colliders,
+                push.first_step,
+                push.steps,
+            );
+            blades[i] = blade;
+            strengths[i] = strength;
+        }
         outcome = cull_outcome(
             &blade,
-            index,
+            name,
             frame.camera.position,
             frame.camera.view_proj,
             &frame.cull,
@@ -214,7 +241,7 @@ fn simulate_and_cull<T: Copy + Default>(
             );
         }
         if outcome == KEPT {
-            (prepared, level) = prepare(index, &blade);
+            (prepared, level) = prepare(index, name, &blade);
             if mesh && !far && level > 0.0 {
                 unsafe {
                     atomic_i_increment::<
@@ -341,6 +368,7 @@ pub fn raster_far(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 17)] hardware: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; 2],
 ) {
     let k = flat_index(id, workgroups, SIMULATE_WORKGROUP);
@@ -355,7 +383,8 @@ pub fn raster_far(
         let blade = &blades[index as usize];
         let camera = &frame.camera;
         let shape = (frame.grass.shape, frame.grass.tip_start);
-        let coverage = Coverage::of(blade, index, shape, camera.position, camera.focal_pixels);
+        let name = blade_name(index, frame, ids);
+        let coverage = Coverage::of(blade, name, shape, camera.position, camera.focal_pixels);
         pixels = target.draw(blade, k, &coverage);
     }
     count_pixels(local, pixels, counters, tally);
@@ -375,6 +404,7 @@ pub fn raster_far_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 15)] visibility: &mut [u64],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 17)] hardware: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; 2],
 ) {
     let k = flat_index(id, workgroups, SIMULATE_WORKGROUP);
@@ -391,14 +421,24 @@ pub fn raster_far_natural(
         if mask != 0 {
             let (camera, shape) = (&frame.camera, (frame.grass.shape, frame.grass.tip_start));
             let focal = camera.focal_pixels;
-            // The coverage hash of the blade's own index, as in the paper look: its
+            // The coverage hash of the blade's own name, as in the paper look: its
             // slot changes from frame to frame with the compaction's order.
-            let index = visible[slot as usize];
-            let coverage = Coverage::of(&drawn.blade, index, shape, camera.position, focal);
+            let name = blade_name(visible[slot as usize], frame, ids);
+            let coverage = Coverage::of(&drawn.blade, name, shape, camera.position, focal);
             pixels = target.draw(&drawn.blade, k, &coverage);
         }
     }
     count_pixels(local, pixels, counters, tally);
+}
+
+/// Blade `index`'s name for the per-blade hashes: its index in a stored field, its
+/// id (`tiles::blade_id`) in a tiled one.
+fn blade_name(index: u32, frame: &FrameUniforms, ids: &[u32]) -> u32 {
+    if frame.grass.tiled != 0 {
+        ids[index as usize]
+    } else {
+        index
+    }
 }
 
 /// What the rasterizer draws into: the frame, the visibility buffer and the
@@ -557,6 +597,149 @@ pub fn generate_tile(
     let params = &push.params;
     if index < params.per_side * params.per_side {
         out[index as usize] = tile_blade(push.tile, index, push.camera.truncate(), params);
+    }
+}
+
+/// One thread per blade of a tile entering the tiled field's pool (issue 19): blade
+/// `i` of the pushed tile (every one kept: the pool's tiles are near, and a trampled
+/// one keeps its blades as the camera leaves) into field slot `push.slot.x + i` at
+/// rest, with its id, no collision strength, and its clump in the natural look.
+#[spirv(compute(threads(64)))]
+pub fn generate_pool_tile(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &TilePush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
+) {
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    let params = &push.params;
+    if index < params.per_side * params.per_side {
+        let slot = (push.slot.x + index) as usize;
+        let blade = tile_blade(push.tile, index, push.camera.truncate(), params);
+        blades[slot] = blade;
+        strengths[slot] = 0.0;
+        ids[slot] = blade_id(push.tile, index);
+        let look = &frame.look;
+        if look.style == LOOK_NATURAL {
+            clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
+        }
+    }
+}
+
+/// One thread per candidate tile of a square around the camera, in a tiled frame
+/// (issue 19): a tile in view ([`tile_in_view`]) that no pool slot holds (the pool's
+/// table at `layout::TILES_POOL`) takes room for its first [`far_count`] blades in the
+/// field's far part (one device atomic on `COUNTER_TILE_BLADES`; a tile the room runs
+/// out in keeps what is left, its first, most spread blades, and is counted short),
+/// and goes to the list at `layout::TILES_LIST`, whose length becomes the far
+/// generation's indirect dispatch.
+#[spirv(compute(threads(64)))]
+pub fn select_far_tiles(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(push_constant)] push: &SelectPush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &mut [u32],
+) {
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    if index >= push.count.x * push.count.y {
+        return;
+    }
+    let tile = push.first + UVec2::new(index % push.count.x, index / push.count.x).as_ivec2();
+    let camera = push.camera.truncate();
+    let ground = (push.ground.x, push.ground.y);
+    if !tile_in_view(
+        tile,
+        push.view_proj,
+        camera,
+        &push.params,
+        ground,
+        push.camera.w,
+    ) {
+        return;
+    }
+    let mut slot = 0;
+    while slot < push.far.x {
+        let at = TILES_POOL + 2 * slot as usize;
+        if tiles[at] as i32 == tile.x && tiles[at + 1] as i32 == tile.y {
+            return;
+        }
+        slot += 1;
+    }
+    let wanted = far_count(tile, camera, &push.params, ground);
+    let first = unsafe {
+        atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+            &mut counters[COUNTER_TILE_BLADES],
+            wanted,
+        )
+    };
+    let room = push.far.y;
+    let count = if first >= room {
+        0
+    } else {
+        wanted.min(room - first)
+    };
+    if count < wanted {
+        unsafe {
+            atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                &mut counters[COUNTER_TILES_SHORT],
+            );
+        }
+    }
+    let at = unsafe {
+        atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+            &mut counters[COUNTER_TILES],
+        )
+    };
+    let entry = TILES_LIST + TILE_WORDS * at as usize;
+    tiles[entry] = tile.x as u32;
+    tiles[entry + 1] = tile.y as u32;
+    tiles[entry + 2] = push.far.z + first;
+    tiles[entry + 3] = count;
+    unsafe {
+        atomic_u_max::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+            &mut tiles[TILES_DISPATCH],
+            at + 1,
+        );
+    }
+}
+
+/// One workgroup per far tile in the list [`select_far_tiles`] made (an indirect
+/// dispatch): its threads generate the tile's first blades as the camera sees them
+/// (`tiles::tile_blade`: thinned and widened with distance) into the field's slots the
+/// selection gave it, with their ids and, in the natural look, their clumps. Not
+/// simulated: at rest.
+#[spirv(compute(threads(64)))]
+pub fn generate_far(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &SelectPush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
+) {
+    let entry = TILES_LIST + TILE_WORDS * group.x as usize;
+    let tile = IVec2::new(tiles[entry] as i32, tiles[entry + 1] as i32);
+    let (first, count) = (tiles[entry + 2], tiles[entry + 3]);
+    let camera = push.camera.truncate();
+    let look = &frame.look;
+    let natural = look.style == LOOK_NATURAL;
+    let mut k = local;
+    while k < count {
+        let slot = (first + k) as usize;
+        let blade = tile_blade(tile, k, camera, &push.params);
+        blades[slot] = blade;
+        ids[slot] = blade_id(tile, k);
+        if natural {
+            clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
+        }
+        k += GENERATE_WORKGROUP;
     }
 }
 

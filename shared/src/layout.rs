@@ -11,7 +11,7 @@ use crate::raster::RasterParams;
 use crate::shade::Light;
 use crate::simulate::Environment;
 use crate::tiles::TileParams;
-use spirv_std::glam::{IVec2, Mat4, UVec2, UVec3, Vec3, Vec4};
+use spirv_std::glam::{IVec2, Mat4, UVec2, UVec3, UVec4, Vec3, Vec4};
 
 /// Threads per workgroup of the simulate-and-cull pass.
 pub const SIMULATE_WORKGROUP: u32 = 64;
@@ -108,6 +108,34 @@ pub const BINDING_DEPTH_IMAGE_MS: u32 = 19;
 /// pixel).
 pub const PREPARE_WORKGROUP: u32 = 8;
 
+/// Binding of the tiled field's tile words (storage and indirect, `u32`; issue 19):
+/// the far blades' generation dispatch at [`TILES_DISPATCH`], the pool's tiles from
+/// [`TILES_POOL`] (x, z each; written by the host every frame), and the far tiles in
+/// view from [`TILES_LIST`] (x, z, first blade, blade count each), written by
+/// `compute::select_far_tiles`.
+pub const BINDING_TILES: u32 = 20;
+/// Binding of the blades' names (storage, `u32` per blade, `tiles::blade_id`) in a
+/// tiled field: what the cull's buckets and the look's hashes read in place of the
+/// index, which changes as a tile moves between the far list and the pool. A stored
+/// field reads its index and binds a placeholder.
+pub const BINDING_IDS: u32 = 21;
+/// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
+/// per far tile in view).
+pub const TILES_DISPATCH: usize = 0;
+/// First word of the pool's tiles: (x, z) per slot, [`EMPTY_SLOT`] in x where the
+/// slot holds none.
+pub const TILES_POOL: usize = 4;
+/// Slots the pool's table can hold.
+pub const MAX_POOL_TILES: usize = 1024;
+/// x of a pool slot that holds no tile.
+pub const EMPTY_SLOT: i32 = i32::MIN;
+/// First word of the far tiles in view: (x, z, first blade, blade count) per tile.
+pub const TILES_LIST: usize = TILES_POOL + 2 * MAX_POOL_TILES;
+/// Words per far tile in the list.
+pub const TILE_WORDS: usize = 4;
+/// Threads per workgroup of the far blades' generation (one workgroup per tile).
+pub const GENERATE_WORKGROUP: u32 = 64;
+
 /// What the GPU's tile selection pushes: the camera, the square of candidate tiles
 /// (`first`, `count` along x and z), the layout, the ground's height range and the
 /// reach (`tiles::tile_in_view`), read by `compute::select_tiles`.
@@ -126,6 +154,10 @@ pub struct SelectPush {
     pub ground: Vec4,
     /// The world's tiles.
     pub params: TileParams,
+    /// The tiled frame's far generation (`compute::select_far_tiles`): the pool's
+    /// slots (x), the far blades the field holds (y), and the first far blade's index
+    /// (z, after the pool's); unused by `compute::select_tiles`.
+    pub far: UVec4,
 }
 
 /// What the GPU's tile generation pushes (`compute::generate_tile`, `tiles::tile_blade`):
@@ -137,8 +169,9 @@ pub struct TilePush {
     pub params: TileParams,
     /// The tile generated.
     pub tile: IVec2,
-    /// Padding to the camera's 16-byte alignment.
-    pub pad: UVec2,
+    /// The first blade's index in the field (`compute::generate_pool_tile`; unused by
+    /// `compute::generate_tile`), and padding to the camera's 16-byte alignment.
+    pub slot: UVec2,
     /// The camera's position (w unused).
     pub camera: Vec4,
 }
@@ -202,8 +235,15 @@ pub const COUNTER_RASTER_COVERED: usize = COUNTER_BINNED + MAX_SEGMENTS as usize
 /// hardware's depth and of the far blade the pixel held when it looked
 /// (`raster::in_front`).
 pub const COUNTER_RASTER_WRITTEN: usize = COUNTER_RASTER_COVERED + 1;
+/// Far tiles in view in a tiled field (`compute::select_far_tiles`).
+pub const COUNTER_TILES: usize = COUNTER_RASTER_WRITTEN + 1;
+/// Blades those tiles asked for: the far blades generated, up to the field's room for
+/// them ([`GrassParams::blades`] less [`GrassParams::simulated`]).
+pub const COUNTER_TILE_BLADES: usize = COUNTER_TILES + 1;
+/// Far tiles in view that found no room (drawn with fewer blades or none).
+pub const COUNTER_TILES_SHORT: usize = COUNTER_TILE_BLADES + 1;
 /// Number of `u32` counters.
-pub const COUNTER_COUNT: usize = COUNTER_RASTER_WRITTEN + 1;
+pub const COUNTER_COUNT: usize = COUNTER_TILES_SHORT + 1;
 
 /// The camera, as the shaders see it.
 #[repr(C)]
@@ -233,8 +273,15 @@ pub struct GrassParams {
     /// How the grass is drawn, [`PIPELINE_TESS`] or [`PIPELINE_MESH`] (read by the
     /// renderer, which picks its pipelines from it).
     pub pipeline: u32,
+    /// Blades below this index are simulated (all of a stored field; a tiled field's
+    /// pool, filled by the renderer).
+    pub simulated: u32,
+    /// 1 in a tiled field (the renderer's): blades from `simulated` on are the far
+    /// tiles', as many as [`COUNTER_TILE_BLADES`] says, generated this frame and not
+    /// simulated, and every blade's name is at [`BINDING_IDS`].
+    pub tiled: u32,
     /// Padding to 16 bytes.
-    pub padding: [u32; 3],
+    pub padding: u32,
 }
 
 /// Grass drawn through the tessellator: one patch per blade.

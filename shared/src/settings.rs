@@ -491,7 +491,11 @@ impl Settings {
                 tip_start: self.tip_start,
                 view: self.view as u32,
                 pipeline: self.pipeline as u32,
-                padding: [0; 3],
+                // A stored field: every blade simulated (the renderer fills in a
+                // tiled field's).
+                simulated: blades,
+                tiled: 0,
+                padding: 0,
             },
             cull: CullParams {
                 orientation_threshold: cull.orientation_threshold,

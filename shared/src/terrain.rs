@@ -34,7 +34,7 @@ pub const PATH_DEPTH: f32 = 0.6;
 pub const PATH_BARE: f32 = 2.5;
 
 /// The path's centre line at `z`: its x, and dx/dz.
-fn path_centre(z: f32) -> (f32, f32) {
+pub fn path_centre(z: f32) -> (f32, f32) {
     let t = z / PATH_WAVELENGTH;
     (PATH_SWING * t.sin(), PATH_SWING / PATH_WAVELENGTH * t.cos())
 }

@@ -9,13 +9,19 @@
 //!   each blade is jittered inside its own cell, so blades never crowd at a tile's
 //!   border: a border cell is as full as an inner one, and neighbouring tiles meet
 //!   without a seam.
-//! - **Density that falls with distance, without popping.** Each blade has a fixed
-//!   rank in 0..1 from its hash and is kept while its rank is below the share
+//! - **Density that falls with distance, without popping.** Blade `index` has rank
+//!   (index + jitter) / count and is kept while its rank is below the share
 //!   [`kept_share`] leaves at its distance: as the camera recedes blades leave one by
 //!   one in a fixed order, and a blade kept at some distance is kept at every nearer
 //!   one. A blade thins to nothing over the last [`FADE`] of its share before it
 //!   leaves, and the kept ones widen by the inverse of the share (up to
 //!   [`MAX_WIDENING`]), so the field's coverage (blades × width) stays.
+//! - **Every prefix stratified.** Blades are numbered in rank order and blade `index`
+//!   takes the cell whose Morton code is `index` with its bits reversed (a (0, 2)
+//!   sequence's order, after Hammersley): the first 4^j blades hold one cell of each
+//!   of the tile's 2^j × 2^j blocks, so a far tile's few kept blades still spread
+//!   over it, and the GPU generates a far tile's first [`far_count`] blades rather
+//!   than testing every one.
 //!
 //! Every function here runs on the GPU and on the host (the host tests below run the
 //! same functions the GPU pass will).
@@ -23,7 +29,7 @@
 use crate::Blade;
 use crate::look::{hash_u32, hash_unit};
 use crate::terrain;
-use spirv_std::glam::{IVec2, Mat4, UVec3, Vec2, Vec3};
+use spirv_std::glam::{IVec2, Mat4, UVec2, Vec2, Vec3};
 
 /// Heights are drawn in this range (the course's defaults; the stored field's
 /// `generate` draws from the same).
@@ -43,7 +49,8 @@ pub const MAX_WIDENING: f32 = 4.0;
 pub struct TileParams {
     /// Side of a tile in world units.
     pub size: f32,
-    /// Blades along a side of a tile: `per_side`² in all.
+    /// Blades along a side of a tile: `per_side`² in all; a power of two (the
+    /// stratified order, [`root_of`]).
     pub per_side: u32,
     /// Names the world: the same seed gives the same blades.
     pub seed: u32,
@@ -51,8 +58,11 @@ pub struct TileParams {
     pub full_distance: f32,
     /// The ground the blades stand on: [`TERRAIN_FLAT`] or [`TERRAIN_VALLEY`].
     pub terrain: u32,
+    /// The world is the square from −`half_extent` to `half_extent` in x and z: no
+    /// blade grows outside it.
+    pub half_extent: f32,
     /// Padding to 32 bytes.
-    pub pad: UVec3,
+    pub pad: UVec2,
 }
 
 /// Blades on the plane y = 0, up +Y.
@@ -62,16 +72,17 @@ pub const TERRAIN_FLAT: u32 = 0;
 pub const TERRAIN_VALLEY: u32 = 1;
 
 impl Default for TileParams {
-    /// Tiles of 8 units at the course's density (about 36 blades a square unit: 48
-    /// along a side), every blade kept within 16 units.
+    /// Tiles of 32/3 units at the course's density (36 blades a square unit: 64
+    /// along a side), every blade kept within 16 units, a world 2,000 units wide.
     fn default() -> Self {
         Self {
-            size: 8.0,
-            per_side: 48,
+            size: 32.0 / 3.0,
+            per_side: 64,
             seed: 1,
             full_distance: 16.0,
             terrain: TERRAIN_FLAT,
-            pad: UVec3::ZERO,
+            half_extent: 1000.0,
+            pad: UVec2::ZERO,
         }
     }
 }
@@ -91,11 +102,32 @@ pub fn tile_of(p: Vec2, params: &TileParams) -> IVec2 {
     (p / params.size).floor().as_ivec2()
 }
 
-/// Blade `index`'s root of `tile` on the ground plane (x, z): the centre of its own
-/// cell of the tile's `per_side` × `per_side` grid, jittered anywhere inside it.
+/// The cell (x, z) of a `per_side` × `per_side` grid (a power of two) that blade
+/// `index` takes: the Morton code `index` with its 2·log2(`per_side`) bits reversed,
+/// so the first 4^j indices take one cell in each 2^j × 2^j block.
+pub fn cell_of(index: u32, per_side: u32) -> UVec2 {
+    let bits = 2 * per_side.max(1).trailing_zeros();
+    if bits == 0 {
+        return UVec2::ZERO;
+    }
+    let code = index.reverse_bits() >> (32 - bits);
+    UVec2::new(compact_bits(code), compact_bits(code >> 1))
+}
+
+/// The even bits of `v`, packed (Morton decoding of one axis).
+fn compact_bits(v: u32) -> u32 {
+    let mut x = v & 0x5555_5555;
+    x = (x | (x >> 1)) & 0x3333_3333;
+    x = (x | (x >> 2)) & 0x0f0f_0f0f;
+    x = (x | (x >> 4)) & 0x00ff_00ff;
+    (x | (x >> 8)) & 0x0000_ffff
+}
+
+/// Blade `index`'s root of `tile` on the ground plane (x, z): its own cell of the
+/// tile's `per_side` × `per_side` grid ([`cell_of`]), jittered anywhere inside it.
 pub fn root_of(tile: IVec2, index: u32, params: &TileParams) -> Vec2 {
     let n = params.per_side.max(1);
-    let cell = Vec2::new((index % n) as f32, (index / n) as f32);
+    let cell = cell_of(index, n).as_vec2();
     let jitter = Vec2::new(
         blade_unit(tile, index, params.seed, 0),
         blade_unit(tile, index, params.seed, 1),
@@ -119,9 +151,39 @@ pub fn kept_share(distance: f32, params: &TileParams) -> f32 {
     density(distance, params).min(1.0)
 }
 
-/// A blade's rank: it is kept while [`kept_share`] at its distance is above this.
+/// A blade's rank, (index + jitter) / count: it is kept while [`kept_share`] at its
+/// distance is above this, so the kept blades of a tile are always its first ones.
 pub fn rank_of(tile: IVec2, index: u32, params: &TileParams) -> f32 {
-    blade_unit(tile, index, params.seed, 2)
+    let count = (params.per_side * params.per_side).max(1) as f32;
+    (index as f32 + blade_unit(tile, index, params.seed, 2)) / count
+}
+
+/// A name for blade `index` of `tile` that stays with it wherever it is generated
+/// (a far tile's list or a pool slot): what the cull's buckets and the look's
+/// per-blade hashes read in place of a stored field's index.
+pub fn blade_id(tile: IVec2, index: u32) -> u32 {
+    hash_u32(
+        (tile.x as u32).wrapping_mul(0x8da6_b343)
+            ^ (tile.y as u32).wrapping_mul(0xd816_3841)
+            ^ index.wrapping_mul(0x9e37_79b9),
+    )
+}
+
+/// How many of `tile`'s first blades can be kept seen from `camera`: every blade
+/// whose rank is below the share at the nearest point of the tile's box (ground from
+/// `ground.0` to `ground.1`), at most all of them. A far tile's blades beyond this
+/// are never kept, so they need not be generated.
+pub fn far_count(tile: IVec2, camera: Vec3, params: &TileParams, ground: (f32, f32)) -> u32 {
+    let lo = tile.as_vec2() * params.size;
+    let hi = lo + Vec2::splat(params.size);
+    let nearest = Vec3::new(
+        camera.x.clamp(lo.x, hi.x),
+        camera.y.clamp(ground.0, ground.1),
+        camera.z.clamp(lo.y, hi.y),
+    );
+    let count = params.per_side * params.per_side;
+    let share = kept_share((nearest - camera).length(), params);
+    ((share * count as f32) as u32 + 1).min(count)
 }
 
 /// How wide a blade of `rank` is drawn at `density` ([`density`]): 0 once its rank
@@ -150,7 +212,8 @@ pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) ->
         (0.0, Vec3::Y)
     };
     let root = Vec3::new(root2.x, height_at, root2.y);
-    let grows = !(valley && terrain::bare(root2));
+    let inside = root2.abs().max_element() < params.half_extent;
+    let grows = inside && !(valley && terrain::bare(root2));
     let scale = if grows {
         width_scale(
             rank_of(tile, index, params),
@@ -173,7 +236,8 @@ pub fn kept(blade: &Blade) -> bool {
     blade.width() > 0.0
 }
 
-/// Whether `tile` can show a blade to a camera at `camera` with `view_proj`: its box
+/// Whether `tile` can show a blade to a camera at `camera` with `view_proj`: inside
+/// the world (`half_extent`), its box
 /// (the tile's square, from `ground.0` to `ground.1` + the tallest blade in height)
 /// not wholly outside one plane of the view volume (the eight corners in clip space),
 /// and its nearest point within `reach` of the camera (beyond, [`density`] has left
@@ -188,6 +252,13 @@ pub fn tile_in_view(
 ) -> bool {
     let lo = tile.as_vec2() * params.size;
     let hi = lo + Vec2::splat(params.size);
+    if hi.x <= -params.half_extent
+        || hi.y <= -params.half_extent
+        || lo.x >= params.half_extent
+        || lo.y >= params.half_extent
+    {
+        return false;
+    }
     let (bottom, top) = (ground.0, ground.1 + HEIGHT.1);
     let nearest = Vec3::new(
         camera.x.clamp(lo.x, hi.x),
@@ -271,9 +342,9 @@ mod tests {
     fn neighbouring_tiles_meet_without_a_seam() {
         // 4 x 4 tiles; blades counted in strips a tenth of a tile wide: those across a
         // tile border hold as many as those inside a tile, within 6 % (a strip holds
-        // about 920 blades: 3.3 % is one standard deviation). Planted fault: cells laid
-        // over 48.5 rows instead of 48, leaving a sliver bare at each border, gave 838
-        // against 922 in the strip before it and failed.
+        // about 1,640 blades). Planted fault (with 48 blades a side, when the strip held
+        // about 920): cells laid over 48.5 rows instead of 48, leaving a sliver bare at
+        // each border, gave 838 against 922 in the strip before it and failed.
         let params = TileParams {
             full_distance: 1e6,
             ..TileParams::default()
@@ -447,6 +518,58 @@ mod tests {
                 "{with_blade} of {in_view} tiles in view hold a blade in it"
             );
         }
+    }
+
+    /// Planted fault: cells in plain row order (index % n, index / n) put the first
+    /// 64 blades in one row and failed the first prefix.
+    #[test]
+    fn every_prefix_of_the_blades_spreads_over_the_tile() {
+        let n = 64;
+        // Every cell taken once.
+        let mut seen = vec![false; (n * n) as usize];
+        for i in 0..n * n {
+            let c = cell_of(i, n);
+            assert!(c.x < n && c.y < n);
+            assert!(!seen[(c.y * n + c.x) as usize], "cell {c} twice");
+            seen[(c.y * n + c.x) as usize] = true;
+        }
+        // The first 4^j blades: one in each 2^j x 2^j block.
+        for j in 1..=5u32 {
+            let blocks = 1u32 << j;
+            let mut hit = vec![0u32; (blocks * blocks) as usize];
+            for i in 0..blocks * blocks {
+                let c = cell_of(i, n) / (n / blocks);
+                hit[(c.y * blocks + c.x) as usize] += 1;
+            }
+            assert!(hit.iter().all(|&h| h == 1), "prefix {}", blocks * blocks);
+        }
+    }
+
+    /// Planted fault: a count from the share at the tile's centre rather than its
+    /// nearest point left kept blades out and failed.
+    #[test]
+    fn a_far_tile_keeps_none_of_the_blades_past_its_count() {
+        let params = TileParams::default();
+        let all = params.per_side * params.per_side;
+        let tile = IVec2::new(2, -1);
+        for distance in [0.0, 12.0, 20.0, 40.0, 90.0, 400.0] {
+            let camera = Vec3::new(-distance, 1.7, -3.0);
+            let count = far_count(tile, camera, &params, (0.0, 0.0));
+            let last_kept = (0..all)
+                .filter(|&i| kept(&tile_blade(tile, i, camera, &params)))
+                .max()
+                .map_or(0, |i| i + 1);
+            assert!(last_kept <= count, "at {distance}: {last_kept} > {count}");
+            // And not many more than that: within a row's worth of the tile.
+            assert!(
+                count <= last_kept + all / 8,
+                "at {distance}: {count} for {last_kept}"
+            );
+        }
+        assert_eq!(
+            far_count(tile, Vec3::new(20.0, 1.0, -5.0), &params, (0.0, 0.0)),
+            all
+        );
     }
 
     #[test]

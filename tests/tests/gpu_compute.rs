@@ -66,6 +66,7 @@ fn setup(wind: WindField, blend: f32) -> (Scene, FrameUniforms) {
         pitch: 0.25,
         distance: side * 0.6,
         fov_y: 40f32.to_radians(),
+        far: 0.0,
     };
     let uniforms = settings.uniforms(&camera.viewpoint((256, 256)), scene.blade_count(), &BALLS);
     (scene, uniforms)

@@ -319,10 +319,15 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             n if n == shaders::RASTER_PREPARE_MS => {
                                 size_of::<layout::PreparePush>()
                             }
-                            n if n == shaders::GENERATE_TILE => {
+                            n if n == shaders::GENERATE_TILE
+                                || n == shaders::GENERATE_POOL_TILE =>
+                            {
                                 size_of::<shared::layout::TilePush>()
                             }
-                            n if n == shaders::SELECT_TILES => {
+                            n if n == shaders::SELECT_TILES
+                                || n == shaders::SELECT_FAR_TILES
+                                || n == shaders::GENERATE_FAR =>
+                            {
                                 size_of::<shared::layout::SelectPush>()
                             }
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
@@ -487,6 +492,8 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(GrassParams, tip_start),
                 offset_of!(GrassParams, view),
                 offset_of!(GrassParams, pipeline),
+                offset_of!(GrassParams, simulated),
+                offset_of!(GrassParams, tiled),
                 offset_of!(GrassParams, padding),
             ],
         ),

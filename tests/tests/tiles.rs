@@ -50,7 +50,7 @@ fn the_gpu_generates_the_hosts_blades() {
             let push = TilePush {
                 params,
                 tile,
-                pad: Default::default(),
+                slot: Default::default(),
                 camera: camera.extend(0.0),
             };
             let gpu = renderer.generate_tile(&push).unwrap();
@@ -113,6 +113,7 @@ fn the_gpu_selects_the_hosts_tiles() {
                 count: UVec2::new(80, 80),
                 ground: Vec4::new(0.0, 0.0, 0.0, 0.0),
                 params,
+                far: Default::default(),
             };
             let mut gpu = renderer.select_tiles(&push).unwrap();
             gpu.sort_by_key(|t| (t.x, t.y));

@@ -13,9 +13,10 @@ pub mod soak;
 pub mod storm;
 pub mod viewer;
 
-use crate::cli::{Cli, Command, Common, PipelineChoice};
+use crate::cli::{Cli, Command, Common, FieldChoice, PipelineChoice};
 use crate::field::Field;
 use crate::scene::{BladeCount, Scene, SceneFile};
+use crate::tiles::TiledSpec;
 use crate::vulkan::Context;
 use anyhow::Result;
 use shared::settings::{GrassPipeline, Settings};
@@ -138,10 +139,69 @@ pub fn prepare(
             scene.degenerate
         );
     }
-    log::info!("scene {}: {} blades", scene.name, scene.blade_count());
+    if tiled(common, &scene)? {
+        let spec = tiled_spec(&scene, ctx);
+        log::info!(
+            "scene {}: tiled field, {:.0} M blades in the world, a pool of {} tiles \
+             ({} blades simulated), room for {} far blades",
+            scene.name,
+            spec.potential_blades() / 1e6,
+            spec.pool_tiles,
+            spec.pool_blades(),
+            spec.far_blades
+        );
+        scene.make_tiled(spec);
+    } else {
+        log::info!("scene {}: {} blades", scene.name, scene.blade_count());
+    }
     let mut settings = settings(common, &scene);
     device_defaults(&mut settings, common, ctx)?;
     Ok((scene, settings))
+}
+
+/// Whether the field is tiled: `--field`, else on the valley only. Tiles grow on the
+/// plane and the valley; other scenes' surfaces are not tiled yet.
+pub fn tiled(common: &Common, scene: &Scene) -> Result<bool> {
+    let flat_or_valley = matches!(scene.name.as_str(), "plane" | "valley");
+    match common.field {
+        Some(FieldChoice::Tiles) if !flat_or_valley => anyhow::bail!(
+            "--field tiles: scene {} cannot be tiled yet (the plane and the valley can)",
+            scene.name
+        ),
+        Some(choice) => Ok(choice == FieldChoice::Tiles),
+        None => Ok(scene.name == "valley"),
+    }
+}
+
+/// The tiled field's layout on `scene` for `ctx`: on a GPU, tiles of 64² blades at
+/// the course's density (36 a square unit), every blade kept to 48 units, a pool of
+/// 96 tiles (393,216 blades simulated) for those within 16 units, and room for 4 M
+/// far blades out to 800 units; on a software device, tiles of 32² blades, every
+/// blade kept to 6 units, 16 pool tiles for those within 3 units, and room for 65,536
+/// far blades out to 120.
+pub fn tiled_spec(scene: &Scene, ctx: &Context) -> TiledSpec {
+    use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams};
+    let valley = scene.name == "valley";
+    let (lo, hi) = scene.surface.bounds().unwrap_or_default();
+    let half_extent = 0.5 * (hi.x - lo.x).max(hi.z - lo.z);
+    let software = ctx.is_software();
+    let params = TileParams {
+        size: if software { 16.0 / 3.0 } else { 32.0 / 3.0 },
+        per_side: if software { 32 } else { 64 },
+        seed: scene.seed as u32,
+        full_distance: if software { 6.0 } else { 48.0 },
+        terrain: if valley { TERRAIN_VALLEY } else { TERRAIN_FLAT },
+        half_extent,
+        pad: Default::default(),
+    };
+    TiledSpec {
+        params,
+        pool_tiles: if software { 16 } else { 96 },
+        pool_radius: if software { 3.0 } else { 16.0 },
+        far_blades: if software { 1 << 16 } else { 1 << 22 },
+        reach: if software { 120.0 } else { 800.0 },
+        ground: scene.ground_range(),
+    }
 }
 
 /// The settings the command line asks for, on `scene`.

@@ -1,6 +1,9 @@
 //! The passes of a frame, in the order the renderer records them, with what each reads
 //! and writes:
 //!
+//! 0. [`tiles`]: in a tiled field, generates the tiles entering the pool of simulated
+//!    tiles and the far tiles' blades in view (reads the frame block and the pool's
+//!    table; writes the blades, their ids and clumps, the tile list and counters).
 //! 1. [`occlusion`]: draws the scene's surfaces depth-only and reduces the depth to a
 //!    pyramid (reads the surfaces and the camera; writes the depth image and the
 //!    pyramid buffer). Only with the occlusion test and something that can hide grass.
@@ -31,6 +34,7 @@ pub mod raster;
 pub mod shadow;
 pub mod simulate;
 pub mod throughput;
+pub mod tiles;
 pub mod tonemap;
 
 /// Depth format of every pass.

@@ -24,10 +24,11 @@ impl Renderer {
         uniforms: &FrameUniforms,
         push: SimulatePush,
     ) {
-        let uniforms = FrameUniforms {
+        let mut uniforms = FrameUniforms {
             hiz: Default::default(),
             ..*uniforms
         };
+        self.tile_uniforms(&mut uniforms);
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
         let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;

@@ -11,7 +11,7 @@ pub mod targets;
 
 pub use readback::{CullCounts, FrameQueries, Mark, PassTimes, Readback};
 
-use crate::field::Field;
+use crate::field::{Field, FieldBlades};
 use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::passes::occlusion::OcclusionPass;
@@ -19,8 +19,10 @@ use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::raster::RasterPass;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::simulate::SimulatePass;
+use crate::passes::tiles::TilesPass;
 use crate::passes::tonemap::ToneMapPass;
 use crate::shaders;
+use crate::tiles::TiledSpec;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::pipeline::ShaderModules;
 use crate::vulkan::{Attachments, Context, Recorder};
@@ -104,6 +106,8 @@ pub struct Meshes<'a> {
     pub ball: &'a SurfaceMesh,
     /// Some surface can hide grass (else the occlusion pre-pass is skipped).
     pub has_occluders: bool,
+    /// A tiled field's layout: then `blades` is empty and the blades come from tiles.
+    pub tiles: Option<TiledSpec>,
 }
 
 /// The renderer: the field and the passes of one frame.
@@ -115,6 +119,8 @@ pub struct Renderer {
     ground: GroundPass,
     grass: GrassPass,
     raster: RasterPass,
+    /// A tiled field's generation.
+    pub tiles: Option<TilesPass>,
     occlusion: OcclusionPass,
     /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
     pub has_occluders: bool,
@@ -136,9 +142,24 @@ impl Renderer {
     /// colour target of `color_format`.
     pub fn new(ctx: &Arc<Context>, meshes: &Meshes, color_format: vk::Format) -> Result<Self> {
         let pool = CommandPool::new(ctx)?;
-        let field = Field::new(ctx, &pool, meshes.blades)?;
+        let source = match &meshes.tiles {
+            Some(spec) => {
+                spec.check()?;
+                FieldBlades::Tiled {
+                    simulated: spec.pool_blades(),
+                    far: spec.far_blades,
+                    tile_words: spec.tile_words(),
+                }
+            }
+            None => FieldBlades::Stored(meshes.blades),
+        };
+        let field = Field::new(ctx, &pool, source)?;
         let module = ShaderModules::new(ctx, shaders::MODULES)?;
         let simulate = SimulatePass::new(ctx, &module, &field)?;
+        let tiles = match meshes.tiles {
+            Some(spec) => Some(TilesPass::new(ctx, &module, &field, spec)?),
+            None => None,
+        };
         let surfaces = [
             (meshes.surface, MATERIAL_SOIL),
             (meshes.bare, MATERIAL_ROCK),
@@ -165,6 +186,7 @@ impl Renderer {
             ground,
             grass,
             raster,
+            tiles,
             occlusion,
             has_occluders: meshes.has_occluders,
             shadow,
@@ -279,6 +301,7 @@ impl Renderer {
             Default::default()
         };
         uniforms.look.shadow_size = self.shadow.size();
+        self.tile_uniforms(&mut uniforms);
         uniforms.raster.width = target.extent.width;
         uniforms.raster.height = target.extent.height;
         if !self.raster.supported() {
@@ -300,6 +323,10 @@ impl Renderer {
         }
         stamp(Mark::Start);
         self.begin_compute(rec, &uniforms);
+        if let Some(tiles) = self.tiles.as_mut() {
+            let seconds = input.push.steps as f32 * shared::simulate::STEP_SECONDS;
+            tiles.record(rec, &self.field, &uniforms, seconds)?;
+        }
         let targets = self.targets.as_ref().context("draw targets")?;
         if occlusion {
             self.occlusion
@@ -354,6 +381,16 @@ impl Renderer {
             pass.free_textures(frame.textures)?;
         }
         Ok(())
+    }
+
+    /// A tiled field's part of the frame block: its pool's blades simulated, the rest
+    /// generated (`GrassParams::tiled`).
+    fn tile_uniforms(&self, uniforms: &mut FrameUniforms) {
+        if self.tiles.is_some() {
+            uniforms.grass.blades = self.field.blade_count;
+            uniforms.grass.simulated = self.field.simulated;
+            uniforms.grass.tiled = 1;
+        }
     }
 
     /// Orders the frame after the previous one, then updates the uniforms and clears

@@ -6,6 +6,7 @@ pub mod load;
 
 use crate::camera::OrbitCamera;
 use crate::renderer::Meshes;
+use crate::tiles::TiledSpec;
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use shared::Blade;
@@ -32,6 +33,9 @@ pub enum SceneKind {
     Meadow,
     /// A field with stone walls and a block: the occlusion test's showcase.
     Walls,
+    /// A generated valley 2 km wide with a bare path (`shared::terrain`): the tiled
+    /// field's world (issue 19).
+    Valley,
     /// A glTF 2.0 (`.gltf`, `.glb`) or Wavefront OBJ file.
     File(PathBuf),
 }
@@ -45,6 +49,7 @@ impl SceneKind {
             "planet" => Self::Planet,
             "meadow" => Self::Meadow,
             "walls" => Self::Walls,
+            "valley" => Self::Valley,
             path => Self::File(PathBuf::from(path)),
         }
     }
@@ -86,7 +91,18 @@ pub struct Scene {
     pub blade_scale: f32,
     /// Seed of the blades.
     pub seed: u64,
+    /// A tiled field's layout (issue 19): then `blades` is empty and the blades come
+    /// from tiles every frame.
+    pub tiles: Option<TiledSpec>,
 }
+
+/// Side of the valley scene (units, metres in its terrain's terms): 2 km.
+pub const VALLEY_SIDE: f32 = 2000.0;
+/// Quads along a side of the valley's ground mesh (7.8 units each): the blades stand
+/// on the analytic height, which the mesh follows within 0.18 units between its
+/// vertices (the shortest hill, 41 units long and 1 high, curves by 0.024 a unit²:
+/// 0.024 · 7.8² / 8), the path's carve excepted.
+pub const VALLEY_CELLS: u32 = 256;
 
 /// The blade scale of the natural look on a loaded scene of radius `radius`: glTF
 /// units are metres, and meadow grass stands 0.35 to 0.7 m (0.28 times the course's
@@ -174,6 +190,10 @@ impl Scene {
                 let (ground, stones) = builtin::walls(side, 48);
                 ("walls".into(), ground, stones, 0, None)
             }
+            (SceneKind::Valley, None) => {
+                let ground = builtin::valley(VALLEY_SIDE, VALLEY_CELLS);
+                ("valley".into(), ground, none(), 0, None)
+            }
             (SceneKind::Plane, None) => {
                 let side = side_for(total);
                 ("plane".into(), builtin::plane(side, 8), none(), 0, None)
@@ -218,13 +238,27 @@ impl Scene {
             gravity_centre,
             bounds: (centre, radius),
             degenerate,
+            tiles: None,
         })
+    }
+
+    /// Makes the field a tiled one laid out by `spec` (the stored blades go).
+    pub fn make_tiled(&mut self, spec: TiledSpec) {
+        self.blades = Vec::new();
+        self.tiles = Some(spec);
+    }
+
+    /// The ground's lowest and highest points.
+    pub fn ground_range(&self) -> (f32, f32) {
+        self.surface
+            .bounds()
+            .map_or((0.0, 0.0), |(lo, hi)| (lo.y, hi.y))
     }
 
     /// Grows the blades again (same seed, same roots) at `scale` times the course's
     /// size; nothing happens when they already are.
     pub fn rescale(&mut self, scale: f32) {
-        if scale != self.blade_scale {
+        if scale != self.blade_scale && self.tiles.is_none() {
             let count = self.blades.len() as u32;
             self.blades = scatter_scaled(&self.surface, count, self.seed, scale);
             self.blade_scale = scale;
@@ -254,6 +288,9 @@ impl Scene {
     /// A view that frames the scene: over a field from beyond its edge, or the whole
     /// planet.
     pub fn camera(&self) -> OrbitCamera {
+        if self.name == "valley" {
+            return valley_camera(0.0);
+        }
         let (centre, radius) = self.bounds;
         let mut camera = OrbitCamera::framing(radius * std::f32::consts::SQRT_2);
         if self.gravity_centre.is_some() {
@@ -273,12 +310,16 @@ impl Scene {
             bare: &self.bare,
             ball: &self.ball,
             has_occluders: self.has_occluders(),
+            tiles: self.tiles,
         }
     }
 
-    /// Blades in the scene.
+    /// Blades in the scene: a tiled field's room for them.
     pub fn blade_count(&self) -> u32 {
-        self.blades.len() as u32
+        match &self.tiles {
+            Some(spec) => spec.capacity(),
+            None => self.blades.len() as u32,
+        }
     }
 
     /// The default settings on this scene: the distance test's reach from its size,
@@ -310,6 +351,30 @@ impl Scene {
     pub fn has_occluders(&self) -> bool {
         !self.bare.is_empty() || !is_flat(&self.surface)
     }
+}
+
+/// The valley's camera `travelled` units along its path (`shared::terrain`): 5 units
+/// above the ground beside the path (over the blades, 2.5 at most), looking down the
+/// path and a little down, the far plane at the valley's far side.
+pub fn valley_camera(travelled: f32) -> OrbitCamera {
+    use shared::terrain::{path_centre, valley_height};
+    let z = -travelled;
+    let (x, slope) = path_centre(z);
+    let eye = glam::Vec2::new(x + 3.0, z);
+    // Looking along −z, following the path's bend.
+    let ahead = glam::Vec2::new(-slope, -1.0).normalize();
+    let distance = 30.0;
+    let target2 = eye + ahead * distance;
+    let eye_height = valley_height(eye) + 5.0;
+    let target = Vec3::new(target2.x, valley_height(target2) + 1.0, target2.y);
+    let mut camera = OrbitCamera::framing(VALLEY_SIDE);
+    camera.target = target;
+    camera.distance = distance;
+    let flat = (eye - target2).length();
+    camera.pitch = ((eye_height - target.y) / flat).atan().clamp(0.02, 1.5);
+    camera.yaw = (eye.x - target2.x).atan2(eye.y - target2.y);
+    camera.far = VALLEY_SIDE;
+    camera
 }
 
 #[cfg(test)]

@@ -48,9 +48,13 @@ pub fn camera(scene: &Scene, preset: CameraPreset) -> OrbitCamera {
             camera.pitch = 55f32.to_radians();
             camera.distance = radius / (0.5 * camera.fov_y).sin() * 1.05;
         }
+        CameraPreset::Flight => return crate::scene::valley_camera(0.0),
     }
     camera
 }
+
+/// Units a second the flight camera travels down the valley's path.
+pub const FLIGHT_SPEED: f32 = 6.0;
 
 /// The settings of `config`: which tests run and whether LOD does.
 pub fn configure(settings: &mut Settings, config: BenchConfig) {
@@ -64,6 +68,11 @@ pub fn configure(settings: &mut Settings, config: BenchConfig) {
 fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
     if let Some(n) = common.blades {
         return vec![n];
+    }
+    // A tiled field is one world, whatever the count.
+    let valley = common.scene_kind() == crate::scene::SceneKind::Valley;
+    if common.field == Some(crate::cli::FieldChoice::Tiles) || (valley && common.field.is_none()) {
+        return vec![0];
     }
     if !args.counts.is_empty() {
         return args.counts.clone();
@@ -141,10 +150,23 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             common.seed,
             |_| Ok(()),
         )?;
+        if args.camera == CameraPreset::Flight && scene.name != "valley" {
+            anyhow::bail!("--camera flight flies over the valley: add --scene valley");
+        }
+        if super::tiled(common, &scene)? {
+            scene.make_tiled(super::tiled_spec(&scene, &ctx));
+        }
         let mut base = super::settings(common, &scene);
         super::device_defaults(&mut base, common, &ctx)?;
-        let camera = camera(&scene, args.camera);
-        let eye = camera.viewpoint(offscreen.size());
+        let size = offscreen.size();
+        let still_camera = camera(&scene, args.camera);
+        let preset = args.camera;
+        let eye = move |frame| match preset {
+            CameraPreset::Flight => {
+                crate::scene::valley_camera(FLIGHT_SPEED * frame as f32 / 60.0).viewpoint(size)
+            }
+            _ => still_camera.viewpoint(size),
+        };
         for &look in &looks {
             // Each look on its own field, grown at its blade size.
             scene.rescale(scene.scale_for(look));
@@ -156,7 +178,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 (Look::Paper, None) => 1,
                 _ => base.look.msaa,
             };
-            let uniforms = |config, pipeline, raster: Option<f32>| {
+            let uniforms = |config, pipeline, raster: Option<f32>, frame: u32| {
                 let mut settings = base;
                 settings.look.style = look;
                 settings.look.msaa = msaa;
@@ -165,7 +187,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                     settings.compute_raster_below = below;
                 }
                 configure(&mut settings, config);
-                settings.uniforms(&eye, scene.blade_count(), &[])
+                settings.uniforms(&eye(frame), scene.blade_count(), &[])
             };
             let first = points.len();
             for &config in &configs {
@@ -175,8 +197,8 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                             format!("{config:?}, {look:?} look, {pipeline:?}, at {n} blades");
                         progress.show(points.len(), &what);
                         let frames = (&mut driver, &mut offscreen);
-                        let frame = uniforms(config, pipeline, raster);
-                        let mut point = measure(frames, frame, args, config, n)?;
+                        let frame = |f| uniforms(config, pipeline, raster, f);
+                        let mut point = measure(frames, &frame, args, config, n)?;
                         point.look = look;
                         point.pipeline = pipeline;
                         point.samples = ctx.supported_samples(msaa);
@@ -189,7 +211,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let unculled_by: Vec<_> = pipelines
                 .iter()
                 .map(|&p| {
-                    let frame = uniforms(BenchConfig::None, p, Some(0.0));
+                    let frame = uniforms(BenchConfig::None, p, Some(0.0), 0);
                     still(&mut driver, &mut offscreen, frame)
                 })
                 .collect::<Result<_>>()?;
@@ -199,7 +221,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 view = still(
                     &mut driver,
                     &mut offscreen,
-                    uniforms(point.config, point.pipeline, raster),
+                    uniforms(point.config, point.pipeline, raster, 0),
                 )?;
                 let at = pipelines.iter().position(|&p| p == point.pipeline);
                 let unculled = &unculled_by[at.unwrap_or(0)];
@@ -245,10 +267,11 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
 }
 
 /// Warm-up, then `args.frames` frames of one configuration, each simulating 1/60 s
-/// from a clock started anew.
+/// from a clock started anew; `uniforms(k)` is the k-th measured frame's block (the
+/// warm-up runs the first's).
 fn measure(
     (driver, offscreen): (&mut FrameDriver, &mut Offscreen),
-    uniforms: FrameUniforms,
+    uniforms: &dyn Fn(u32) -> FrameUniforms,
     args: &BenchArgs,
     config: BenchConfig,
     blades: u32,
@@ -277,7 +300,8 @@ fn measure(
             triangles.extend(r.triangles.map(|t| t as f64));
         }
         last = now;
-        driver.submit(started, offscreen, FrameSpec::plain(uniforms))?;
+        let measured = frame.saturating_sub(args.warmup);
+        driver.submit(started, offscreen, FrameSpec::plain(uniforms(measured)))?;
     }
     driver.finish()?;
     // Lavapipe counts no clipping invocations for mesh stages: none counted while
@@ -291,7 +315,7 @@ fn measure(
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,
-        compute_below: uniforms.raster.below,
+        compute_below: uniforms(0).raster.below,
         compute_drawn: Spread::of(&compute_drawn).median,
         raster_covered: Spread::of(&covered).median,
         raster_written: Spread::of(&written).median,

@@ -1,0 +1,239 @@
+//! The tiled field's generation (issue 19), first in a tiled frame: the host decides
+//! which tiles the pool of simulated tiles holds ([`TilePool`]: the tiles near the
+//! camera and the ones a collider trampled), and the GPU generates a tile entering the
+//! pool into its slot; then a compute pass picks the far tiles in view, each taking
+//! room for the blades its distance keeps, and one workgroup per far tile generates
+//! them. The simulate-and-cull pass that follows simulates the pool's blades and
+//! culls both.
+
+use crate::field::{Field, PUSH_CONSTANTS};
+use crate::shaders;
+use crate::tiles::{TilePool, TiledSpec, trail_hold};
+use crate::vulkan::pipeline::{Pipeline, ShaderModules};
+use crate::vulkan::{Context, Recorder};
+use anyhow::{Context as _, Result};
+use ash::vk;
+use shared::glam::{IVec2, UVec2, UVec4, Vec2};
+use shared::layout::{
+    EMPTY_SLOT, FrameUniforms, MAX_POOL_TILES, SIMULATE_WORKGROUP, SelectPush, TILE_WORDS,
+    TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
+
+/// What the host's side of the tiles did in the last frame (the overlay's and the
+/// log's; the GPU's side is in the counters).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct PoolStats {
+    /// Tiles the pool holds.
+    pub held: u32,
+    /// Its slots.
+    pub slots: u32,
+    /// Tiles placed (generated into a slot) this frame.
+    pub placed: u32,
+    /// Tiles evicted since the field was made.
+    pub evictions: u64,
+    /// Needed tiles that found no slot this frame.
+    pub dropped: u32,
+    /// Tiles pinned by a trail.
+    pub pinned: u32,
+}
+
+/// The tiled field's pipelines and pool.
+pub struct TilesPass {
+    ctx: Arc<Context>,
+    spec: TiledSpec,
+    pool_tile: Pipeline,
+    select: Pipeline,
+    generate: Pipeline,
+    pool: TilePool,
+    /// Trampled tiles and the seconds left before they may leave the pool.
+    trails: HashMap<IVec2, f32>,
+    /// The last frame's host side.
+    pub stats: PoolStats,
+}
+
+impl TilesPass {
+    /// The pipelines for a field laid out by `spec` (made with
+    /// [`TiledSpec::field_blades`]).
+    pub fn new(
+        ctx: &Arc<Context>,
+        module: &ShaderModules,
+        field: &Field,
+        spec: TiledSpec,
+    ) -> Result<Self> {
+        let layout = &field.layout;
+        Ok(Self {
+            ctx: ctx.clone(),
+            spec,
+            pool_tile: Pipeline::compute(ctx, layout, module, shaders::GENERATE_POOL_TILE)?,
+            select: Pipeline::compute(ctx, layout, module, shaders::SELECT_FAR_TILES)?,
+            generate: Pipeline::compute(ctx, layout, module, shaders::GENERATE_FAR)?,
+            pool: TilePool::new(spec.pool_tiles as usize),
+            trails: HashMap::new(),
+            stats: PoolStats::default(),
+        })
+    }
+
+    /// The field's layout.
+    pub fn spec(&self) -> &TiledSpec {
+        &self.spec
+    }
+
+    /// The tile the pool's slot `slot` holds, if any.
+    pub fn slot_of(&self, tile: IVec2) -> Option<usize> {
+        self.pool.slot_of(tile)
+    }
+
+    /// Records the frame's tile work, `seconds` after the last frame: the pool's
+    /// update and its new tiles, the pool's table, the far tiles' selection and
+    /// generation. The uniform update and the counters' reset must come before, with
+    /// their barrier; this leaves the blades, ids and clumps ready for the compute
+    /// pass.
+    pub fn record(
+        &mut self,
+        rec: &Recorder,
+        field: &Field,
+        uniforms: &FrameUniforms,
+        seconds: f32,
+    ) -> Result<()> {
+        let spec = self.spec;
+        let camera = uniforms.camera.position;
+        // Trails: a tile a ball touches is held for as long as its blades take to
+        // recover; the others count down.
+        for hold in self.trails.values_mut() {
+            *hold -= seconds;
+        }
+        self.trails.retain(|_, hold| *hold > 0.0);
+        let balls = (uniforms.forces.colliders as usize).min(uniforms.colliders.len());
+        let hold = trail_hold(uniforms.forces.strength_decay);
+        for ball in &uniforms.colliders[..balls] {
+            for tile in spec.touched(*ball) {
+                self.trails.insert(tile, hold);
+            }
+        }
+        let mut needed = spec.needed(camera);
+        // A trampled tile out of the pool's reach is needed too (after the near ones).
+        let trampled: Vec<IVec2> = self
+            .trails
+            .keys()
+            .filter(|t| !needed.contains(t))
+            .copied()
+            .collect();
+        needed.extend(trampled);
+        let trails = &self.trails;
+        let update = self.pool.update(&needed, |t| trails.contains_key(&t));
+
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        let tiles = field
+            .tiles
+            .as_ref()
+            .context("a tiled field's tile buffer")?;
+        // The far generation's dispatch (x by the selection), the pool's table.
+        let mut words = vec![0u32; TILES_POOL + 2 * spec.pool_tiles as usize];
+        words[TILES_DISPATCH..TILES_DISPATCH + 3].copy_from_slice(&[0, 1, 1]);
+        for slot in 0..spec.pool_tiles as usize {
+            words[TILES_POOL + 2 * slot] = EMPTY_SLOT as u32;
+        }
+        for (tile, slot) in self.pool.held() {
+            words[TILES_POOL + 2 * slot] = tile.x as u32;
+            words[TILES_POOL + 2 * slot + 1] = tile.y as u32;
+        }
+        rec.update_buffer(tiles.buffer, bytemuck::cast_slice(&words));
+
+        if !update.placed.is_empty() {
+            rec.bind_pipeline(compute, self.pool_tile.pipeline, layout, set);
+            let mut params = spec.params;
+            // Every blade of a pool tile kept, at its own width.
+            params.full_distance = 1e6;
+            for &(slot, tile) in &update.placed {
+                let push = TilePush {
+                    params,
+                    tile,
+                    slot: UVec2::new(slot as u32 * spec.tile_blades(), 0),
+                    camera: camera.extend(0.0),
+                };
+                rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+                rec.dispatch((spec.tile_blades().div_ceil(SIMULATE_WORKGROUP), 1));
+            }
+        }
+        rec.memory_barrier(
+            (S::COPY, A::TRANSFER_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
+        );
+
+        // The far tiles in view: a square of candidates around the camera's tile.
+        let size = spec.params.size;
+        let reach_tiles = (spec.reach / size).ceil() as i32 + 1;
+        let centre = (Vec2::new(camera.x, camera.z) / size).floor().as_ivec2();
+        let side = (2 * reach_tiles + 1) as u32;
+        let push = SelectPush {
+            view_proj: uniforms.camera.view_proj,
+            camera: camera.extend(spec.reach),
+            first: centre - IVec2::splat(reach_tiles),
+            count: UVec2::splat(side),
+            ground: shared::glam::Vec4::new(spec.ground.0, spec.ground.1, 0.0, 0.0),
+            params: spec.params,
+            far: UVec4::new(spec.pool_tiles, spec.far_blades, spec.pool_blades(), 0),
+        };
+        rec.bind_pipeline(compute, self.select.pipeline, layout, set);
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        let groups = (side * side).div_ceil(SIMULATE_WORKGROUP);
+        let max_x = self.ctx.properties.limits.max_compute_work_group_count[0];
+        rec.dispatch((groups.min(max_x), groups.div_ceil(max_x)));
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (
+                S::COMPUTE_SHADER | S::DRAW_INDIRECT,
+                A::SHADER_READ | A::INDIRECT_COMMAND_READ,
+            ),
+        );
+        rec.bind_pipeline(compute, self.generate.pipeline, layout, set);
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        rec.dispatch_indirect(tiles.buffer, (TILES_DISPATCH * 4) as u64);
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
+        );
+
+        self.stats = PoolStats {
+            held: self.pool.held().count() as u32,
+            slots: spec.pool_tiles,
+            placed: update.placed.len() as u32,
+            evictions: self.pool.evictions,
+            dropped: update.dropped as u32,
+            pinned: self.trails.len() as u32,
+        };
+        Ok(())
+    }
+}
+
+impl TiledSpec {
+    /// Words of the tile buffer for this layout: the header, the pool's table and the
+    /// list of far tiles (every candidate of the selection's square at most).
+    pub fn tile_words(&self) -> u32 {
+        let side = 2 * ((self.reach / self.params.size).ceil() as u32 + 1) + 1;
+        (TILES_LIST + TILE_WORDS * (side * side) as usize) as u32
+    }
+
+    /// Checks the layout against the pool table's room.
+    pub fn check(&self) -> Result<()> {
+        if self.pool_tiles as usize > MAX_POOL_TILES || self.pool_tiles == 0 {
+            anyhow::bail!(
+                "a tiled field's pool holds 1 to {MAX_POOL_TILES} tiles, not {}",
+                self.pool_tiles
+            );
+        }
+        if !self.params.per_side.is_power_of_two() {
+            anyhow::bail!(
+                "tiles need a power of two blades a side, not {}",
+                self.params.per_side
+            );
+        }
+        Ok(())
+    }
+}

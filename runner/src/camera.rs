@@ -91,6 +91,32 @@ mod tests {
     use super::*;
 
     #[test]
+    fn flying_forward_moves_the_target_where_the_camera_looks_and_keeps_it_over_the_ground() {
+        let mut camera = OrbitCamera::framing(10.0);
+        camera.yaw = 0.0;
+        let fly = Fly {
+            on: true,
+            speed: 4.0,
+        };
+        let before = camera.target;
+        let looking = (camera.target - camera.eye()).with_y(0.0).normalize();
+        fly.step(&mut camera, glam::Vec2::new(0.0, 1.0), 0.5, |x, _| {
+            Some(x * 0.1)
+        });
+        let moved = camera.target - before;
+        assert!(
+            (moved.with_y(0.0) - looking * 2.0).length() < 1e-5,
+            "{moved}"
+        );
+        assert!((camera.target.y - (camera.target.x * 0.1 + 1.0)).abs() < 1e-6);
+        let mut fast = fly;
+        for _ in 0..20 {
+            fast.change_speed(true);
+        }
+        assert_eq!(fast.speed, Fly::SPEEDS.1);
+    }
+
+    #[test]
     fn target_projects_to_the_centre_in_vulkan_depth() {
         let cam = OrbitCamera::framing(20.0);
         let clip = cam.view_proj(1.5) * cam.target.extend(1.0);
@@ -100,5 +126,55 @@ mod tests {
         // A point above the target appears higher: negative y in Vulkan.
         let above = cam.view_proj(1.5) * (cam.target + Vec3::Y).extend(1.0);
         assert!(above.y / above.w < 0.0);
+    }
+}
+
+/// Flying the camera over the ground (the viewer's F key): the arrow keys move the
+/// orbit's target forward, back and sideways at `speed` units a second, and the target
+/// keeps `height` above the ground under it.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Fly {
+    /// The arrows fly the camera (else they roll the ball).
+    pub on: bool,
+    /// Units a second.
+    pub speed: f32,
+}
+
+impl Default for Fly {
+    /// Off, 8 units a second.
+    fn default() -> Self {
+        Self {
+            on: false,
+            speed: 8.0,
+        }
+    }
+}
+
+impl Fly {
+    /// Slowest and fastest speeds (units a second) the keys and the overlay offer.
+    pub const SPEEDS: (f32, f32) = (1.0, 512.0);
+
+    /// Moves `camera`'s target by `axis` (right, forward in −1..1) for `dt` seconds,
+    /// then to `height` above `ground(x, z)` where there is ground.
+    pub fn step(
+        &self,
+        camera: &mut OrbitCamera,
+        axis: glam::Vec2,
+        dt: f32,
+        ground: impl Fn(f32, f32) -> Option<f32>,
+    ) {
+        let (sy, cy) = camera.yaw.sin_cos();
+        let right = Vec3::new(cy, 0.0, -sy);
+        let forward = Vec3::new(-sy, 0.0, -cy);
+        camera.target += (right * axis.x + forward * axis.y) * self.speed * dt;
+        if let Some(y) = ground(camera.target.x, camera.target.z) {
+            camera.target.y = y + 1.0;
+        }
+    }
+
+    /// Twice as fast (`faster`) or half as fast, within [`Fly::SPEEDS`].
+    pub fn change_speed(&mut self, faster: bool) {
+        let factor = if faster { 2.0 } else { 0.5 };
+        self.speed = (self.speed * factor).clamp(Self::SPEEDS.0, Self::SPEEDS.1);
     }
 }

@@ -13,8 +13,8 @@ use shared::layout::{
     RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
 };
 use shared::layout::{
-    COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT, GENERATE_WORKGROUP, SelectPush,
-    TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+    COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT, EMPTY_SLOT, GENERATE_WORKGROUP,
+    SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -27,7 +27,7 @@ use shared::raster::{
     prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
-use shared::tiles::{blade_id, far_count, kept, tile_blade, tile_in_view};
+use shared::tiles::{blade_id, drawn_width, far_count, kept, tile_blade, tile_in_view};
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
@@ -48,6 +48,7 @@ pub struct BladeBuffers<'a> {
     pyramid: &'a [f32],
     levels: &'a mut [f32],
     ids: &'a [u32],
+    tiles: &'a [u32],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -72,6 +73,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
@@ -83,6 +85,7 @@ pub fn simulate_cull(
         pyramid,
         levels,
         ids,
+        tiles,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
     let prepare =
@@ -120,6 +123,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &mut [DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
@@ -131,6 +135,7 @@ pub fn simulate_cull_natural(
         pyramid,
         levels,
         ids,
+        tiles,
     };
     let camera = frame.camera.position;
     let prepare = |index: u32, id: u32, kept: &Blade| {
@@ -178,6 +183,7 @@ fn simulate_and_cull<T: Copy + Default>(
         pyramid,
         levels,
         ids,
+        tiles,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
@@ -197,13 +203,32 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut prepared = T::default();
     let mut level = 0.0;
     let mut name = index;
+    // A pool blade's width as its distance thins it, like a far one's.
+    let mut pool_width = 0.0;
     if in_field && tiled {
-        in_field = kept(&blades[index as usize]);
-        name = ids[index as usize];
+        let i = index as usize;
+        name = ids[i];
+        if simulated {
+            let params = &push.tiles;
+            let per_tile = params.per_side * params.per_side;
+            let slot = TILES_POOL + 2 * (index / per_tile) as usize;
+            let tile = IVec2::new(tiles[slot] as i32, tiles[slot + 1] as i32);
+            let blade = &blades[i];
+            if tile.x != EMPTY_SLOT && blade.height() > 0.0 {
+                let camera = frame.camera.position;
+                pool_width = drawn_width(tile, index % per_tile, blade.root(), camera, params);
+            }
+            in_field = pool_width > 0.0;
+        } else {
+            in_field = kept(&blades[i]);
+        }
     }
     if in_field {
         let i = index as usize;
         let mut blade = blades[i];
+        if tiled && simulated {
+            blade = blade.with_width(pool_width);
+        }
         if simulated {
             let strength;
             (blade, strength) = simulate(

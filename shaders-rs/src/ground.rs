@@ -2,11 +2,12 @@
 //! with the soil texture generated in the fragment stage.
 
 use crate::{ShadowMap, sun_shadow};
-use shared::layout::{FrameUniforms, SurfacePush};
+use shared::layout::{FrameUniforms, GROUND_GRID, SurfacePush};
 use shared::look::{LOOK_NATURAL, fog, natural_ground, shade_ground};
 use shared::shade::{lambert, surface_albedo};
+use shared::terrain::{valley_height, valley_normal};
 use spirv_std::Sampler;
-use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
+use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
 
 /// One surface vertex, placed by the push constant's model matrix.
@@ -22,12 +23,24 @@ pub fn ground_vs(
     out_normal: &mut Vec3,
     #[spirv(flat)] out_material: &mut u32,
 ) {
-    let world = push.model * position.xyz().extend(1.0);
+    let (world, n) = place(push, position, normal);
     *out_position = frame.camera.view_proj * world;
     *out_world = world.xyz();
-    // Models are rotations, translations and uniform scales: no inverse transpose.
-    *out_normal = (push.model * normal.xyz().extend(0.0)).xyz();
+    *out_normal = n;
     *out_material = position.w as u32;
+}
+
+/// A surface vertex in the world and its normal: through the model matrix, or on
+/// the valley's height field for its ground grid (`SurfacePush::terrain`).
+fn place(push: &SurfacePush, position: Vec4, normal: Vec4) -> (Vec4, Vec3) {
+    let world = push.model * position.xyz().extend(1.0);
+    if push.terrain.x == GROUND_GRID {
+        let half = Vec2::splat(push.terrain.y);
+        let p = world.xz().clamp(-half, half);
+        return (Vec4::new(p.x, valley_height(p), p.y, 1.0), valley_normal(p));
+    }
+    // Models are rotations, translations and uniform scales: no inverse transpose.
+    (world, (push.model * normal.xyz().extend(0.0)).xyz())
 }
 
 /// The surface's material, lit by the sun. In the natural look: soil under grass
@@ -69,6 +82,6 @@ pub fn shadow_surface_vs(
     #[spirv(push_constant)] push: &SurfacePush,
     #[spirv(position)] out_position: &mut Vec4,
 ) {
-    let world = push.model * position.xyz().extend(1.0);
+    let (world, _) = place(push, position, Vec4::ZERO);
     *out_position = frame.look.shadow_view_proj * world;
 }

@@ -87,6 +87,14 @@ impl Blade {
         }
     }
 
+    /// The blade drawn `width` wide; the rest as it is.
+    pub fn with_width(&self, width: f32) -> Self {
+        Self {
+            v2: self.v2.truncate().extend(width),
+            ..*self
+        }
+    }
+
     /// Width direction t1: unit vector at angle θ in the plane perpendicular to `up`.
     pub fn width_dir(&self) -> Vec3 {
         width_dir(self.up_dir(), self.orientation())

@@ -327,6 +327,11 @@ pub struct SimulatePush {
     pub first_step: u32,
     /// Number of fixed steps this frame.
     pub steps: u32,
+    /// Padding to the tiles' 8-byte alignment.
+    pub pad: UVec2,
+    /// A tiled field's layout (its pool's blades thin with distance as the far ones:
+    /// `tiles::drawn_width`); unused in a stored field.
+    pub tiles: TileParams,
 }
 
 /// Push constants of one level of the depth-pyramid reduction.
@@ -365,13 +370,23 @@ pub struct SurfaceVertex {
 }
 
 /// Push constants of the surface draws: the model matrix (identity for the ground,
-/// placement and size for the collider ball).
+/// placement and size for the collider ball, the camera's place for the valley's
+/// grid) and whether the vertices are a terrain grid.
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SurfacePush {
     /// Model to world.
     pub model: Mat4,
+    /// x: [`GROUND_GRID`] where the vertices are the valley's ground grid around the
+    /// camera (`terrain::grid_offset`: each placed on the valley's height field, x and
+    /// z clamped to ± y, the world's half extent), else [`GROUND_MESH`]; z, w unused.
+    pub terrain: Vec4,
 }
+
+/// A surface draw of mesh vertices as they are.
+pub const GROUND_MESH: f32 = 0.0;
+/// A surface draw of the valley's ground grid (`SurfacePush::terrain`).
+pub const GROUND_GRID: f32 = 1.0;
 
 /// Push constants of the triangle-throughput reference: the tessellation level of
 /// every patch and the grid of screen cells the patches are laid on.

@@ -95,6 +95,33 @@ pub fn valley_normal(p: Vec2) -> Vec3 {
     Vec3::new(-g.x, 1.0, -g.y).normalize()
 }
 
+/// The valley's ground as drawn: a grid around the camera (`scene`'s), its vertex
+/// `u` cells from the centre along an axis at `spacing` · (e^(growth·|u|) − 1) /
+/// growth, so cells are `spacing` wide at the camera and grow in proportion to the
+/// distance (about the same size on screen near and far), and the vertex stage
+/// places each on [`valley_height`] with [`valley_normal`]. A grid of a fixed number
+/// of cells whatever the world's size: the ground's memory does not grow with it.
+pub fn grid_offset(u: f32, growth: f32, spacing: f32) -> f32 {
+    let far = spacing * ((growth * u.abs()).exp() - 1.0) / growth.max(1e-6);
+    if u < 0.0 { -far } else { far }
+}
+
+/// The growth of [`grid_offset`] that puts vertex `half_cells` at `reach` (bisection;
+/// `reach` beyond `spacing` · `half_cells`).
+#[cfg(not(target_arch = "spirv"))]
+pub fn grid_growth(half_cells: u32, spacing: f32, reach: f32) -> f32 {
+    let (mut lo, mut hi) = (1e-6f32, 10.0f32);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if grid_offset(half_cells as f32, mid, spacing) < reach {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Whether the ground at `p` is bare: on the path, where no blade grows.
 pub fn bare(p: Vec2) -> bool {
     across_path(p).0.abs() < PATH_BARE
@@ -103,6 +130,26 @@ pub fn bare(p: Vec2) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_ground_grid_grows_with_distance_and_reaches_the_asked_distance() {
+        let (cells, spacing, reach) = (80, 0.5, 2900.0);
+        let growth = grid_growth(cells, spacing, reach);
+        assert!((grid_offset(cells as f32, growth, spacing) - reach).abs() < 0.01 * reach);
+        assert!((grid_offset(1.0, growth, spacing) - spacing).abs() < 0.05 * spacing);
+        assert_eq!(
+            grid_offset(-3.0, growth, spacing),
+            -grid_offset(3.0, growth, spacing)
+        );
+        // A cell's width over its distance stays about even (within a factor of two
+        // from ten cells out).
+        let ratio = |u: f32| {
+            let width = grid_offset(u + 1.0, growth, spacing) - grid_offset(u, growth, spacing);
+            width / grid_offset(u, growth, spacing)
+        };
+        let (near, far) = (ratio(10.0), ratio(cells as f32 - 1.0));
+        assert!(near / far < 2.0 && near > far, "{near} {far}");
+    }
 
     /// Points spread over 2 km × 2 km around the origin, and a few near the path.
     fn points() -> impl Iterator<Item = Vec2> {

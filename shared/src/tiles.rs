@@ -205,30 +205,39 @@ pub fn width_scale(rank: f32, density: f32) -> f32 {
 /// stands on bare ground.
 pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) -> Blade {
     let root2 = root_of(tile, index, params);
-    let valley = params.terrain == TERRAIN_VALLEY;
-    let (height_at, up) = if valley {
+    let (height_at, up) = if params.terrain == TERRAIN_VALLEY {
         (terrain::valley_height(root2), terrain::valley_normal(root2))
     } else {
         (0.0, Vec3::Y)
     };
     let root = Vec3::new(root2.x, height_at, root2.y);
-    let inside = root2.abs().max_element() < params.half_extent;
-    let grows = inside && !(valley && terrain::bare(root2));
-    let scale = if grows {
-        width_scale(
-            rank_of(tile, index, params),
-            density((root - camera).length(), params),
-        )
-    } else {
-        0.0
-    };
-    let seed = params.seed;
-    let pick = |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, seed, k);
+    let pick =
+        |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
     let orientation = pick(3, (0.0, core::f32::consts::TAU));
     let height = pick(4, HEIGHT);
-    let width = pick(5, WIDTH) * scale;
+    let width = drawn_width(tile, index, root, camera, params);
     let stiffness = pick(6, STIFFNESS);
     Blade::at_rest(root, up, orientation, height, width, stiffness)
+}
+
+/// How wide blade `index` of `tile`, rooted at `root`, is drawn seen from `camera`:
+/// its own width (drawn from [`WIDTH`]) times [`width_scale`] at its rank and
+/// distance; 0 outside the world and, on the valley, on the bare path. The pool's
+/// simulated blades take theirs from here every frame, so they thin with distance
+/// exactly as the far tiles' generated ones do.
+pub fn drawn_width(tile: IVec2, index: u32, root: Vec3, camera: Vec3, params: &TileParams) -> f32 {
+    let root2 = Vec2::new(root.x, root.z);
+    let inside = root2.abs().max_element() < params.half_extent;
+    let valley = params.terrain == TERRAIN_VALLEY;
+    if !inside || (valley && terrain::bare(root2)) {
+        return 0.0;
+    }
+    let scale = width_scale(
+        rank_of(tile, index, params),
+        density((root - camera).length(), params),
+    );
+    let (lo, hi) = WIDTH;
+    (lo + (hi - lo) * blade_unit(tile, index, params.seed, 5)) * scale
 }
 
 /// Whether a generated blade is drawn: its rank has not left it ([`tile_blade`]).

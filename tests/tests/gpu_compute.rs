@@ -104,6 +104,7 @@ fn run_both(
         let push = SimulatePush {
             first_step: frame * STEPS_PER_FRAME,
             steps: STEPS_PER_FRAME,
+            ..Default::default()
         };
         driver.compute_frame(uniforms, push).expect("compute frame");
         for state in &mut host {

@@ -125,6 +125,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                 let push = SimulatePush {
                     first_step: frame * MAX_STEPS_PER_FRAME,
                     steps: MAX_STEPS_PER_FRAME,
+                    ..Default::default()
                 };
                 driver
                     .compute_frame(&uniforms, push)
@@ -154,6 +155,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                 let push = SimulatePush {
                     first_step: step,
                     steps: MAX_STEPS_PER_FRAME,
+                    ..Default::default()
                 };
                 driver.compute_frame(&uniforms, push).expect("calm frame");
                 step += MAX_STEPS_PER_FRAME;
@@ -164,6 +166,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                 let push = SimulatePush {
                     first_step: step,
                     steps: 1,
+                    ..Default::default()
                 };
                 driver.compute_frame(&uniforms, push).expect("one step");
                 step += 1;

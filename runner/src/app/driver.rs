@@ -181,7 +181,11 @@ impl FrameDriver {
         Ok(Some(Frame {
             slot,
             acquired,
-            push: SimulatePush { first_step, steps },
+            push: SimulatePush {
+                first_step,
+                steps,
+                ..Default::default()
+            },
             time: self.clock.time(),
         }))
     }

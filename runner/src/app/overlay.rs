@@ -1,6 +1,8 @@
 //! The viewer's overlay (egui): frame rate and a frame-time graph, GPU time per pass,
 //! the blade counts of each culling test, and every live setting as a control.
 
+use crate::camera::Fly;
+use crate::passes::tiles::PoolStats;
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
 use shared::settings::{BladeShape, GrassPipeline, Look, Settings, View, WindField};
@@ -23,6 +25,8 @@ pub struct Readings {
     pub times: Option<PassTimes>,
     /// The scene has surfaces that can hide grass.
     pub occluders: bool,
+    /// A tiled field's pool, as the last frame left it.
+    pub pool: Option<PoolStats>,
     /// Something the user should know, shown above everything (a device made again).
     pub notice: Option<String>,
 }
@@ -96,7 +100,7 @@ impl Overlay {
         window: &Window,
         readings: &Readings,
         settings: &mut Settings,
-        ball_on: &mut bool,
+        (ball_on, fly): (&mut bool, &mut Fly),
     ) -> Option<Painted> {
         if !self.visible {
             return None;
@@ -110,6 +114,7 @@ impl Overlay {
                 .show(ctx, |ui| {
                     performance(ui, readings, &self.device, frame_ms);
                     counts(ui, readings);
+                    tiles(ui, readings, fly);
                     controls(ui, settings, ball_on);
                 });
         });
@@ -226,6 +231,41 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
     if !r.occluders {
         ui.label("(flat ground, no rock: nothing here can occlude)");
     }
+}
+
+/// A tiled field's far tiles and pool, and flying.
+fn tiles(ui: &mut egui::Ui, r: &Readings, fly: &mut Fly) {
+    ui.separator();
+    if let (Some(pool), Some(c)) = (r.pool, r.counts) {
+        egui::Grid::new("tiles").num_columns(2).show(ui, |ui| {
+            let rows = [
+                ("far tiles in view", c.far_tiles.to_string()),
+                ("their blades", c.far_blades.to_string()),
+                ("far tiles short of room", c.tiles_short.to_string()),
+                (
+                    "pool tiles held",
+                    format!("{} of {}", pool.held, pool.slots),
+                ),
+                ("placed this frame", pool.placed.to_string()),
+                ("evicted, all told", pool.evictions.to_string()),
+                ("needed, no slot", pool.dropped.to_string()),
+                ("kept by a trail", pool.pinned.to_string()),
+            ];
+            for (name, value) in rows {
+                ui.label(name);
+                ui.label(value);
+                ui.end_row();
+            }
+        });
+    }
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut fly.on, "fly with the arrows (F)");
+        ui.add(
+            egui::Slider::new(&mut fly.speed, Fly::SPEEDS.0..=Fly::SPEEDS.1)
+                .logarithmic(true)
+                .text("units/s (+ -)"),
+        );
+    });
 }
 
 /// The culling tests, LOD, view, wind, forces, shape and ball.

@@ -32,7 +32,7 @@ impl Renderer {
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
         let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
-        self.record_compute(rec, push, false, mesh);
+        self.record_compute(rec, self.simulate_push(push), false, mesh);
         self.copy_counters(rec, queries);
     }
 

@@ -108,6 +108,9 @@ pub struct Meshes<'a> {
     pub has_occluders: bool,
     /// A tiled field's layout: then `blades` is empty and the blades come from tiles.
     pub tiles: Option<TiledSpec>,
+    /// The valley's half extent: its ground is drawn as a grid around the camera on
+    /// its height field rather than from `surface` (`passes::ground`).
+    pub valley: Option<f32>,
 }
 
 /// The renderer: the field and the passes of one frame.
@@ -172,6 +175,7 @@ impl Renderer {
             color_format,
             &surfaces,
             meshes.ball,
+            meshes.valley,
         )?;
         let one = vk::SampleCountFlags::TYPE_1;
         let raster = RasterPass::new(ctx, &module, &field, color_format, one)?;
@@ -302,6 +306,7 @@ impl Renderer {
         };
         uniforms.look.shadow_size = self.shadow.size();
         self.tile_uniforms(&mut uniforms);
+        self.ground.follow(uniforms.camera.position);
         uniforms.raster.width = target.extent.width;
         uniforms.raster.height = target.extent.height;
         if !self.raster.supported() {
@@ -339,7 +344,7 @@ impl Renderer {
             self.clumped = Some(clumps);
         }
         let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
-        self.record_compute(rec, input.push, natural, mesh);
+        self.record_compute(rec, self.simulate_push(input.push), natural, mesh);
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             let balls = used_balls(&uniforms);
@@ -381,6 +386,17 @@ impl Renderer {
             pass.free_textures(frame.textures)?;
         }
         Ok(())
+    }
+
+    /// `push` with a tiled field's layout (its pool's blades thin as the far ones).
+    fn simulate_push(&self, push: SimulatePush) -> SimulatePush {
+        match &self.tiles {
+            Some(tiles) => SimulatePush {
+                tiles: tiles.spec().params,
+                ..push
+            },
+            None => push,
+        }
     }
 
     /// A tiled field's part of the frame block: its pool's blades simulated, the rest

@@ -69,6 +69,12 @@ pub struct CullCounts {
     /// Of those, the pixels it wrote (in front of the hardware's depth and of the far
     /// blade the pixel held).
     pub raster_written: u32,
+    /// A tiled field's far tiles in view.
+    pub far_tiles: u32,
+    /// The far blades they asked for (generated up to the field's room).
+    pub far_blades: u32,
+    /// Far tiles that found too little room.
+    pub tiles_short: u32,
 }
 
 impl CullCounts {
@@ -83,6 +89,9 @@ impl CullCounts {
             compute: c[layout::COUNTER_FAR],
             raster_covered: c[layout::COUNTER_RASTER_COVERED],
             raster_written: c[layout::COUNTER_RASTER_WRITTEN],
+            far_tiles: c[layout::COUNTER_TILES],
+            far_blades: c[layout::COUNTER_TILE_BLADES],
+            tiles_short: c[layout::COUNTER_TILES_SHORT],
         }
     }
     /// Blades removed by any test.

@@ -82,6 +82,19 @@ pub fn valley(side: f32, cells: u32) -> SurfaceMesh {
     )
 }
 
+/// The valley's ground grid around the camera (`shared::terrain::grid_offset`):
+/// `cells`×`cells` quads, `spacing` wide at the centre and growing with the distance
+/// out to `reach` at the edge, flat at y = 0, its vertices placed on the valley by
+/// the vertex stage around the camera (`layout::SurfacePush::terrain`).
+pub fn ground_grid(cells: u32, spacing: f32, reach: f32) -> SurfaceMesh {
+    use shared::terrain::{grid_growth, grid_offset};
+    let cells = cells.clamp(2, MAX_CELLS) & !1;
+    let half = cells / 2;
+    let growth = grid_growth(half, spacing, reach);
+    let coordinate = |i: u32| grid_offset(i as f32 - half as f32, growth, spacing);
+    grid_over(cells, coordinate, |_, _| 0.0, |_, _| Vec3::Y)
+}
+
 /// A height field `height(x, z)` with normals `normal(x, z)` over the square of side
 /// `side` centred on the origin, `cells`×`cells` quads of two triangles each.
 fn grid(
@@ -91,8 +104,18 @@ fn grid(
     normal: impl Fn(f32, f32) -> Vec3,
 ) -> SurfaceMesh {
     let cells = cells.clamp(1, MAX_CELLS);
-    let n = cells + 1;
     let coordinate = |i: u32| side * (i as f32 / cells as f32 - 0.5);
+    grid_over(cells, coordinate, height, normal)
+}
+
+/// [`grid`] with vertex `i` along each axis at `coordinate(i)`.
+fn grid_over(
+    cells: u32,
+    coordinate: impl Fn(u32) -> f32,
+    height: impl Fn(f32, f32) -> f32,
+    normal: impl Fn(f32, f32) -> Vec3,
+) -> SurfaceMesh {
+    let n = cells + 1;
     let mut mesh = SurfaceMesh::default();
     for j in 0..n {
         for i in 0..n {

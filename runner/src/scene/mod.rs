@@ -98,10 +98,12 @@ pub struct Scene {
 
 /// Side of the valley scene (units, metres in its terrain's terms): 2 km.
 pub const VALLEY_SIDE: f32 = 2000.0;
-/// Quads along a side of the valley's ground mesh (7.8 units each): the blades stand
-/// on the analytic height, which the mesh follows within 0.18 units between its
-/// vertices (the shortest hill, 41 units long and 1 high, curves by 0.024 a unit²:
-/// 0.024 · 7.8² / 8), the path's carve excepted.
+/// Quads along a side of the valley's mesh (7.8 units each): what the ball rolls on
+/// and the camera flies over, and what a stored field's blades grow on; it follows the
+/// analytic height within 0.18 units between its vertices (the shortest hill, 41
+/// units long and 1 high, curves by 0.024 a unit²: 0.024 · 7.8² / 8), the path's
+/// carve excepted. The ground is drawn from the height field itself
+/// (`passes::ground::GRID_CELLS`).
 pub const VALLEY_CELLS: u32 = 256;
 
 /// The blade scale of the natural look on a loaded scene of radius `radius`: glTF
@@ -311,6 +313,7 @@ impl Scene {
             ball: &self.ball,
             has_occluders: self.has_occluders(),
             tiles: self.tiles,
+            valley: (self.name == "valley").then_some(0.5 * VALLEY_SIDE),
         }
     }
 

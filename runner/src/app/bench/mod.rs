@@ -69,10 +69,11 @@ fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
     if let Some(n) = common.blades {
         return vec![n];
     }
-    // A tiled field is one world, whatever the count.
+    // A tiled field is one world, whatever the count (the stored blades of a count
+    // of one are dropped).
     let valley = common.scene_kind() == crate::scene::SceneKind::Valley;
     if common.field == Some(crate::cli::FieldChoice::Tiles) || (valley && common.field.is_none()) {
-        return vec![0];
+        return vec![1];
     }
     if !args.counts.is_empty() {
         return args.counts.clone();
@@ -136,7 +137,8 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     let mut references = References::default();
     let (mut view, mut unculled) = (Vec::new(), Vec::new());
     let progress = Progress::new(total);
-    for &n in &counts {
+    let mut last_count = counts.last().copied().unwrap_or(0);
+    for (at, &n) in counts.iter().enumerate() {
         // The file was checked before the device opened; read again for each count.
         let file = if file.is_some() {
             common.scene_kind().read()?
@@ -153,8 +155,11 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         if args.camera == CameraPreset::Flight && scene.name != "valley" {
             anyhow::bail!("--camera flight flies over the valley: add --scene valley");
         }
+        let mut n = n;
         if super::tiled(common, &scene)? {
             scene.make_tiled(super::tiled_spec(&scene, &ctx));
+            n = scene.blade_count();
+            last_count = n;
         }
         let mut base = super::settings(common, &scene);
         super::device_defaults(&mut base, common, &ctx)?;
@@ -227,7 +232,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 let unculled = &unculled_by[at.unwrap_or(0)];
                 point.difference = mean_difference(&view, unculled);
             }
-            if Some(&n) == counts.last() && look == looks[0] {
+            if at + 1 == counts.len() && look == looks[0] {
                 progress.show(points.len(), "references");
                 references = measure_references(&mut driver.renderer, &offscreen, n, &pipelines)?;
             }
@@ -238,7 +243,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     print_table(&device, args, &points);
     print_looks(&points);
     print_raster(&points);
-    print_references(counts.last().copied().unwrap_or(0), &references, &points);
+    print_references(last_count, &references, &points);
     write_csv(&args.out, &device, common, args, &points, &references)
         .with_context(|| format!("write {}", args.out.display()))?;
     log::info!("wrote {}", args.out.display());
@@ -279,6 +284,7 @@ fn measure(
     driver.clock = SimClock::default();
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
     let (mut compute_drawn, mut covered, mut written) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut far_tiles, mut far_blades) = (Vec::new(), Vec::new());
     let mut triangles = Vec::new();
     let mut last = Instant::now();
     let slots = FRAMES_IN_FLIGHT as u32;
@@ -295,6 +301,8 @@ fn measure(
             times.extend(r.times);
             drawn.extend(r.counts.map(|c| f64::from(c.drawn)));
             compute_drawn.extend(r.counts.map(|c| f64::from(c.compute)));
+            far_tiles.extend(r.counts.map(|c| f64::from(c.far_tiles)));
+            far_blades.extend(r.counts.map(|c| f64::from(c.far_blades)));
             covered.extend(r.counts.map(|c| f64::from(c.raster_covered)));
             written.extend(r.counts.map(|c| f64::from(c.raster_written)));
             triangles.extend(r.triangles.map(|t| t as f64));
@@ -311,7 +319,15 @@ fn measure(
         .then(|| Spread::of(&triangles).median)
         .filter(|&t| t > 0.0 || !drawn_any);
     let pass = |f: fn(&PassTimes) -> f64| Spread::of(&times.iter().map(f).collect::<Vec<_>>());
+    let potential = driver
+        .renderer
+        .tiles
+        .as_ref()
+        .map_or(0.0, |t| t.spec().potential_blades());
     Ok(Point {
+        potential,
+        far_tiles: Spread::of(&far_tiles).median,
+        far_blades: Spread::of(&far_blades).median,
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,

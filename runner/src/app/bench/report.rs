@@ -102,6 +102,24 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
             ns_per_drawn_blade(p).map_or("-".into(), |ns| format!("{ns:.2}"))
         );
     }
+    print_tiled(points);
+}
+
+/// A tiled field's line per point: the world's blades, the far tiles and blades in
+/// view, and the GPU frame's 99th percentile against its median (issue 19's targets).
+pub fn print_tiled(points: &[Point]) {
+    for p in points.iter().filter(|p| p.potential > 0.0) {
+        println!(
+            "tiled field, {:?} look: {:.0} M blades in the world; {:.0} far tiles in view with              {:.0} blades generated (medians); GPU frame median {:.3} ms, p99 {:.3} ms ({:.2}x)",
+            p.look,
+            p.potential / 1e6,
+            p.far_tiles,
+            p.far_blades,
+            p.gpu.median,
+            p.gpu.p99,
+            p.gpu.p99 / p.gpu.median.max(1e-9)
+        );
+    }
 }
 
 /// The grass pass's median time per blade it drew, in nanoseconds; `None` where the
@@ -226,7 +244,8 @@ pub fn write_csv(
          look,msaa,shadow_ms_median,resolve_ms_median,tone_map_ms_median,pipeline,\
          grass_ns_per_drawn_blade,compute_raster_below,drawn_by_compute,\
          raster_ms_median,raster_pixels_covered,raster_pixels_written,\
-         raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written\n",
+         raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written,\
+         gpu_ms_p99,potential_blades,far_tiles,far_blades\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -237,7 +256,7 @@ pub fn write_csv(
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         let costs = raster_costs(p);
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0}\n",
             common.scene,
             args.camera,
             args.width,
@@ -276,6 +295,10 @@ pub fn write_csv(
             optional(costs.map(|c| c.0), 3),
             optional(costs.map(|c| c.1), 3),
             optional(costs.map(|c| c.2), 3),
+            p.gpu.p99,
+            p.potential,
+            p.far_tiles,
+            p.far_blades,
         );
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {

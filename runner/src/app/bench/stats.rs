@@ -6,13 +6,15 @@ use crate::cli::BenchConfig;
 use shared::settings::GrassPipeline;
 use shared::settings::Look;
 
-/// The median and 95th percentile of some samples.
+/// The median, 95th and 99th percentiles of some samples.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
 pub struct Spread {
     /// 50th percentile.
     pub median: f64,
     /// 95th percentile.
     pub p95: f64,
+    /// 99th percentile.
+    pub p99: f64,
 }
 
 impl Spread {
@@ -31,6 +33,7 @@ impl Spread {
         Self {
             median: rank(0.5),
             p95: rank(0.95),
+            p99: rank(0.99),
         }
     }
 }
@@ -56,8 +59,14 @@ pub struct Point {
     pub raster_written: f64,
     /// Configuration.
     pub config: BenchConfig,
-    /// Blades in the field.
+    /// Blades in the field (a tiled field's room for them).
     pub blades: u32,
+    /// A tiled field's blades in the world at full density; 0 for a stored field.
+    pub potential: f64,
+    /// Median far tiles in view and the far blades generated for them (tiled).
+    pub far_tiles: f64,
+    /// Median far blades generated (tiled).
+    pub far_blades: f64,
     /// Blades drawn (median).
     pub drawn: f64,
     /// CPU time between frames.
@@ -221,14 +230,16 @@ mod tests {
             Spread::of(&samples),
             Spread {
                 median: 10.0,
-                p95: 19.0
+                p95: 19.0,
+                p99: 20.0
             }
         );
         assert_eq!(
             Spread::of(&[3.0]),
             Spread {
                 median: 3.0,
-                p95: 3.0
+                p95: 3.0,
+                p99: 3.0
             }
         );
         assert_eq!(Spread::of(&[]), Spread::default());

@@ -8,7 +8,7 @@ mod gpu;
 use super::driver::FrameSpec;
 use super::overlay::{Overlay, Readings};
 use super::storm::{Gust, Storm};
-use crate::camera::OrbitCamera;
+use crate::camera::{Fly, OrbitCamera};
 use crate::cli::{Common, ViewArgs};
 use crate::collider::{Ball, drop_onto};
 use crate::passes::overlay::OverlayFrame;
@@ -63,7 +63,7 @@ struct Mouse {
 
 /// The controls, printed at start.
 pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: zoom, \
-arrows: roll the ball, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
+arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
 N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, P: pipeline (tessellation, mesh), O: overlay on/off, Esc: quit";
@@ -141,6 +141,8 @@ struct Running {
     ball: Option<Ball>,
     ball_on: bool,
     arrows: Arrows,
+    /// The arrows fly the camera.
+    fly: Fly,
     mouse: Mouse,
     overlay: Overlay,
     pace: Pace,
@@ -185,6 +187,7 @@ impl Running {
             ball,
             ball_on: true,
             arrows: Arrows::default(),
+            fly: Fly::default(),
             scene,
             mouse: Mouse::default(),
             overlay,
@@ -271,13 +274,14 @@ impl Running {
             counts: readback.counts,
             times: readback.times,
             occluders: self.gpu.driver.renderer.has_occluders,
+            pool: self.gpu.driver.renderer.tiles.as_ref().map(|t| t.stats),
             notice: self.notice.clone(),
         };
         let painted = self.overlay.run(
             &self.window,
             &readings,
             &mut self.settings,
-            &mut self.ball_on,
+            (&mut self.ball_on, &mut self.fly),
         );
         let balls: Vec<_> = self
             .ball
@@ -355,10 +359,16 @@ impl Running {
     /// Moves the ball along its path (to where it is at simulated time `time`), or by
     /// the arrow keys (relative to the camera).
     fn move_ball(&mut self, dt: f32, time: f32) {
+        let axis = self.arrows.axis();
+        if self.fly.on {
+            let solid = &self.scene.solid;
+            let ground = |x, z| drop_onto(solid, Vec2::new(x, z)).map(|c| c.position.y);
+            self.fly.step(&mut self.camera, axis, dt.min(0.1), ground);
+            return;
+        }
         let Some(ball) = self.ball.as_mut() else {
             return;
         };
-        let axis = self.arrows.axis();
         if axis != Vec2::ZERO {
             // A key takes over from the path.
             self.common.collider_path = None;
@@ -387,6 +397,18 @@ impl Running {
             Key::Named(NamedKey::ArrowUp) => self.arrows.up = true,
             Key::Named(NamedKey::ArrowDown) => self.arrows.down = true,
             Key::Character(c) => match c.as_str() {
+                "f" | "F" => {
+                    self.fly.on = !self.fly.on;
+                    log::info!(
+                        "arrows fly the camera: {} ({} units a second)",
+                        if self.fly.on { "on" } else { "off" },
+                        self.fly.speed
+                    );
+                }
+                "+" | "=" | "-" => {
+                    self.fly.change_speed(c.as_str() != "-");
+                    log::info!("flying speed {} units a second", self.fly.speed);
+                }
                 "b" | "B" => {
                     self.ball_on = !self.ball_on;
                     log::info!("ball {}", if self.ball_on { "on" } else { "off" });

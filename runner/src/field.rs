@@ -307,11 +307,15 @@ impl Field {
             } => {
                 let size = u64::from(count) * size_of::<Blade>() as u64;
                 let blades = device_buffer("blades", size, blade_usage | U::TRANSFER_DST)?;
-                let ids = device_buffer("blade ids", u64::from(count) * 4, U::STORAGE_BUFFER)?;
+                let ids = device_buffer(
+                    "blade ids",
+                    u64::from(count) * 4,
+                    U::STORAGE_BUFFER | U::TRANSFER_SRC,
+                )?;
                 let tiles = device_buffer(
                     "tiles",
                     u64::from(tile_words) * 4,
-                    U::STORAGE_BUFFER | U::INDIRECT_BUFFER | U::TRANSFER_DST,
+                    U::STORAGE_BUFFER | U::INDIRECT_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
                 )?;
                 // Every slot empty (width 0) until a tile fills it.
                 pool.one_shot(|rec| rec.fill_buffer(blades.buffer, 0))?;

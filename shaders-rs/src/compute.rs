@@ -203,7 +203,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut prepared = T::default();
     let mut level = 0.0;
     let mut name = index;
-    // A pool blade's width as its distance thins it, like a far one's.
+    // A pool blade's width as its distance thins it, like a far one's: a blade its
+    // rank has left is still simulated (its trail decays as if seen) but not drawn.
     let mut pool_width = 0.0;
     if in_field && tiled {
         let i = index as usize;
@@ -214,20 +215,27 @@ fn simulate_and_cull<T: Copy + Default>(
             let slot = TILES_POOL + 2 * (index / per_tile) as usize;
             let tile = IVec2::new(tiles[slot] as i32, tiles[slot + 1] as i32);
             let blade = &blades[i];
-            if tile.x != EMPTY_SLOT && blade.height() > 0.0 {
-                let camera = frame.camera.position;
-                pool_width = drawn_width(tile, index % per_tile, blade.root(), camera, params);
+            let root = blade.root();
+            let k = index % per_tile;
+            // A blade of a held tile that grows there (its width at the root).
+            in_field = tile.x != EMPTY_SLOT
+                && blade.height() > 0.0
+                && drawn_width(tile, k, root, root, params) > 0.0;
+            if in_field {
+                pool_width = drawn_width(tile, k, root, frame.camera.position, params);
             }
-            in_field = pool_width > 0.0;
         } else {
             in_field = kept(&blades[i]);
         }
     }
+    let mut drawn = in_field;
+    let mut blade = Blade::default();
     if in_field {
         let i = index as usize;
-        let mut blade = blades[i];
+        blade = blades[i];
         if tiled && simulated {
             blade = blade.with_width(pool_width);
+            drawn = pool_width > 0.0;
         }
         if simulated {
             let strength;
@@ -241,6 +249,8 @@ fn simulate_and_cull<T: Copy + Default>(
             blades[i] = blade;
             strengths[i] = strength;
         }
+    }
+    if drawn {
         outcome = cull_outcome(
             &blade,
             name,
@@ -299,7 +309,7 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     workgroup_memory_barrier_with_group_sync();
 
-    if in_field && outcome == KEPT {
+    if drawn && outcome == KEPT {
         let slot = if far {
             far_slot(tally[COUNTER_FAR] + place, frame.grass.blades)
         } else {

@@ -83,9 +83,14 @@ impl TilesPass {
         &self.spec
     }
 
-    /// The tile the pool's slot `slot` holds, if any.
+    /// The pool's slot holding `tile`, if any.
     pub fn slot_of(&self, tile: IVec2) -> Option<usize> {
         self.pool.slot_of(tile)
+    }
+
+    /// The tiles the pool holds and their slots.
+    pub fn held(&self) -> Vec<(IVec2, usize)> {
+        self.pool.held().collect()
     }
 
     /// Records the frame's tile work, `seconds` after the last frame: the pool's

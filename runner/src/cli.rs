@@ -202,6 +202,10 @@ pub struct Common {
     /// [default: tiles on the valley, stored elsewhere].
     #[arg(long, global = true, value_enum)]
     pub field: Option<FieldChoice>,
+    /// A greyscale PNG laid over the scene's ground seen from above (its top row at
+    /// −z): white where every blade grows, black where none does.
+    #[arg(long, global = true)]
+    pub density_map: Option<PathBuf>,
     /// Wind field.
     #[arg(long, global = true, value_enum, default_value_t = WindField::Breeze)]
     pub wind: WindField,

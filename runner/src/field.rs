@@ -46,7 +46,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 22] = [
+pub const BINDINGS: [BindingSpec; 23] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -115,6 +115,8 @@ pub const BINDINGS: [BindingSpec; 22] = [
     // A tiled field's tile words and blade ids (placeholders in a stored field).
     storage(layout::BINDING_TILES),
     storage(layout::BINDING_IDS),
+    // The painted density map (`shared::paint`).
+    storage(layout::BINDING_PAINT),
 ];
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -160,9 +162,12 @@ pub enum FieldBlades<'a> {
     /// These blades, uploaded once and simulated in place.
     Stored(&'a [Blade]),
     /// A tiled field (issue 19): room for `simulated` pool blades, simulated in
-    /// place, then for `far` blades generated every frame, and `tile_words` words of
-    /// tile lists (`layout::BINDING_TILES`).
+    /// place, then for `far` blades generated every frame, `tile_words` words of
+    /// tile lists (`layout::BINDING_TILES`), and the painted density map's words
+    /// (`shared::paint`; empty for none).
     Tiled {
+        /// The density map's words.
+        paint: &'a [u32],
         /// Blades of the pool's slots.
         simulated: u32,
         /// Room for the far tiles' blades.
@@ -192,6 +197,8 @@ pub struct Field {
     pub tiles: Option<Buffer>,
     /// A tiled field's blade ids (`layout::BINDING_IDS`).
     pub ids: Option<Buffer>,
+    /// The painted density map's words (`layout::BINDING_PAINT`).
+    pub paint: Buffer,
     /// Blades per indirect draw command.
     pub chunk_size: u32,
     /// Number of indirect draw commands.
@@ -295,6 +302,12 @@ impl Field {
         let gpu = MemoryLocation::GpuOnly;
         let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
         let blade_usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
+        let no_map = [0u32; shared::paint::HEADER_WORDS];
+        let paint_words = match source {
+            FieldBlades::Tiled { paint, .. } if !paint.is_empty() => paint,
+            _ => &no_map[..],
+        };
+        let paint = Buffer::upload(ctx, pool, "density map", paint_words, U::STORAGE_BUFFER)?;
         let (blade_buffer, simulated, tiles, ids) = match source {
             FieldBlades::Stored(blades) => {
                 let buffer = Buffer::upload(ctx, pool, "blades", blades, blade_usage)?;
@@ -408,6 +421,7 @@ impl Field {
         };
         descriptors.write_buffer(layout::BINDING_TILES, storage, tile_words);
         descriptors.write_buffer(layout::BINDING_IDS, storage, blade_ids);
+        descriptors.write_buffer(layout::BINDING_PAINT, storage, paint.buffer);
         let layout = PipelineLayout::new(ctx, descriptors.layout, PUSH_CONSTANTS)?;
 
         Ok(Self {
@@ -415,6 +429,7 @@ impl Field {
             simulated,
             tiles,
             ids,
+            paint,
             chunk_size,
             chunk_count,
             blades: blade_buffer,

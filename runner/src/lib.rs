@@ -5,7 +5,8 @@
 //! frame in order, [`renderer`] records one frame start to end, and [`app`] the
 //! frame driver (`app::driver`: slots, submission, presentation or capture, the
 //! simulation clock, read-back) and the shells that use it (window viewer, `render`,
-//! `bench`, `soak`); [`tiles`] the tiled field's host side (issue 19, first pieces).
+//! `bench`, `soak`); [`tiles`] the tiled field's host side (issue 19) and [`paint`]
+//! its painted maps.
 //! The settings are typed (`shared::settings`) and become the
 //! shaders' numbers in one place, `Settings::uniforms`.
 
@@ -14,6 +15,7 @@ pub mod camera;
 pub mod cli;
 pub mod collider;
 pub mod field;
+pub mod paint;
 pub mod parse;
 pub mod passes;
 pub mod renderer;

@@ -49,6 +49,7 @@ pub struct BladeBuffers<'a> {
     levels: &'a mut [f32],
     ids: &'a [u32],
     tiles: &'a [u32],
+    paint: &'a [u32],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -75,6 +76,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -86,6 +88,7 @@ pub fn simulate_cull(
         levels,
         ids,
         tiles,
+        paint,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
     let prepare =
@@ -125,6 +128,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -136,6 +140,7 @@ pub fn simulate_cull_natural(
         levels,
         ids,
         tiles,
+        paint,
     };
     let camera = frame.camera.position;
     let prepare = |index: u32, id: u32, kept: &Blade| {
@@ -184,6 +189,7 @@ fn simulate_and_cull<T: Copy + Default>(
         levels,
         ids,
         tiles,
+        paint,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
@@ -220,9 +226,9 @@ fn simulate_and_cull<T: Copy + Default>(
             // A blade of a held tile that grows there (its width at the root).
             in_field = tile.x != EMPTY_SLOT
                 && blade.height() > 0.0
-                && drawn_width(tile, k, root, root, params) > 0.0;
+                && drawn_width(tile, k, root, root, params, paint) > 0.0;
             if in_field {
-                pool_width = drawn_width(tile, k, root, frame.camera.position, params);
+                pool_width = drawn_width(tile, k, root, frame.camera.position, params, paint);
             }
         } else {
             in_field = kept(&blades[i]);
@@ -627,11 +633,13 @@ pub fn generate_tile(
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(push_constant)] push: &TilePush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     let params = &push.params;
     if index < params.per_side * params.per_side {
-        out[index as usize] = tile_blade(push.tile, index, push.camera.truncate(), params);
+        let camera = push.camera.truncate();
+        out[index as usize] = tile_blade(push.tile, index, camera, params, paint);
     }
 }
 
@@ -649,12 +657,13 @@ pub fn generate_pool_tile(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &mut [Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     let params = &push.params;
     if index < params.per_side * params.per_side {
         let slot = (push.slot.x + index) as usize;
-        let blade = tile_blade(push.tile, index, push.camera.truncate(), params);
+        let blade = tile_blade(push.tile, index, push.camera.truncate(), params, paint);
         blades[slot] = blade;
         strengths[slot] = 0.0;
         ids[slot] = blade_id(push.tile, index);
@@ -758,6 +767,7 @@ pub fn generate_far(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &mut [Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
 ) {
     let entry = TILES_LIST + TILE_WORDS * group.x as usize;
     let tile = IVec2::new(tiles[entry] as i32, tiles[entry + 1] as i32);
@@ -768,7 +778,7 @@ pub fn generate_far(
     let mut k = local;
     while k < count {
         let slot = (first + k) as usize;
-        let blade = tile_blade(tile, k, camera, &push.params);
+        let blade = tile_blade(tile, k, camera, &push.params, paint);
         blades[slot] = blade;
         ids[slot] = blade_id(tile, k);
         if natural {

@@ -18,6 +18,7 @@ pub mod look;
 #[cfg(not(target_arch = "spirv"))]
 pub mod mesh;
 pub mod meshlet;
+pub mod paint;
 pub mod raster;
 pub mod reference;
 #[cfg(not(target_arch = "spirv"))]

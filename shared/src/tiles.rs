@@ -192,10 +192,19 @@ pub fn far_count(tile: IVec2, camera: Vec3, params: &TileParams, ground: (f32, f
 /// [`MAX_WIDENING`]), so it comes and goes without popping, and near the camera
 /// (density above 1 / (1 − FADE)) every blade at its own width.
 pub fn width_scale(rank: f32, density: f32) -> f32 {
-    if rank >= density {
+    painted_scale(rank, density, 1.0)
+}
+
+/// [`width_scale`] where a painted density map reads `paint` (0..1): a blade is kept
+/// while its rank is below `density` · `paint` and fades over the last [`FADE`] of
+/// that share, widening only for the distance (the map takes blades and coverage
+/// away together).
+pub fn painted_scale(rank: f32, density: f32, paint: f32) -> f32 {
+    let share = density * paint;
+    if rank >= share {
         return 0.0;
     }
-    let fade = ((density - rank) / (FADE * density)).min(1.0);
+    let fade = ((share - rank) / (FADE * share)).min(1.0);
     fade * (1.0 / density.min(1.0)).min(MAX_WIDENING)
 }
 
@@ -203,7 +212,13 @@ pub fn width_scale(rank: f32, density: f32) -> f32 {
 /// up +Y, or the valley, up its normal), seen from `camera`, its width carrying
 /// [`width_scale`]: 0 (not [`kept`]) when its rank has left it at that distance or it
 /// stands on bare ground.
-pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) -> Blade {
+pub fn tile_blade(
+    tile: IVec2,
+    index: u32,
+    camera: Vec3,
+    params: &TileParams,
+    map: &[u32],
+) -> Blade {
     let root2 = root_of(tile, index, params);
     let (height_at, up) = if params.terrain == TERRAIN_VALLEY {
         (terrain::valley_height(root2), terrain::valley_normal(root2))
@@ -215,26 +230,35 @@ pub fn tile_blade(tile: IVec2, index: u32, camera: Vec3, params: &TileParams) ->
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
     let orientation = pick(3, (0.0, core::f32::consts::TAU));
     let height = pick(4, HEIGHT);
-    let width = drawn_width(tile, index, root, camera, params);
+    let width = drawn_width(tile, index, root, camera, params, map);
     let stiffness = pick(6, STIFFNESS);
     Blade::at_rest(root, up, orientation, height, width, stiffness)
 }
 
 /// How wide blade `index` of `tile`, rooted at `root`, is drawn seen from `camera`:
 /// its own width (drawn from [`WIDTH`]) times [`width_scale`] at its rank and
-/// distance; 0 outside the world and, on the valley, on the bare path. The pool's
+/// distance and the density `map` ([`painted_scale`], `paint::sample`; `&[]` for
+/// none); 0 outside the world and, on the valley, on the bare path. The pool's
 /// simulated blades take theirs from here every frame, so they thin with distance
 /// exactly as the far tiles' generated ones do.
-pub fn drawn_width(tile: IVec2, index: u32, root: Vec3, camera: Vec3, params: &TileParams) -> f32 {
+pub fn drawn_width(
+    tile: IVec2,
+    index: u32,
+    root: Vec3,
+    camera: Vec3,
+    params: &TileParams,
+    map: &[u32],
+) -> f32 {
     let root2 = Vec2::new(root.x, root.z);
     let inside = root2.abs().max_element() < params.half_extent;
     let valley = params.terrain == TERRAIN_VALLEY;
     if !inside || (valley && terrain::bare(root2)) {
         return 0.0;
     }
-    let scale = width_scale(
+    let scale = painted_scale(
         rank_of(tile, index, params),
         density((root - camera).length(), params),
+        crate::paint::sample(map, root2, params.half_extent),
     );
     let (lo, hi) = WIDTH;
     (lo + (hi - lo) * blade_unit(tile, index, params.seed, 5)) * scale
@@ -315,7 +339,7 @@ mod tests {
 
     fn blades_of(tile: IVec2, camera: Vec3, params: &TileParams) -> Vec<(u32, Blade)> {
         (0..params.per_side * params.per_side)
-            .map(|i| (i, tile_blade(tile, i, camera, params)))
+            .map(|i| (i, tile_blade(tile, i, camera, params, &[])))
             .filter(|(_, b)| kept(b))
             .collect()
     }
@@ -449,7 +473,7 @@ mod tests {
         for tx in -2..=2 {
             let tile = IVec2::new(tile_of(Vec2::new(x, z), &params).x + tx, row);
             for i in 0..params.per_side * params.per_side {
-                let b = tile_blade(tile, i, NEAR, &params);
+                let b = tile_blade(tile, i, NEAR, &params, &[]);
                 let p = Vec2::new(b.root().x, b.root().z);
                 if terrain::bare(p) {
                     on_path += 1;
@@ -506,7 +530,7 @@ mod tests {
                     let visible = tile_in_view(tile, view_proj, eye, &params, (0.0, 0.0), 300.0);
                     let mut any = false;
                     for i in (0..params.per_side * params.per_side).step_by(7) {
-                        let b = tile_blade(tile, i, eye, &every);
+                        let b = tile_blade(tile, i, eye, &every, &[]);
                         for p in [b.root(), b.tip()] {
                             let c = view_proj * p.extend(1.0);
                             let inside = c.w > 0.0
@@ -565,7 +589,7 @@ mod tests {
             let camera = Vec3::new(-distance, 1.7, -3.0);
             let count = far_count(tile, camera, &params, (0.0, 0.0));
             let last_kept = (0..all)
-                .filter(|&i| kept(&tile_blade(tile, i, camera, &params)))
+                .filter(|&i| kept(&tile_blade(tile, i, camera, &params, &[])))
                 .max()
                 .map_or(0, |i| i + 1);
             assert!(last_kept <= count, "at {distance}: {last_kept} > {count}");

@@ -139,6 +139,9 @@ pub fn prepare(
             scene.degenerate
         );
     }
+    if let Some(path) = &common.density_map {
+        scene.paint = crate::paint::load(path)?;
+    }
     if tiled(common, &scene)? {
         let spec = tiled_spec(&scene, ctx);
         log::info!(
@@ -152,6 +155,7 @@ pub fn prepare(
         );
         scene.make_tiled(spec);
     } else {
+        scene.thin_by_paint();
         log::info!("scene {}: {} blades", scene.name, scene.blade_count());
     }
     let mut settings = settings(common, &scene);

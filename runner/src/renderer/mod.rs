@@ -108,6 +108,8 @@ pub struct Meshes<'a> {
     pub has_occluders: bool,
     /// A tiled field's layout: then `blades` is empty and the blades come from tiles.
     pub tiles: Option<TiledSpec>,
+    /// A tiled field's painted density map (`shared::paint` words; empty for none).
+    pub paint: &'a [u32],
     /// The valley's half extent: its ground is drawn as a grid around the camera on
     /// its height field rather than from `surface` (`passes::ground`).
     pub valley: Option<f32>,
@@ -149,6 +151,7 @@ impl Renderer {
             Some(spec) => {
                 spec.check()?;
                 FieldBlades::Tiled {
+                    paint: meshes.paint,
                     simulated: spec.pool_blades(),
                     far: spec.far_blades,
                     tile_words: spec.tile_words(),

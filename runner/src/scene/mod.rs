@@ -8,7 +8,7 @@ use crate::camera::OrbitCamera;
 use crate::renderer::Meshes;
 use crate::tiles::TiledSpec;
 use anyhow::{Context as _, Result, bail};
-use glam::Vec3;
+use glam::{Vec3, Vec3Swizzles};
 use shared::Blade;
 use shared::generate::{DENSITY, side_for};
 use shared::mesh::bvh::IndexedMesh;
@@ -94,6 +94,9 @@ pub struct Scene {
     /// A tiled field's layout (issue 19): then `blades` is empty and the blades come
     /// from tiles every frame.
     pub tiles: Option<TiledSpec>,
+    /// The painted density map laid over the world (`shared::paint` words; empty for
+    /// none).
+    pub paint: Vec<u32>,
 }
 
 /// Side of the valley scene (units, metres in its terrain's terms): 2 km.
@@ -241,6 +244,7 @@ impl Scene {
             bounds: (centre, radius),
             degenerate,
             tiles: None,
+            paint: Vec::new(),
         })
     }
 
@@ -248,6 +252,27 @@ impl Scene {
     pub fn make_tiled(&mut self, spec: TiledSpec) {
         self.blades = Vec::new();
         self.tiles = Some(spec);
+    }
+
+    /// A stored field under a density map (`paint`): each blade kept with the
+    /// probability the map reads at its root (by a hash of its index), the map laid
+    /// over the square around the ground's centre.
+    pub fn thin_by_paint(&mut self) {
+        if self.paint.len() <= shared::paint::HEADER_WORDS || self.tiles.is_some() {
+            return;
+        }
+        let Some((lo, hi)) = self.surface.bounds() else {
+            return;
+        };
+        let centre = 0.5 * (lo + hi);
+        let half = 0.5 * (hi.x - lo.x).max(hi.z - lo.z);
+        let mut index = 0u32;
+        self.blades.retain(|b| {
+            index += 1;
+            let p = (b.root() - centre).xz();
+            shared::look::hash_unit(index.wrapping_mul(0x9e37_79b9))
+                < shared::paint::sample(&self.paint, p, half)
+        });
     }
 
     /// The ground's lowest and highest points.
@@ -313,6 +338,7 @@ impl Scene {
             ball: &self.ball,
             has_occluders: self.has_occluders(),
             tiles: self.tiles,
+            paint: &self.paint,
             valley: (self.name == "valley").then_some(0.5 * VALLEY_SIDE),
         }
     }

@@ -1,0 +1,145 @@
+//! Painted maps read from PNG files (issue 19): `--density-map` lays a greyscale
+//! image over the world's square (its top row at −z), white where every blade grows,
+//! black where none does. Every way a file can be unusable is an error naming it.
+
+use anyhow::{Context as _, Result, bail};
+use image::{ColorType, ImageFormat, ImageReader};
+use std::path::Path;
+
+/// Largest side of a map (pixels): 8192 × 8192 is 64 MiB of texels on the device.
+pub const MAX_SIDE: u32 = 8192;
+
+/// The density map in `path` as `shared::paint` words: an 8-bit PNG (grey, grey and
+/// alpha, RGB or RGBA; its luminance), at most [`MAX_SIDE`] pixels a side.
+pub fn load(path: &Path) -> Result<Vec<u32>> {
+    let shown = path.display();
+    let mut signature = [0u8; 8];
+    std::fs::File::open(path)
+        .and_then(|mut f| std::io::Read::read(&mut f, &mut signature))
+        .with_context(|| format!("density map {shown}: cannot open it"))?;
+    // Every PNG starts with these eight bytes (PNG specification, 5.2).
+    if signature != [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'] {
+        bail!("density map {shown}: not a PNG image");
+    }
+    let reader = ImageReader::with_format(
+        std::io::BufReader::new(
+            std::fs::File::open(path)
+                .with_context(|| format!("density map {shown}: cannot open it"))?,
+        ),
+        ImageFormat::Png,
+    );
+    let (width, height) = reader
+        .into_dimensions()
+        .with_context(|| format!("density map {shown}: not a readable PNG"))?;
+    if width == 0 || height == 0 {
+        bail!("density map {shown}: the image has no pixels ({width}x{height})");
+    }
+    if width > MAX_SIDE || height > MAX_SIDE {
+        bail!("density map {shown}: {width}x{height} pixels, more than {MAX_SIDE} a side");
+    }
+    let file = std::fs::File::open(path)
+        .with_context(|| format!("density map {shown}: cannot open it"))?;
+    let image = ImageReader::with_format(std::io::BufReader::new(file), ImageFormat::Png)
+        .decode()
+        .with_context(|| format!("density map {shown}: not a readable PNG"))?;
+    let color = image.color();
+    if !matches!(
+        color,
+        ColorType::L8 | ColorType::La8 | ColorType::Rgb8 | ColorType::Rgba8
+    ) {
+        bail!("density map {shown}: {color:?} pixels; save it with 8 bits a channel");
+    }
+    let grey = image.to_luma8();
+    Ok(shared::paint::words(width, height, grey.as_raw()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp(name: &str) -> std::path::PathBuf {
+        std::env::temp_dir().join(format!("grass-paint-{}-{name}", std::process::id()))
+    }
+
+    /// PNG's CRC-32 (ISO 3309), bit by bit: the test's edited header needs one.
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 != 0 {
+                    (crc >> 1) ^ 0xedb8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        !crc
+    }
+
+    #[test]
+    fn a_grey_png_becomes_its_words() {
+        let path = temp("ok.png");
+        image::GrayImage::from_raw(3, 1, vec![0, 128, 255])
+            .unwrap()
+            .save(&path)
+            .unwrap();
+        assert_eq!(load(&path).unwrap(), vec![3, 1, 0x00ff_8000]);
+        std::fs::remove_file(path).ok();
+    }
+
+    #[test]
+    fn each_bad_file_is_named_with_what_is_wrong() {
+        let missing = temp("missing.png");
+        let error = format!("{:#}", load(&missing).unwrap_err());
+        assert!(
+            error.contains("cannot open") && error.contains("missing.png"),
+            "{error}"
+        );
+        let text = temp("text.png");
+        std::fs::write(&text, "not an image").unwrap();
+        let error = format!("{:#}", load(&text).unwrap_err());
+        assert!(
+            error.contains("not a PNG") && error.contains("text.png"),
+            "{error}"
+        );
+        let jpeg = temp("photo.jpg");
+        image::RgbImage::new(4, 4).save(&jpeg).unwrap();
+        assert!(format!("{:#}", load(&jpeg).unwrap_err()).contains("not a PNG"));
+        let deep = temp("deep.png");
+        image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::new(2, 2)
+            .save(&deep)
+            .unwrap();
+        let error = format!("{:#}", load(&deep).unwrap_err());
+        assert!(
+            error.contains("8 bits") && error.contains("deep.png"),
+            "{error}"
+        );
+        let cut = temp("cut.png");
+        let mut bytes = Vec::new();
+        image::GrayImage::new(64, 64)
+            .write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png)
+            .unwrap();
+        std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+        assert!(format!("{:#}", load(&cut).unwrap_err()).contains("cut.png"));
+        // A header claiming 100000 x 1 pixels (no need for the pixels: it is refused
+        // before they are read).
+        let huge = temp("huge.png");
+        let mut bytes = Vec::new();
+        image::GrayImage::new(1, 1)
+            .write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png)
+            .unwrap();
+        bytes[16..20].copy_from_slice(&100_000u32.to_be_bytes());
+        let crc = crc32(&bytes[12..29]);
+        bytes[29..33].copy_from_slice(&crc.to_be_bytes());
+        std::fs::write(&huge, &bytes).unwrap();
+        let error = format!("{:#}", load(&huge).unwrap_err());
+        assert!(
+            error.contains("more than 8192") && error.contains("huge.png"),
+            "{error}"
+        );
+        for p in [text, jpeg, deep, cut, huge] {
+            std::fs::remove_file(p).ok();
+        }
+    }
+}

@@ -13,8 +13,8 @@ use shared::layout::{
     RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, SimulatePush, far_slot, flat_index,
 };
 use shared::layout::{
-    COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT, EMPTY_SLOT, GENERATE_WORKGROUP,
-    SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+    COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_HIDDEN, COUNTER_TILES_SHORT, EMPTY_SLOT,
+    GENERATE_WORKGROUP, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -27,7 +27,9 @@ use shared::raster::{
     prepare_dispatch, raster_blade, raster_dispatch,
 };
 use shared::simulate::simulate;
-use shared::tiles::{blade_id, drawn_width, far_count, kept, tile_blade, tile_in_view};
+use shared::tiles::{
+    blade_id, drawn_width, far_count, kept, tile_blade, tile_ground, tile_in_view, tile_occluded,
+};
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
@@ -682,11 +684,14 @@ pub fn generate_pool_tile(
 /// and goes to the list at `layout::TILES_LIST`, whose length becomes the far
 /// generation's indirect dispatch.
 #[spirv(compute(threads(64)))]
+#[allow(clippy::too_many_arguments)]
 pub fn select_far_tiles(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(push_constant)] push: &SelectPush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &mut [u32],
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
@@ -695,15 +700,18 @@ pub fn select_far_tiles(
     }
     let tile = push.first + UVec2::new(index % push.count.x, index / push.count.x).as_ivec2();
     let camera = push.camera.truncate();
-    let ground = (push.ground.x, push.ground.y);
-    if !tile_in_view(
-        tile,
-        push.view_proj,
-        camera,
-        &push.params,
-        ground,
-        push.camera.w,
-    ) {
+    let (view_proj, params) = (push.view_proj, &push.params);
+    let ground = tile_ground(tile, params, (push.ground.x, push.ground.y));
+    if !tile_in_view(tile, view_proj, camera, params, ground, push.camera.w) {
+        return;
+    }
+    // The occlusion test at tile level (the pyramid is empty when it is off).
+    if tile_occluded(tile, params, ground, view_proj, pyramid, &frame.hiz) {
+        unsafe {
+            atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                &mut counters[COUNTER_TILES_HIDDEN],
+            );
+        }
         return;
     }
     let mut slot = 0;

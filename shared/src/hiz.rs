@@ -130,6 +130,11 @@ pub fn screen_bounds(blade: &Blade, view_proj: Mat4, screen: Vec2) -> ScreenBoun
     let half = Vec3::splat(0.5 * blade.width());
     let lo = blade.root().min(blade.guide()).min(blade.tip()) - half;
     let hi = blade.root().max(blade.guide()).max(blade.tip()) + half;
+    box_bounds(lo, hi, view_proj, screen)
+}
+
+/// The screen bounds of the box from `lo` to `hi` (its eight corners).
+pub fn box_bounds(lo: Vec3, hi: Vec3, view_proj: Mat4, screen: Vec2) -> ScreenBounds {
     let mut bounds = ScreenBounds {
         min: Vec2::splat(f32::MAX),
         max: Vec2::splat(f32::MIN),
@@ -160,18 +165,21 @@ pub fn screen_bounds(blade: &Blade, view_proj: Mat4, screen: Vec2) -> ScreenBoun
 
 /// True when every pixel of the rectangle [x0, x1] × [y0, y1] (inclusive, on screen)
 /// has occluder depth nearer than `nearest`: the farthest depth over the rectangle,
-/// read from the finest level where it spans at most 2×2 texels (the first level,
-/// going up from the screen, where it does).
+/// read from the finest level where it spans at most `span` × `span` texels (the
+/// first level, going up from the screen, where it does): 2 for a blade (four reads),
+/// more for a tile, whose box is wide on screen and would otherwise be read at a
+/// level so coarse that its texels take in the sky beside it.
 pub fn rect_occluded(
     pyramid: &[f32],
     hiz: &HiZLayout,
     (x0, y0): (u32, u32),
     (x1, y1): (u32, u32),
     nearest: f32,
+    span: u32,
 ) -> bool {
     let (mut a0, mut a1, mut b0, mut b1) = (x0, x1, y0, y1);
     let mut level = 0;
-    while level + 1 < hiz.levels && (a1 - a0 > 1 || b1 - b0 > 1) {
+    while level + 1 < hiz.levels && (a1 - a0 >= span || b1 - b0 >= span) {
         level += 1;
         a0 >>= 1;
         a1 >>= 1;
@@ -180,10 +188,22 @@ pub fn rect_occluded(
     }
     let (w, _) = level_size(hiz.width, hiz.height, level);
     let base = hiz.offset(level);
-    let at = |x: u32, y: u32| pyramid[(base + y * w + x) as usize];
-    let farthest = at(a0, b0).max(at(a1, b0)).max(at(a0, b1)).max(at(a1, b1));
+    let mut farthest = 0.0f32;
+    let mut y = b0;
+    while y <= b1 {
+        let mut x = a0;
+        while x <= a1 {
+            farthest = farthest.max(pyramid[(base + y * w + x) as usize]);
+            x += 1;
+        }
+        y += 1;
+    }
     nearest > farthest + DEPTH_BIAS
 }
+
+/// Texels a side a tile's rectangle is read over ([`box_occluded`]): at most 64
+/// reads.
+pub const TILE_SPAN: u32 = 8;
 
 /// Occlusion test: true when the blade is certainly hidden behind the occluders.
 /// Conservative: a blade partly off screen, crossing the camera plane, or not finite
@@ -193,7 +213,28 @@ pub fn occluded(blade: &Blade, view_proj: Mat4, pyramid: &[f32], hiz: &HiZLayout
         return false;
     }
     let screen = Vec2::new(hiz.width as f32, hiz.height as f32);
-    let b = screen_bounds(blade, view_proj, screen);
+    bounds_occluded(screen_bounds(blade, view_proj, screen), pyramid, hiz, 2)
+}
+
+/// [`occluded`] for the box from `lo` to `hi` (a tile of the tiled field and the
+/// blades it can hold: issue 19's tile-level test).
+pub fn box_occluded(lo: Vec3, hi: Vec3, view_proj: Mat4, pyramid: &[f32], hiz: &HiZLayout) -> bool {
+    if hiz.is_empty() {
+        return false;
+    }
+    let screen = Vec2::new(hiz.width as f32, hiz.height as f32);
+    bounds_occluded(
+        box_bounds(lo, hi, view_proj, screen),
+        pyramid,
+        hiz,
+        TILE_SPAN,
+    )
+}
+
+/// Whether everything within `b` is hidden (kept when off screen, crossing the
+/// camera plane or not finite).
+fn bounds_occluded(b: ScreenBounds, pyramid: &[f32], hiz: &HiZLayout, span: u32) -> bool {
+    let screen = Vec2::new(hiz.width as f32, hiz.height as f32);
     let min = b.min - MARGIN_PIXELS;
     let max = b.max + MARGIN_PIXELS;
     // Written so that NaN keeps the blade; also bounds the conversions below.
@@ -207,6 +248,7 @@ pub fn occluded(blade: &Blade, view_proj: Mat4, pyramid: &[f32], hiz: &HiZLayout
         (min.x as u32, min.y as u32),
         (max.x as u32, max.y as u32),
         b.nearest,
+        span,
     )
 }
 

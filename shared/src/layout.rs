@@ -245,8 +245,11 @@ pub const COUNTER_TILES: usize = COUNTER_RASTER_WRITTEN + 1;
 pub const COUNTER_TILE_BLADES: usize = COUNTER_TILES + 1;
 /// Far tiles in view that found no room (drawn with fewer blades or none).
 pub const COUNTER_TILES_SHORT: usize = COUNTER_TILE_BLADES + 1;
+/// Tiles in the view volume the occlusion test found hidden at tile level (their
+/// box behind the occluders' depth pyramid): no blade generated.
+pub const COUNTER_TILES_HIDDEN: usize = COUNTER_TILES_SHORT + 1;
 /// Number of `u32` counters.
-pub const COUNTER_COUNT: usize = COUNTER_TILES_SHORT + 1;
+pub const COUNTER_COUNT: usize = COUNTER_TILES_HIDDEN + 1;
 
 /// The camera, as the shaders see it.
 #[repr(C)]

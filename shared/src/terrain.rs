@@ -122,6 +122,11 @@ pub fn grid_growth(half_cells: u32, spacing: f32, reach: f32) -> f32 {
     0.5 * (lo + hi)
 }
 
+/// At most this much height per unit of ground anywhere on the valley (the sum of
+/// the hills' a·k and the path's steepest carve, 1.5 · D / W: 0.98): a tile's ground
+/// lies within this times its half diagonal of its centre's height.
+pub const VALLEY_MAX_SLOPE: f32 = 1.0;
+
 /// Whether the ground at `p` is bare: on the path, where no blade grows.
 pub fn bare(p: Vec2) -> bool {
     across_path(p).0.abs() < PATH_BARE
@@ -130,6 +135,15 @@ pub fn bare(p: Vec2) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn no_slope_is_steeper_than_the_bound() {
+        let steepest = points()
+            .map(|p| valley_gradient(p).length())
+            .fold(0.0f32, f32::max);
+        assert!(steepest < VALLEY_MAX_SLOPE, "{steepest}");
+        assert!(steepest > 0.5, "{steepest}: the bound is loose");
+    }
 
     #[test]
     fn the_ground_grid_grows_with_distance_and_reaches_the_asked_distance() {

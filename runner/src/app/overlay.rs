@@ -242,6 +242,7 @@ fn tiles(ui: &mut egui::Ui, r: &Readings, fly: &mut Fly) {
                 ("far tiles in view", c.far_tiles.to_string()),
                 ("their blades", c.far_blades.to_string()),
                 ("far tiles short of room", c.tiles_short.to_string()),
+                ("tiles hidden (occlusion)", c.tiles_hidden.to_string()),
                 (
                     "pool tiles held",
                     format!("{} of {}", pool.held, pool.slots),

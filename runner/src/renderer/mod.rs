@@ -331,14 +331,15 @@ impl Renderer {
         }
         stamp(Mark::Start);
         self.begin_compute(rec, &uniforms);
-        if let Some(tiles) = self.tiles.as_mut() {
-            let seconds = input.push.steps as f32 * shared::simulate::STEP_SECONDS;
-            tiles.record(rec, &self.field, &uniforms, seconds)?;
-        }
         let targets = self.targets.as_ref().context("draw targets")?;
         if occlusion {
             self.occlusion
                 .record(rec, &self.field, &self.ground, &targets.depth);
+        }
+        // After the pyramid: the far tiles are tested against it.
+        if let Some(tiles) = self.tiles.as_mut() {
+            let seconds = input.push.steps as f32 * shared::simulate::STEP_SECONDS;
+            tiles.record(rec, &self.field, &uniforms, seconds)?;
         }
         stamp(Mark::Pyramid);
         let clumps = (uniforms.look.seed, uniforms.look.clump_size);

@@ -75,6 +75,8 @@ pub struct CullCounts {
     pub far_blades: u32,
     /// Far tiles that found too little room.
     pub tiles_short: u32,
+    /// Tiles in the view volume the occlusion test hid at tile level.
+    pub tiles_hidden: u32,
 }
 
 impl CullCounts {
@@ -92,6 +94,7 @@ impl CullCounts {
             far_tiles: c[layout::COUNTER_TILES],
             far_blades: c[layout::COUNTER_TILE_BLADES],
             tiles_short: c[layout::COUNTER_TILES_SHORT],
+            tiles_hidden: c[layout::COUNTER_TILES_HIDDEN],
         }
     }
     /// Blades removed by any test.

@@ -206,6 +206,14 @@ pub struct Common {
     /// −z): white where every blade grows, black where none does.
     #[arg(long, global = true)]
     pub density_map: Option<PathBuf>,
+    /// A greyscale PNG over the ground (as --density-map): each blade's height times
+    /// twice its grey (mid grey keeps it) [tiled fields].
+    #[arg(long, global = true)]
+    pub height_map: Option<PathBuf>,
+    /// A colour PNG over the ground (as --density-map): the natural look's blade
+    /// colours times its colour (white keeps them) [tiled fields].
+    #[arg(long, global = true)]
+    pub colour_map: Option<PathBuf>,
     /// Wind field.
     #[arg(long, global = true, value_enum, default_value_t = WindField::Breeze)]
     pub wind: WindField,

@@ -1,56 +1,91 @@
-//! Painted maps read from PNG files (issue 19): `--density-map` lays a greyscale
-//! image over the world's square (its top row at −z), white where every blade grows,
-//! black where none does. Every way a file can be unusable is an error naming it.
+//! Painted maps read from PNG files (issue 19): `--density-map`, `--height-map` and
+//! `--colour-map` lay an image over the world's square (its top row at −z):
+//! `shared::paint` says what each means. Every way a file can be unusable is an error
+//! naming the map and the file.
 
 use anyhow::{Context as _, Result, bail};
 use image::{ColorType, ImageFormat, ImageReader};
 use std::path::Path;
 
-/// Largest side of a map (pixels): 8192 × 8192 is 64 MiB of texels on the device.
-pub const MAX_SIDE: u32 = 8192;
+/// Largest side of a map (pixels): 4096 × 4096 is 64 MiB of texels on the device.
+pub const MAX_SIDE: u32 = 4096;
 
-/// The density map in `path` as `shared::paint` words: an 8-bit PNG (grey, grey and
-/// alpha, RGB or RGBA; its luminance), at most [`MAX_SIDE`] pixels a side.
-pub fn load(path: &Path) -> Result<Vec<u32>> {
+/// One map: which (`shared::paint::DENSITY`, ...), its size and its RGBA texels.
+pub type Map = (usize, u32, u32, Vec<[u8; 4]>);
+
+/// The maps the command line names, as `shared::paint` words (empty for none).
+pub fn load_all(
+    density: Option<&Path>,
+    height: Option<&Path>,
+    colour: Option<&Path>,
+) -> Result<Vec<u32>> {
+    use shared::paint::{COLOUR, DENSITY, HEIGHT};
+    let mut maps = Vec::new();
+    for (which, path) in [(DENSITY, density), (HEIGHT, height), (COLOUR, colour)] {
+        if let Some(path) = path {
+            maps.push(load(path, which)?);
+        }
+    }
+    if maps.is_empty() {
+        return Ok(Vec::new());
+    }
+    let refs: Vec<_> = maps
+        .iter()
+        .map(|(which, w, h, texels)| (*which, *w, *h, texels.as_slice()))
+        .collect();
+    Ok(shared::paint::words(&refs))
+}
+
+/// Map `which` in `path`: an 8-bit PNG (grey, grey and alpha, RGB or RGBA), at most
+/// [`MAX_SIDE`] pixels a side; the density and height maps are read as grey (their
+/// luminance), the colour map as it is.
+pub fn load(path: &Path, which: usize) -> Result<Map> {
+    let name = ["density", "height", "colour"][which.min(2)];
+    load_named(path, which).map_err(|e| e.context(format!("{name} map")))
+}
+
+fn load_named(path: &Path, which: usize) -> Result<Map> {
     let shown = path.display();
     let mut signature = [0u8; 8];
     std::fs::File::open(path)
         .and_then(|mut f| std::io::Read::read(&mut f, &mut signature))
-        .with_context(|| format!("density map {shown}: cannot open it"))?;
+        .with_context(|| format!("{shown}: cannot open it"))?;
     // Every PNG starts with these eight bytes (PNG specification, 5.2).
     if signature != [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'] {
-        bail!("density map {shown}: not a PNG image");
+        bail!("{shown}: not a PNG image");
     }
     let reader = ImageReader::with_format(
         std::io::BufReader::new(
-            std::fs::File::open(path)
-                .with_context(|| format!("density map {shown}: cannot open it"))?,
+            std::fs::File::open(path).with_context(|| format!("{shown}: cannot open it"))?,
         ),
         ImageFormat::Png,
     );
     let (width, height) = reader
         .into_dimensions()
-        .with_context(|| format!("density map {shown}: not a readable PNG"))?;
+        .with_context(|| format!("{shown}: not a readable PNG"))?;
     if width == 0 || height == 0 {
-        bail!("density map {shown}: the image has no pixels ({width}x{height})");
+        bail!("{shown}: the image has no pixels ({width}x{height})");
     }
     if width > MAX_SIDE || height > MAX_SIDE {
-        bail!("density map {shown}: {width}x{height} pixels, more than {MAX_SIDE} a side");
+        bail!("{shown}: {width}x{height} pixels, more than {MAX_SIDE} a side");
     }
-    let file = std::fs::File::open(path)
-        .with_context(|| format!("density map {shown}: cannot open it"))?;
+    let file = std::fs::File::open(path).with_context(|| format!("{shown}: cannot open it"))?;
     let image = ImageReader::with_format(std::io::BufReader::new(file), ImageFormat::Png)
         .decode()
-        .with_context(|| format!("density map {shown}: not a readable PNG"))?;
+        .with_context(|| format!("{shown}: not a readable PNG"))?;
     let color = image.color();
     if !matches!(
         color,
         ColorType::L8 | ColorType::La8 | ColorType::Rgb8 | ColorType::Rgba8
     ) {
-        bail!("density map {shown}: {color:?} pixels; save it with 8 bits a channel");
+        bail!("{shown}: {color:?} pixels; save it with 8 bits a channel");
     }
-    let grey = image.to_luma8();
-    Ok(shared::paint::words(width, height, grey.as_raw()))
+    let texels = if which == shared::paint::COLOUR {
+        image.to_rgba8().pixels().map(|p| p.0).collect()
+    } else {
+        shared::paint::grey(image.to_luma8().as_raw())
+    };
+    Ok((which, width, height, texels))
 }
 
 #[cfg(test)]
@@ -84,33 +119,41 @@ mod tests {
             .unwrap()
             .save(&path)
             .unwrap();
-        assert_eq!(load(&path).unwrap(), vec![3, 1, 0x00ff_8000]);
+        let (which, w, h, texels) = load(&path, shared::paint::DENSITY).unwrap();
+        assert_eq!((which, w, h), (shared::paint::DENSITY, 3, 1));
+        assert_eq!(
+            texels,
+            vec![[0, 0, 0, 255], [128, 128, 128, 255], [255, 255, 255, 255]]
+        );
+        let words = load_all(Some(&path), None, Some(&path)).unwrap();
+        assert_eq!(words[shared::paint::HEIGHT], 0, "no height map");
+        assert!(words[shared::paint::DENSITY] > 0 && words[shared::paint::COLOUR] > 0);
         std::fs::remove_file(path).ok();
     }
 
     #[test]
     fn each_bad_file_is_named_with_what_is_wrong() {
         let missing = temp("missing.png");
-        let error = format!("{:#}", load(&missing).unwrap_err());
+        let error = format!("{:#}", load(&missing, 0).unwrap_err());
         assert!(
             error.contains("cannot open") && error.contains("missing.png"),
             "{error}"
         );
         let text = temp("text.png");
         std::fs::write(&text, "not an image").unwrap();
-        let error = format!("{:#}", load(&text).unwrap_err());
+        let error = format!("{:#}", load(&text, 0).unwrap_err());
         assert!(
             error.contains("not a PNG") && error.contains("text.png"),
             "{error}"
         );
         let jpeg = temp("photo.jpg");
         image::RgbImage::new(4, 4).save(&jpeg).unwrap();
-        assert!(format!("{:#}", load(&jpeg).unwrap_err()).contains("not a PNG"));
+        assert!(format!("{:#}", load(&jpeg, 0).unwrap_err()).contains("not a PNG"));
         let deep = temp("deep.png");
         image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::new(2, 2)
             .save(&deep)
             .unwrap();
-        let error = format!("{:#}", load(&deep).unwrap_err());
+        let error = format!("{:#}", load(&deep, 1).unwrap_err());
         assert!(
             error.contains("8 bits") && error.contains("deep.png"),
             "{error}"
@@ -121,7 +164,7 @@ mod tests {
             .write_to(&mut std::io::Cursor::new(&mut bytes), ImageFormat::Png)
             .unwrap();
         std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
-        assert!(format!("{:#}", load(&cut).unwrap_err()).contains("cut.png"));
+        assert!(format!("{:#}", load(&cut, 2).unwrap_err()).contains("cut.png"));
         // A header claiming 100000 x 1 pixels (no need for the pixels: it is refused
         // before they are read).
         let huge = temp("huge.png");
@@ -133,9 +176,9 @@ mod tests {
         let crc = crc32(&bytes[12..29]);
         bytes[29..33].copy_from_slice(&crc.to_be_bytes());
         std::fs::write(&huge, &bytes).unwrap();
-        let error = format!("{:#}", load(&huge).unwrap_err());
+        let error = format!("{:#}", load(&huge, 0).unwrap_err());
         assert!(
-            error.contains("more than 8192") && error.contains("huge.png"),
+            error.contains("more than 4096") && error.contains("huge.png"),
             "{error}"
         );
         for p in [text, jpeg, deep, cut, huge] {

@@ -34,7 +34,7 @@ use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
 };
-use spirv_std::glam::{IVec2, UVec2, UVec3, Vec4};
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec4};
 use spirv_std::image::ImageWithMethods;
 use spirv_std::image::sample_with::sample_index;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
@@ -93,8 +93,9 @@ pub fn simulate_cull(
         paint,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
-    let prepare =
-        |_: u32, _: u32, kept: &Blade| ((), if mesh { blade_level(kept, frame) } else { 0.0 });
+    let prepare = |_: u32, _: u32, kept: &Blade, _: &[u32]| {
+        ((), if mesh { blade_level(kept, frame) } else { 0.0 })
+    };
     simulate_and_cull(
         id,
         local,
@@ -145,9 +146,24 @@ pub fn simulate_cull_natural(
         paint,
     };
     let camera = frame.camera.position;
-    let prepare = |index: u32, id: u32, kept: &Blade| {
+    let tiled = frame.grass.tiled != 0;
+    let half = push.tiles.half_extent;
+    let prepare = |index: u32, id: u32, kept: &Blade, paint: &[u32]| {
         let clump = Clump::unpack(clumps[index as usize]);
         let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
+        // The painted colour map (white where there is none).
+        let at = Vec2::new(blade.v0.x, blade.v0.z);
+        let colour = if tiled {
+            shared::paint::sample(paint, shared::paint::COLOUR, at, half)
+        } else {
+            Vec4::ONE
+        };
+        let tint = Vec4::new(
+            tint.x * colour.x,
+            tint.y * colour.y,
+            tint.z * colour.z,
+            tint.w,
+        );
         let (mask, _) = unpack_coverage(tint.w);
         let mesh = frame.grass.pipeline == PIPELINE_MESH;
         let level = if mesh && mask != 0 {
@@ -163,7 +179,7 @@ pub fn simulate_cull_natural(
     );
 }
 
-/// The body of both simulate-and-cull entry points: `prepare(index, id, blade)` runs
+/// The body of both simulate-and-cull entry points: `prepare(index, id, blade, maps)` runs
 /// for each visible blade and gives what `store(slot, ..)` writes once its slot of the
 /// visible list is known, and its level of detail on the mesh path (0: not drawn).
 /// In a tiled field (`GrassParams::tiled`) only the pool's blades are simulated, the
@@ -179,7 +195,7 @@ fn simulate_and_cull<T: Copy + Default>(
     push: &SimulatePush,
     buffers: BladeBuffers,
     tally: &mut [u32; COUNTER_COUNT],
-    mut prepare: impl FnMut(u32, u32, &Blade) -> (T, f32),
+    mut prepare: impl FnMut(u32, u32, &Blade, &[u32]) -> (T, f32),
     mut store: impl FnMut(usize, T),
 ) {
     let BladeBuffers {
@@ -284,7 +300,7 @@ fn simulate_and_cull<T: Copy + Default>(
             );
         }
         if outcome == KEPT {
-            (prepared, level) = prepare(index, name, &blade);
+            (prepared, level) = prepare(index, name, &blade, paint);
             if mesh && !far && level > 0.0 {
                 unsafe {
                     atomic_i_increment::<

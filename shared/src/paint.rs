@@ -1,30 +1,51 @@
-//! Painted maps (issue 19): an 8-bit image laid over the world's square, read where a
-//! blade grows. A map is `u32` words: its width and height, then its texels row by row
-//! (the image's top row at −z), four to a word, lowest byte first: the same words in a
-//! storage buffer on the GPU and in a `Vec` on the host. A map of no texels (fewer
-//! than two words, or a width of 0) reads 1 everywhere.
+//! Painted maps (issue 19): 8-bit images laid over the world's square, read where a
+//! blade grows: how dense the grass is ([`DENSITY`]), how tall ([`HEIGHT`]) and what
+//! colour ([`COLOUR`]). The maps travel in one set of `u32` words: a header of
+//! [`MAPS`] word offsets (0: no such map), then each map as its width, its height
+//! and its texels row by row (the image's top row at −z), one RGBA texel a word
+//! (red in the lowest byte): the same words in a storage buffer on the GPU and in a
+//! `Vec` on the host. A missing map reads white everywhere.
 
-use spirv_std::glam::Vec2;
+use spirv_std::glam::{Vec2, Vec4};
 
-/// Words before the texels.
-pub const HEADER_WORDS: usize = 2;
+/// The density map: its red channel (grey images have it in all three) is the share
+/// of blades that grow, 0 to 1.
+pub const DENSITY: usize = 0;
+/// The height map: each blade's height times twice its red channel (mid grey keeps
+/// the heights, white doubles them, black leaves a twentieth).
+pub const HEIGHT: usize = 1;
+/// The colour map: the natural look's blade colours times its RGB (white keeps them).
+pub const COLOUR: usize = 2;
+/// Maps a set can hold.
+pub const MAPS: usize = 3;
+/// Words of the set's header.
+pub const HEADER_WORDS: usize = MAPS;
 
-/// Texel (x, y) of `map`, 0..1.
-fn texel(map: &[u32], width: u32, x: u32, y: u32) -> f32 {
-    let at = (y * width + x) as usize;
-    let word = map[HEADER_WORDS + at / 4];
-    ((word >> (8 * (at % 4) as u32)) & 0xff) as f32 / 255.0
+/// Texel (x, y) of the map at `base`, 0..1 per channel.
+fn texel(set: &[u32], base: usize, width: u32, x: u32, y: u32) -> Vec4 {
+    let word = set[base + 2 + (y * width + x) as usize];
+    Vec4::new(
+        (word & 0xff) as f32,
+        ((word >> 8) & 0xff) as f32,
+        ((word >> 16) & 0xff) as f32,
+        (word >> 24) as f32,
+    ) / 255.0
 }
 
-/// `map` at ground point `p` (x, z), the map laid over the square from −`half` to
-/// `half`: bilinear between texel centres, clamped at the edges; 1 without a map.
-pub fn sample(map: &[u32], p: Vec2, half: f32) -> f32 {
-    if map.len() < HEADER_WORDS {
-        return 1.0;
+/// Map `which` of `set` at ground point `p` (x, z), laid over the square from
+/// −`half` to `half`: bilinear between texel centres, clamped at the edges; white
+/// where the set has no such map.
+pub fn sample(set: &[u32], which: usize, p: Vec2, half: f32) -> Vec4 {
+    if set.len() < HEADER_WORDS {
+        return Vec4::ONE;
     }
-    let (width, height) = (map[0], map[1]);
+    let base = set[which] as usize;
+    if base == 0 {
+        return Vec4::ONE;
+    }
+    let (width, height) = (set[base], set[base + 1]);
     if width == 0 || height == 0 {
-        return 1.0;
+        return Vec4::ONE;
     }
     let uv = (p + Vec2::splat(half)) / (2.0 * half).max(1e-6);
     let x = (uv.x * width as f32 - 0.5).clamp(0.0, (width - 1) as f32);
@@ -32,21 +53,47 @@ pub fn sample(map: &[u32], p: Vec2, half: f32) -> f32 {
     let (x0, y0) = (x as u32, y as u32);
     let (x1, y1) = ((x0 + 1).min(width - 1), (y0 + 1).min(height - 1));
     let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-    let top = texel(map, width, x0, y0) * (1.0 - fx) + texel(map, width, x1, y0) * fx;
-    let bottom = texel(map, width, x0, y1) * (1.0 - fx) + texel(map, width, x1, y1) * fx;
+    let top = texel(set, base, width, x0, y0) * (1.0 - fx) + texel(set, base, width, x1, y0) * fx;
+    let bottom =
+        texel(set, base, width, x0, y1) * (1.0 - fx) + texel(set, base, width, x1, y1) * fx;
     top * (1.0 - fy) + bottom * fy
 }
 
-/// The words of a map `width` × `height` of `texels` (row by row).
+/// The share of blades that grow at `p` ([`DENSITY`]).
+pub fn density(set: &[u32], p: Vec2, half: f32) -> f32 {
+    sample(set, DENSITY, p, half).x
+}
+
+/// Whether `set` holds map `which`.
+pub fn has(set: &[u32], which: usize) -> bool {
+    set.len() >= HEADER_WORDS && set[which] != 0
+}
+
+/// The factor on a blade's height at `p` ([`HEIGHT`]): twice the map, at least 0.05;
+/// 1 without a height map.
+pub fn height_factor(set: &[u32], p: Vec2, half: f32) -> f32 {
+    if !has(set, HEIGHT) {
+        return 1.0;
+    }
+    (2.0 * sample(set, HEIGHT, p, half).x).max(0.05)
+}
+
+/// A set of maps, each `(which, width, height, RGBA texels row by row)`, as words.
 #[cfg(not(target_arch = "spirv"))]
-pub fn words(width: u32, height: u32, texels: &[u8]) -> Vec<u32> {
-    let mut words = vec![width, height];
-    words.extend(texels.chunks(4).map(|c| {
-        c.iter()
-            .enumerate()
-            .fold(0u32, |w, (i, &b)| w | (u32::from(b) << (8 * i)))
-    }));
+pub fn words(maps: &[(usize, u32, u32, &[[u8; 4]])]) -> Vec<u32> {
+    let mut words = vec![0u32; HEADER_WORDS];
+    for &(which, width, height, texels) in maps {
+        words[which] = words.len() as u32;
+        words.extend([width, height]);
+        words.extend(texels.iter().map(|&t| u32::from_le_bytes(t)));
+    }
     words
+}
+
+/// Grey texels as RGBA (the grey in red, green and blue, alpha 255).
+#[cfg(not(target_arch = "spirv"))]
+pub fn grey(texels: &[u8]) -> Vec<[u8; 4]> {
+    texels.iter().map(|&g| [g, g, g, 255]).collect()
 }
 
 #[cfg(test)]
@@ -55,17 +102,27 @@ mod tests {
 
     #[test]
     fn a_map_reads_its_texels_at_their_centres_and_blends_between() {
-        // 3 x 2: top row 0, 255, 0; bottom row 255, 255, 51.
-        let map = words(3, 2, &[0, 255, 0, 255, 255, 51]);
+        // A 3 x 2 density map: top row 0, 255, 0; bottom row 255, 255, 51; and a
+        // 1 x 1 colour map.
+        let density_texels = grey(&[0, 255, 0, 255, 255, 51]);
+        let set = words(&[
+            (DENSITY, 3, 2, &density_texels),
+            (COLOUR, 1, 1, &[[255, 0, 51, 255]]),
+        ]);
         let half = 3.0;
         // Texel centres: x at −2, 0, 2; z at −1.5, 1.5.
-        assert_eq!(sample(&map, Vec2::new(-2.0, -1.5), half), 0.0);
-        assert_eq!(sample(&map, Vec2::new(0.0, -1.5), half), 1.0);
-        assert!((sample(&map, Vec2::new(2.0, 1.5), half) - 0.2).abs() < 1e-6);
+        assert_eq!(density(&set, Vec2::new(-2.0, -1.5), half), 0.0);
+        assert_eq!(density(&set, Vec2::new(0.0, -1.5), half), 1.0);
+        assert!((density(&set, Vec2::new(2.0, 1.5), half) - 0.2).abs() < 1e-6);
         // Halfway between the first two of the top row; clamped beyond the edge.
-        assert!((sample(&map, Vec2::new(-1.0, -1.5), half) - 0.5).abs() < 1e-6);
-        assert_eq!(sample(&map, Vec2::new(-50.0, -50.0), half), 0.0);
-        assert_eq!(sample(&[], Vec2::ZERO, half), 1.0);
-        assert_eq!(sample(&[0, 0], Vec2::ZERO, half), 1.0);
+        assert!((density(&set, Vec2::new(-1.0, -1.5), half) - 0.5).abs() < 1e-6);
+        assert_eq!(density(&set, Vec2::new(-50.0, -50.0), half), 0.0);
+        // The colour map's channels; no height map: white.
+        let c = sample(&set, COLOUR, Vec2::ZERO, half);
+        assert!((c - Vec4::new(1.0, 0.0, 0.2, 1.0)).abs().max_element() < 1e-6);
+        assert_eq!(height_factor(&set, Vec2::ZERO, half), 1.0);
+        assert!(!has(&set, HEIGHT) && has(&set, COLOUR));
+        assert_eq!(density(&[], Vec2::ZERO, half), 1.0);
+        assert_eq!(density(&[0, 0, 0], Vec2::ZERO, half), 1.0);
     }
 }

@@ -211,7 +211,8 @@ pub fn painted_scale(rank: f32, density: f32, paint: f32) -> f32 {
 /// Blade `index` of `tile` at rest on its ground (`params.terrain`: the plane y = 0,
 /// up +Y, or the valley, up its normal), seen from `camera`, its width carrying
 /// [`width_scale`]: 0 (not [`kept`]) when its rank has left it at that distance or it
-/// stands on bare ground.
+/// stands on bare ground. `map` holds the painted maps (`paint`: the density thins the
+/// blades as the distance does, the height map scales their heights; `&[]` for none).
 pub fn tile_blade(
     tile: IVec2,
     index: u32,
@@ -229,7 +230,7 @@ pub fn tile_blade(
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
     let orientation = pick(3, (0.0, core::f32::consts::TAU));
-    let height = pick(4, HEIGHT);
+    let height = pick(4, HEIGHT) * crate::paint::height_factor(map, root2, params.half_extent);
     let width = drawn_width(tile, index, root, camera, params, map);
     let stiffness = pick(6, STIFFNESS);
     Blade::at_rest(root, up, orientation, height, width, stiffness)
@@ -237,8 +238,8 @@ pub fn tile_blade(
 
 /// How wide blade `index` of `tile`, rooted at `root`, is drawn seen from `camera`:
 /// its own width (drawn from [`WIDTH`]) times [`width_scale`] at its rank and
-/// distance and the density `map` ([`painted_scale`], `paint::sample`; `&[]` for
-/// none); 0 outside the world and, on the valley, on the bare path. The pool's
+/// distance and the painted maps' density (`map`, [`painted_scale`],
+/// `paint::density`; `&[]` for none); 0 outside the world and, on the valley, on the bare path. The pool's
 /// simulated blades take theirs from here every frame, so they thin with distance
 /// exactly as the far tiles' generated ones do.
 pub fn drawn_width(
@@ -258,7 +259,7 @@ pub fn drawn_width(
     let scale = painted_scale(
         rank_of(tile, index, params),
         density((root - camera).length(), params),
-        crate::paint::sample(map, root2, params.half_extent),
+        crate::paint::density(map, root2, params.half_extent),
     );
     let (lo, hi) = WIDTH;
     (lo + (hi - lo) * blade_unit(tile, index, params.seed, 5)) * scale

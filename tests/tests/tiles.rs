@@ -455,7 +455,8 @@ fn a_density_map_paints_where_grass_grows() {
                 (255.0 * (1.0 - ((r - 16.0) / 4.0).clamp(0.0, 1.0))) as u8
             })
             .collect();
-        scene.paint = shared::paint::words(side, side, &texels);
+        let texels = shared::paint::grey(&texels);
+        scene.paint = shared::paint::words(&[(shared::paint::DENSITY, side, side, &texels)]);
         let (width, height) = (128, 128);
         let mut target = Offscreen::new(&ctx, width, height).unwrap();
         let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
@@ -554,5 +555,130 @@ fn a_density_map_paints_where_grass_grows() {
             .save(tests::artifact_dir().join("density_map.png"))
             .ok();
         assert!(inside > 0.15 && outside < 0.02, "{inside} {outside}");
+    });
+}
+
+/// A height map and a colour map, each split down x = 0 (8-pixel maps over a world
+/// 80 units wide: the split blends from x = −5 to 5): the GPU's blades are as tall as
+/// the host's `tile_blade` with the same maps, those left of −5 a quarter of those
+/// right of 5 (grey 64 halves, white doubles); and in the natural look the colour map
+/// (red on the left, white on the right) takes the green from the left quarter of the
+/// image and leaves the right quarter as it was without the map. Measured on
+/// lavapipe: heights equal to the bit, ratio 0.250; the left quarter's green 13 %
+/// lower (the ground fills most pixels), the right quarter's pixels 0.04 apart (of 3 ×
+/// 255). Planted fault: the colour map read
+/// mirrored (at −x) failed (0 % lower, 21.9 apart).
+#[test]
+fn height_and_colour_maps_paint_the_blades() {
+    use runner::app::driver::FrameDriver;
+    use runner::app::headless::Offscreen;
+    use shared::paint::{COLOUR, HEIGHT, grey, words};
+    tests::with_device("height_and_colour_maps_paint_the_blades", |ctx| {
+        let (mut scene, mut spec) = small_world(8, 40.0);
+        spec.params.full_distance = 1e4;
+        spec.far_blades = 1 << 17;
+        spec.reach = 200.0;
+        scene.make_tiled(spec);
+        let heights = grey(&[64, 64, 64, 64, 255, 255, 255, 255]);
+        let colours = [[255u8, 0, 0, 255], [255, 255, 255, 255]];
+        let colours: Vec<[u8; 4]> = (0..8).map(|i| colours[i / 4]).collect();
+        let (width, height) = (192, 192);
+        let mut camera = runner::camera::OrbitCamera::framing(80.0);
+        camera.target = Vec3::ZERO;
+        camera.yaw = 0.0;
+        camera.pitch = 0.9;
+        camera.distance = 25.0;
+        let mut settings = scene.settings();
+        settings.look.style = shared::settings::Look::Natural;
+        settings.look.shadows = false;
+        let mut images = Vec::new();
+        let mut heights_by_side = [(0.0f64, 0u32); 2];
+        for with_colour in [false, true] {
+            let mut maps = vec![(HEIGHT, 8, 1, heights.as_slice())];
+            if with_colour {
+                maps.push((COLOUR, 8, 1, colours.as_slice()));
+            }
+            scene.paint = words(&maps);
+            let mut target = Offscreen::new(&ctx, width, height).unwrap();
+            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+            let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
+            let eye = camera.viewpoint(target.size());
+            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            driver.run(&mut target, 0.0, |_| uniforms, true).unwrap();
+            driver.finish().unwrap();
+            images.push(target.pixels().unwrap());
+            if with_colour {
+                continue;
+            }
+            let r = &driver.renderer;
+            let blades: Vec<shared::Blade> = r
+                .download(&r.field.blades, scene.blade_count() as usize)
+                .unwrap();
+            let words_ = spec.tile_words() as usize;
+            let tiles: Vec<u32> = r.download(r.field.tiles.as_ref().unwrap(), words_).unwrap();
+            let counters: Vec<u32> = r
+                .download(&r.field.counters, shared::layout::COUNTER_COUNT)
+                .unwrap();
+            use shared::layout::{COUNTER_TILES, TILE_WORDS, TILES_LIST};
+            for t in 0..counters[COUNTER_TILES] as usize {
+                let at = TILES_LIST + TILE_WORDS * t;
+                let tile = IVec2::new(tiles[at] as i32, tiles[at + 1] as i32);
+                let first = tiles[at + 2] as usize;
+                for k in 0..tiles[at + 3] {
+                    let g = &blades[first + k as usize];
+                    let h = tile_blade(tile, k, eye.position, &spec.params, &scene.paint);
+                    assert_eq!(g.height(), h.height(), "{tile} {k}");
+                    let x = g.root().x;
+                    if x.abs() > 5.0 {
+                        let side = &mut heights_by_side[usize::from(x > 0.0)];
+                        side.0 += f64::from(g.height());
+                        side.1 += 1;
+                    }
+                }
+            }
+        }
+        let mean = |s: (f64, u32)| s.0 / f64::from(s.1.max(1));
+        let ratio = mean(heights_by_side[0]) / mean(heights_by_side[1]);
+        // Grass pixels' green by quarter of the image (the camera looks along −z, so
+        // image x follows world x), without and with the colour map.
+        let quarter_green = |pixels: &[u8], right: bool| {
+            let (mut sum, mut n) = (0.0, 0);
+            for y in 0..height {
+                for x in 0..width {
+                    let in_quarter = if right {
+                        x >= 3 * width / 4
+                    } else {
+                        x < width / 4
+                    };
+                    let p = &pixels[4 * (y * width + x) as usize..][..4];
+                    if in_quarter && (p[1] > p[2] || p[0] > p[2]) {
+                        sum += f64::from(p[1]);
+                        n += 1;
+                    }
+                }
+            }
+            sum / f64::from(n.max(1))
+        };
+        let left_drop = 1.0 - quarter_green(&images[1], false) / quarter_green(&images[0], false);
+        let right_diff = images[0]
+            .chunks(4)
+            .zip(images[1].chunks(4))
+            .enumerate()
+            .filter(|(i, _)| (i % width as usize) >= 3 * width as usize / 4)
+            .map(|(_, (a, b))| {
+                (0..3)
+                    .map(|c| (f64::from(a[c]) - f64::from(b[c])).abs())
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+            / f64::from(width * height / 4 * 3);
+        println!(
+            "heights left/right {ratio:.3}; left quarter's green {:.0} % lower, right \
+             quarter's pixels {right_diff:.3} apart",
+            100.0 * left_drop
+        );
+        assert!((ratio - 0.25).abs() < 0.03, "{ratio}");
+        assert!(left_drop > 0.08, "{left_drop}");
+        assert!(right_diff < 0.5, "{right_diff}");
     });
 }

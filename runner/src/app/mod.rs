@@ -139,9 +139,11 @@ pub fn prepare(
             scene.degenerate
         );
     }
-    if let Some(path) = &common.density_map {
-        scene.paint = crate::paint::load(path)?;
-    }
+    scene.paint = crate::paint::load_all(
+        common.density_map.as_deref(),
+        common.height_map.as_deref(),
+        common.colour_map.as_deref(),
+    )?;
     if tiled(common, &scene)? {
         let spec = tiled_spec(&scene, ctx);
         log::info!(

@@ -271,7 +271,7 @@ impl Scene {
             index += 1;
             let p = (b.root() - centre).xz();
             shared::look::hash_unit(index.wrapping_mul(0x9e37_79b9))
-                < shared::paint::sample(&self.paint, p, half)
+                < shared::paint::density(&self.paint, p, half)
         });
     }
 

@@ -100,7 +100,7 @@ impl Overlay {
         window: &Window,
         readings: &Readings,
         settings: &mut Settings,
-        (ball_on, fly): (&mut bool, &mut Fly),
+        (ball_on, fly, full_distance): (&mut bool, &mut Fly, &mut Option<f32>),
     ) -> Option<Painted> {
         if !self.visible {
             return None;
@@ -114,7 +114,7 @@ impl Overlay {
                 .show(ctx, |ui| {
                     performance(ui, readings, &self.device, frame_ms);
                     counts(ui, readings);
-                    tiles(ui, readings, fly);
+                    tiles(ui, readings, fly, full_distance);
                     controls(ui, settings, ball_on);
                 });
         });
@@ -233,9 +233,17 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
     }
 }
 
-/// A tiled field's far tiles and pool, and flying.
-fn tiles(ui: &mut egui::Ui, r: &Readings, fly: &mut Fly) {
+/// A tiled field's far tiles and pool, the distance every blade is kept within, and
+/// flying.
+fn tiles(ui: &mut egui::Ui, r: &Readings, fly: &mut Fly, full_distance: &mut Option<f32>) {
     ui.separator();
+    if let Some(d) = full_distance {
+        ui.add(
+            egui::Slider::new(d, 1.0..=200.0)
+                .logarithmic(true)
+                .text("every blade kept within (units)"),
+        );
+    }
     if let (Some(pool), Some(c)) = (r.pool, r.counts) {
         egui::Grid::new("tiles").num_columns(2).show(ui, |ui| {
             let rows = [

@@ -83,6 +83,12 @@ impl TilesPass {
         &self.spec
     }
 
+    /// Every blade kept within `distance` of the camera from the next frame on (the
+    /// overlay's control): the far tiles and the pool's thinning follow at once.
+    pub fn set_full_distance(&mut self, distance: f32) {
+        self.spec.params.full_distance = distance.max(1.0);
+    }
+
     /// The pool's slot holding `tile`, if any.
     pub fn slot_of(&self, tile: IVec2) -> Option<usize> {
         self.pool.slot_of(tile)

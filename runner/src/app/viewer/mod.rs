@@ -143,6 +143,8 @@ struct Running {
     arrows: Arrows,
     /// The arrows fly the camera.
     fly: Fly,
+    /// A tiled field's distance every blade is kept within (the overlay's control).
+    full_distance: Option<f32>,
     mouse: Mouse,
     overlay: Overlay,
     pace: Pace,
@@ -188,6 +190,7 @@ impl Running {
             ball_on: true,
             arrows: Arrows::default(),
             fly: Fly::default(),
+            full_distance: scene.tiles.map(|t| t.params.full_distance),
             scene,
             mouse: Mouse::default(),
             overlay,
@@ -281,8 +284,13 @@ impl Running {
             &self.window,
             &readings,
             &mut self.settings,
-            (&mut self.ball_on, &mut self.fly),
+            (&mut self.ball_on, &mut self.fly, &mut self.full_distance),
         );
+        if let (Some(d), Some(tiles)) =
+            (self.full_distance, self.gpu.driver.renderer.tiles.as_mut())
+        {
+            tiles.set_full_distance(d);
+        }
         let balls: Vec<_> = self
             .ball
             .iter()

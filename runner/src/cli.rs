@@ -214,6 +214,10 @@ pub struct Common {
     /// colours times its colour (white keeps them) [tiled fields].
     #[arg(long, global = true)]
     pub colour_map: Option<PathBuf>,
+    /// A greyscale PNG over the ground (as --density-map): black bare, grey
+    /// dandelions, white grass [tiled fields].
+    #[arg(long, global = true)]
+    pub type_map: Option<PathBuf>,
     /// Wind field.
     #[arg(long, global = true, value_enum, default_value_t = WindField::Breeze)]
     pub wind: WindField,

@@ -1,5 +1,5 @@
-//! Painted maps read from PNG files (issue 19): `--density-map`, `--height-map` and
-//! `--colour-map` lay an image over the world's square (its top row at −z):
+//! Painted maps read from PNG files (issue 19): `--density-map`, `--height-map`,
+//! `--colour-map` and `--type-map` lay an image over the world's square (its top row at −z):
 //! `shared::paint` says what each means. Every way a file can be unusable is an error
 //! naming the map and the file.
 
@@ -18,10 +18,17 @@ pub fn load_all(
     density: Option<&Path>,
     height: Option<&Path>,
     colour: Option<&Path>,
+    kind: Option<&Path>,
 ) -> Result<Vec<u32>> {
-    use shared::paint::{COLOUR, DENSITY, HEIGHT};
+    use shared::paint::{COLOUR, DENSITY, HEIGHT, TYPE};
     let mut maps = Vec::new();
-    for (which, path) in [(DENSITY, density), (HEIGHT, height), (COLOUR, colour)] {
+    let named = [
+        (DENSITY, density),
+        (HEIGHT, height),
+        (COLOUR, colour),
+        (TYPE, kind),
+    ];
+    for (which, path) in named {
         if let Some(path) = path {
             maps.push(load(path, which)?);
         }
@@ -37,10 +44,10 @@ pub fn load_all(
 }
 
 /// Map `which` in `path`: an 8-bit PNG (grey, grey and alpha, RGB or RGBA), at most
-/// [`MAX_SIDE`] pixels a side; the density and height maps are read as grey (their
-/// luminance), the colour map as it is.
+/// [`MAX_SIDE`] pixels a side; the density, height and type maps are read as grey
+/// (their luminance), the colour map as it is.
 pub fn load(path: &Path, which: usize) -> Result<Map> {
-    let name = ["density", "height", "colour"][which.min(2)];
+    let name = ["density", "height", "colour", "type"][which.min(3)];
     load_named(path, which).map_err(|e| e.context(format!("{name} map")))
 }
 
@@ -125,7 +132,7 @@ mod tests {
             texels,
             vec![[0, 0, 0, 255], [128, 128, 128, 255], [255, 255, 255, 255]]
         );
-        let words = load_all(Some(&path), None, Some(&path)).unwrap();
+        let words = load_all(Some(&path), None, Some(&path), None).unwrap();
         assert_eq!(words[shared::paint::HEIGHT], 0, "no height map");
         assert!(words[shared::paint::DENSITY] > 0 && words[shared::paint::COLOUR] > 0);
         std::fs::remove_file(path).ok();

@@ -80,7 +80,10 @@ pub fn blade_level(blade: &crate::Blade, frame: &crate::layout::FrameUniforms) -
         lod.most,
         lod.fewest,
     )
-    .max(crate::shape::shape_min_level(frame.grass.shape))
+    .max(crate::shape::shape_min_level(crate::shape::blade_shape(
+        blade,
+        frame.grass.shape,
+    )))
 }
 
 /// `x` within `lo..=hi` (for `lo <= hi`) without `f32::clamp`'s check of its bounds:

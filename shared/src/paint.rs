@@ -1,6 +1,6 @@
 //! Painted maps (issue 19): 8-bit images laid over the world's square, read where a
-//! blade grows: how dense the grass is ([`DENSITY`]), how tall ([`HEIGHT`]) and what
-//! colour ([`COLOUR`]). The maps travel in one set of `u32` words: a header of
+//! blade grows: how dense the grass is ([`DENSITY`]), how tall ([`HEIGHT`]), what
+//! colour ([`COLOUR`]) and what grows there ([`TYPE`]: grass, dandelions, nothing). The maps travel in one set of `u32` words: a header of
 //! [`MAPS`] word offsets (0: no such map), then each map as its width, its height
 //! and its texels row by row (the image's top row at −z), one RGBA texel a word
 //! (red in the lowest byte): the same words in a storage buffer on the GPU and in a
@@ -16,8 +16,18 @@ pub const DENSITY: usize = 0;
 pub const HEIGHT: usize = 1;
 /// The colour map: the natural look's blade colours times its RGB (white keeps them).
 pub const COLOUR: usize = 2;
+/// The type map, read at the nearest texel: black (below 64) bare ground, grey (64 to
+/// 191) dandelions, white (192 and up) grass ([`kind`]).
+pub const TYPE: usize = 3;
 /// Maps a set can hold.
-pub const MAPS: usize = 3;
+pub const MAPS: usize = 4;
+
+/// What grows at a point of the type map: grass.
+pub const KIND_GRASS: u32 = 0;
+/// Dandelions (the paper's fifth shape, whatever the field's).
+pub const KIND_DANDELION: u32 = 1;
+/// Nothing.
+pub const KIND_BARE: u32 = 2;
 /// Words of the set's header.
 pub const HEADER_WORDS: usize = MAPS;
 
@@ -78,6 +88,31 @@ pub fn height_factor(set: &[u32], p: Vec2, half: f32) -> f32 {
     (2.0 * sample(set, HEIGHT, p, half).x).max(0.05)
 }
 
+/// What grows at `p` ([`TYPE`]): the nearest texel's red, classed; grass without a
+/// type map. Nearest rather than blended, so no band of another kind lines the border
+/// between two.
+pub fn kind(set: &[u32], p: Vec2, half: f32) -> u32 {
+    if !has(set, TYPE) {
+        return KIND_GRASS;
+    }
+    let base = set[TYPE] as usize;
+    let (width, height) = (set[base], set[base + 1]);
+    if width == 0 || height == 0 {
+        return KIND_GRASS;
+    }
+    let uv = (p + Vec2::splat(half)) / (2.0 * half).max(1e-6);
+    let x = (uv.x * width as f32).clamp(0.0, (width - 1) as f32) as u32;
+    let y = (uv.y * height as f32).clamp(0.0, (height - 1) as f32) as u32;
+    let grey = texel(set, base, width, x, y).x * 255.0;
+    if grey < 64.0 {
+        KIND_BARE
+    } else if grey < 192.0 {
+        KIND_DANDELION
+    } else {
+        KIND_GRASS
+    }
+}
+
 /// A set of maps, each `(which, width, height, RGBA texels row by row)`, as words.
 #[cfg(not(target_arch = "spirv"))]
 pub fn words(maps: &[(usize, u32, u32, &[[u8; 4]])]) -> Vec<u32> {
@@ -123,6 +158,14 @@ mod tests {
         assert_eq!(height_factor(&set, Vec2::ZERO, half), 1.0);
         assert!(!has(&set, HEIGHT) && has(&set, COLOUR));
         assert_eq!(density(&[], Vec2::ZERO, half), 1.0);
+        // A type map of three texels: bare, dandelion, grass (nearest, no blending).
+        let types = grey(&[0, 128, 255]);
+        let set = words(&[(TYPE, 3, 1, &types)]);
+        assert_eq!(kind(&set, Vec2::new(-2.5, 0.0), half), KIND_BARE);
+        assert_eq!(kind(&set, Vec2::new(-0.9, 0.0), half), KIND_DANDELION);
+        assert_eq!(kind(&set, Vec2::new(0.9, 0.0), half), KIND_DANDELION);
+        assert_eq!(kind(&set, Vec2::new(1.1, 0.0), half), KIND_GRASS);
+        assert_eq!(kind(&[], Vec2::ZERO, half), KIND_GRASS);
         assert_eq!(density(&[0, 0, 0], Vec2::ZERO, half), 1.0);
     }
 }

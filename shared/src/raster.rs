@@ -284,6 +284,7 @@ impl Coverage {
         camera: Vec3,
         focal: f32,
     ) -> Self {
+        let shape = crate::shape::blade_shape(blade, shape);
         let distance = (blade.v0.xyz() - camera).length();
         let width = blade.width() * shape_width(shape);
         Self {

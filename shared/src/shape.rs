@@ -19,6 +19,21 @@ pub const SHAPE_TRIANGLE_TIP: u32 = 3;
 /// root. PAPER.md gives no formula for it; this one is ours (see [`shape_tau`]).
 pub const SHAPE_DANDELION: u32 = 4;
 
+/// The shape blade `blade` is drawn with when the field's is `shape`: a blade a type
+/// map made a dandelion ([`DANDELION_TURNS`]) is one whatever the field's shape.
+pub fn blade_shape(blade: &Blade, shape: u32) -> u32 {
+    if blade.orientation() >= DANDELION_TURNS {
+        SHAPE_DANDELION
+    } else {
+        shape
+    }
+}
+
+/// A blade's orientation at or beyond this (two whole turns) marks it a dandelion: the
+/// angle's sine and cosine are the same, so nothing else sees the mark (a painted type
+/// map's dandelions, `paint::TYPE`; the blade has no other word to spare).
+pub const DANDELION_TURNS: f32 = 2.0 * core::f32::consts::TAU;
+
 /// Lobes of the dandelion leaf.
 pub const DANDELION_LOBES: f32 = 3.0;
 
@@ -73,8 +88,10 @@ pub struct SurfacePoint {
 
 /// The blade surface at (u across the width, v along the height), both in 0..1:
 /// a = v0 + v(v1 − v0), b = v1 + v(v2 − v1), c = a + v(b − a); c0, c1 = c ∓ ½w·t1;
-/// p = (1 − τ)·c0 + τ·c1; tangent t0 = normalize(b − a).
+/// p = (1 − τ)·c0 + τ·c1; tangent t0 = normalize(b − a). `shape` is the field's; a
+/// dandelion of a type map is drawn as one ([`blade_shape`]).
 pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) -> SurfacePoint {
+    let shape = blade_shape(blade, shape);
     let (v0, v1, v2) = (blade.root(), blade.guide(), blade.tip());
     let a = v0 + v * (v1 - v0);
     let b = v1 + v * (v2 - v1);

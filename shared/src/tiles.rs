@@ -212,7 +212,8 @@ pub fn painted_scale(rank: f32, density: f32, paint: f32) -> f32 {
 /// up +Y, or the valley, up its normal), seen from `camera`, its width carrying
 /// [`width_scale`]: 0 (not [`kept`]) when its rank has left it at that distance or it
 /// stands on bare ground. `map` holds the painted maps (`paint`: the density thins the
-/// blades as the distance does, the height map scales their heights; `&[]` for none).
+/// blades as the distance does, the height map scales their heights, the type map
+/// makes dandelions or bare ground; `&[]` for none).
 pub fn tile_blade(
     tile: IVec2,
     index: u32,
@@ -229,7 +230,15 @@ pub fn tile_blade(
     let root = Vec3::new(root2.x, height_at, root2.y);
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
-    let orientation = pick(3, (0.0, core::f32::consts::TAU));
+    let dandelion =
+        crate::paint::kind(map, root2, params.half_extent) == crate::paint::KIND_DANDELION;
+    // A dandelion's mark: two more turns (`shape::blade_shape`).
+    let turns = if dandelion {
+        crate::shape::DANDELION_TURNS
+    } else {
+        0.0
+    };
+    let orientation = pick(3, (0.0, core::f32::consts::TAU)) + turns;
     let height = pick(4, HEIGHT) * crate::paint::height_factor(map, root2, params.half_extent);
     let width = drawn_width(tile, index, root, camera, params, map);
     let stiffness = pick(6, STIFFNESS);
@@ -253,7 +262,9 @@ pub fn drawn_width(
     let root2 = Vec2::new(root.x, root.z);
     let inside = root2.abs().max_element() < params.half_extent;
     let valley = params.terrain == TERRAIN_VALLEY;
-    if !inside || (valley && terrain::bare(root2)) {
+    let painted_bare =
+        crate::paint::kind(map, root2, params.half_extent) == crate::paint::KIND_BARE;
+    if !inside || (valley && terrain::bare(root2)) || painted_bare {
         return 0.0;
     }
     let scale = painted_scale(

@@ -682,3 +682,78 @@ fn height_and_colour_maps_paint_the_blades() {
         assert!(right_diff < 0.5, "{right_diff}");
     });
 }
+
+/// A type map: grey everywhere (dandelions) draws the field as the dandelion shape
+/// draws it (the field's own shape quadratic), and black (bare) on the left half
+/// leaves no blade there. Paper look, 160x160, 14 units from the centre. Measured on
+/// lavapipe: the painted dandelions 0.000 (mean of 0..255 per channel) from the
+/// dandelion-shaped field, 28.4 from the quadratic one; no blade left of x = −1 under
+/// the bare half, 11,648 right of 1. Planted fault: the dandelion mark ignored by the
+/// drawing stages (the field's shape used) failed (17.1 against 14.1).
+#[test]
+fn a_type_map_grows_dandelions_and_bare_ground() {
+    use runner::app::driver::FrameDriver;
+    use runner::app::headless::Offscreen;
+    use shared::paint::{TYPE, grey, words};
+    use shared::settings::BladeShape;
+    tests::with_device("a_type_map_grows_dandelions_and_bare_ground", |ctx| {
+        let (mut scene, mut spec) = small_world(8, 40.0);
+        spec.params.full_distance = 1e4;
+        spec.far_blades = 1 << 17;
+        spec.reach = 200.0;
+        scene.make_tiled(spec);
+        let (width, height) = (160, 160);
+        let mut camera = runner::camera::OrbitCamera::framing(80.0);
+        camera.target = Vec3::ZERO;
+        camera.yaw = 0.0;
+        camera.pitch = 0.6;
+        camera.distance = 14.0;
+        let dandelions = grey(&[128]);
+        let half_bare = grey(&[0, 0, 0, 0, 255, 255, 255, 255]);
+        let mut render = |maps: Vec<u32>, shape: BladeShape| {
+            scene.paint = maps;
+            let mut settings = scene.settings();
+            settings.look.style = shared::settings::Look::Paper;
+            settings.shape = shape;
+            let mut target = Offscreen::new(&ctx, width, height).unwrap();
+            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+            let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
+            let eye = camera.viewpoint(target.size());
+            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            driver.run(&mut target, 0.0, |_| uniforms, true).unwrap();
+            driver.finish().unwrap();
+            let r = &driver.renderer;
+            let blades: Vec<shared::Blade> = r
+                .download(&r.field.blades, scene.blade_count() as usize)
+                .unwrap();
+            (target.pixels().unwrap(), blades)
+        };
+        let (painted, _) = render(words(&[(TYPE, 1, 1, &dandelions)]), BladeShape::Quadratic);
+        let (shaped, _) = render(Vec::new(), BladeShape::Dandelion);
+        let (plain, _) = render(Vec::new(), BladeShape::Quadratic);
+        let (_, blades) = render(words(&[(TYPE, 8, 1, &half_bare)]), BladeShape::Quadratic);
+        let apart = |a: &[u8], b: &[u8]| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| (f64::from(*x) - f64::from(*y)).abs())
+                .sum::<f64>()
+                / a.len() as f64
+        };
+        let (same, other) = (apart(&painted, &shaped), apart(&painted, &plain));
+        let bare_left = blades
+            .iter()
+            .filter(|b| kept(b) && b.root().x < -1.0)
+            .count();
+        let grass_right = blades
+            .iter()
+            .filter(|b| kept(b) && b.root().x > 1.0)
+            .count();
+        println!(
+            "painted dandelions {same:.3} from the dandelion field, {other:.3} from the \
+             quadratic one; {bare_left} blades left of −1, {grass_right} right of 1"
+        );
+        assert!(same < 0.2 * other, "{same} against {other}");
+        assert_eq!(bare_left, 0);
+        assert!(grass_right > 1000, "{grass_right}");
+    });
+}

@@ -143,6 +143,7 @@ pub fn prepare(
         common.density_map.as_deref(),
         common.height_map.as_deref(),
         common.colour_map.as_deref(),
+        common.type_map.as_deref(),
     )?;
     if tiled(common, &scene)? {
         let spec = tiled_spec(&scene, ctx);

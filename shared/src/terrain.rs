@@ -8,8 +8,8 @@
 //! gradient is analytic (each sine differentiated, the carve through the smoothstep),
 //! so normals need no finite differences.
 
-use crate::look::smoothstep;
-use spirv_std::glam::{Vec2, Vec3};
+use crate::look::{hash_unit, smoothstep};
+use spirv_std::glam::{IVec2, Vec2, Vec3};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -127,14 +127,81 @@ pub fn grid_growth(half_cells: u32, spacing: f32, reach: f32) -> f32 {
 /// lies within this times its half diagonal of its centre's height.
 pub const VALLEY_MAX_SLOPE: f32 = 1.0;
 
-/// Whether the ground at `p` is bare: on the path, where no blade grows.
+/// Whether the ground at `p` is bare: on the path or under a rock, where no blade
+/// grows.
 pub fn bare(p: Vec2) -> bool {
-    across_path(p).0.abs() < PATH_BARE
+    across_path(p).0.abs() < PATH_BARE || under_rock(p)
+}
+
+/// Rocks lie in a grid of cells this wide, at most one a cell.
+pub const ROCK_CELL: f32 = 60.0;
+/// The chance a cell holds a rock.
+pub const ROCK_CHANCE: f32 = 0.12;
+/// Rocks' radii (m) are drawn in this range.
+pub const ROCK_RADIUS: (f32, f32) = (1.5, 4.0);
+
+/// The rock of `cell` (x, z of its centre, its radius), if the cell has one: a
+/// hash of the cell decides, the rock jittered within the cell's middle and never on
+/// the path. Rocks are flattened half-buried spheres (the scene's bare mesh).
+pub fn rock_in_cell(cell: IVec2) -> Option<Vec3> {
+    let unit = |k: u32| {
+        hash_unit(
+            (cell.x as u32).wrapping_mul(0x2c1b_3c6d)
+                ^ (cell.y as u32).wrapping_mul(0x297a_2d39)
+                ^ k.wrapping_mul(0x9e37_79b9),
+        )
+    };
+    if unit(0) >= ROCK_CHANCE {
+        return None;
+    }
+    let at = (cell.as_vec2() + Vec2::new(0.2 + 0.6 * unit(1), 0.2 + 0.6 * unit(2))) * ROCK_CELL;
+    let radius = ROCK_RADIUS.0 + (ROCK_RADIUS.1 - ROCK_RADIUS.0) * unit(3);
+    if across_path(at).0.abs() < PATH_HALF_WIDTH + radius {
+        return None;
+    }
+    Some(Vec3::new(at.x, at.y, radius))
+}
+
+/// Whether `p` lies under a rock (within 0.9 of its radius: the blades at its foot
+/// lean against it).
+pub fn under_rock(p: Vec2) -> bool {
+    let cell = (p / ROCK_CELL).floor().as_ivec2();
+    let mut under = false;
+    let mut dz = -1;
+    while dz <= 1 {
+        let mut dx = -1;
+        while dx <= 1 {
+            if let Some(rock) = rock_in_cell(cell + IVec2::new(dx, dz)) {
+                under |= (p - Vec2::new(rock.x, rock.y)).length() < 0.9 * rock.z;
+            }
+            dx += 1;
+        }
+        dz += 1;
+    }
+    under
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Planted faults: a chance of 0.3 gave 379 rocks and failed; `bare` without the
+    /// rocks failed.
+    #[test]
+    fn rocks_lie_off_the_path_and_bare_the_ground_under_them() {
+        let rocks: Vec<Vec3> = (-17..17)
+            .flat_map(|z| (-17..17).map(move |x| IVec2::new(x, z)))
+            .filter_map(rock_in_cell)
+            .collect();
+        // About ROCK_CHANCE of the 1,156 cells, less those the path crosses.
+        assert!((60..160).contains(&rocks.len()), "{} rocks", rocks.len());
+        for r in &rocks {
+            let centre = Vec2::new(r.x, r.y);
+            assert!(across_path(centre).0.abs() > PATH_HALF_WIDTH + r.z);
+            assert!(bare(centre) && under_rock(centre + Vec2::new(0.8 * r.z, 0.0)));
+            assert!(!under_rock(centre + Vec2::new(r.z, 0.0)));
+        }
+    }
 
     #[test]
     fn no_slope_is_steeper_than_the_bound() {

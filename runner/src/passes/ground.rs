@@ -90,14 +90,14 @@ impl GroundPass {
         valley: Option<f32>,
     ) -> Result<Self> {
         let mut set = MeshSet::default();
-        let ground = match valley {
-            Some(_) => Vec::new(),
-            None => ground
-                .iter()
-                .filter(|(mesh, _)| !mesh.is_empty())
-                .map(|(mesh, material)| set.add(mesh, *material))
-                .collect(),
-        };
+        // Over the valley its grid takes the soil's place; its rocks stay meshes.
+        let ground = ground
+            .iter()
+            .filter(|(mesh, material)| {
+                !mesh.is_empty() && !(valley.is_some() && *material == shared::shade::MATERIAL_SOIL)
+            })
+            .map(|(mesh, material)| set.add(mesh, *material))
+            .collect();
         let grid = valley.map(|half| {
             let cells = if ctx.is_software() {
                 GRID_CELLS.1

@@ -95,6 +95,39 @@ pub fn ground_grid(cells: u32, spacing: f32, reach: f32) -> SurfaceMesh {
     grid_over(cells, coordinate, |_, _| 0.0, |_, _| Vec3::Y)
 }
 
+/// The valley's rocks (`shared::terrain::rock_in_cell`) within the square of side
+/// `side`: each a sphere of its radius flattened to 0.6 of it in height and sunk a
+/// quarter of its radius into the ground, rough (its vertices pushed in and out by a
+/// hash), one subdivision (80 triangles).
+pub fn valley_rocks(side: f32) -> SurfaceMesh {
+    use glam::{IVec2, Vec2};
+    use shared::terrain::{ROCK_CELL, rock_in_cell, valley_height};
+    let cells = (0.5 * side / ROCK_CELL).ceil() as i32;
+    let mut rocks = SurfaceMesh::default();
+    for z in -cells..cells {
+        for x in -cells..cells {
+            let Some(rock) = rock_in_cell(IVec2::new(x, z)) else {
+                continue;
+            };
+            let at = Vec2::new(rock.x, rock.y);
+            if at.abs().max_element() > 0.5 * side {
+                continue;
+            }
+            let r = rock.z;
+            let centre = Vec3::new(at.x, valley_height(at) - 0.25 * r, at.y);
+            let mut mesh = sphere(Vec3::ZERO, 1.0, 1);
+            for (i, (p, n)) in mesh.positions.iter_mut().zip(&mut mesh.normals).enumerate() {
+                let rough = 0.85 + 0.3 * shared::look::hash_unit(i as u32 ^ (x * 977 + z) as u32);
+                let scale = Vec3::new(r, 0.6 * r, r) * rough;
+                *p = centre + *p * scale;
+                *n = (*n / scale).normalize();
+            }
+            rocks.append(&mesh);
+        }
+    }
+    rocks
+}
+
 /// A height field `height(x, z)` with normals `normal(x, z)` over the square of side
 /// `side` centred on the origin, `cells`×`cells` quads of two triangles each.
 fn grid(

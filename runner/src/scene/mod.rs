@@ -197,7 +197,8 @@ impl Scene {
             }
             (SceneKind::Valley, None) => {
                 let ground = builtin::valley(VALLEY_SIDE, VALLEY_CELLS);
-                ("valley".into(), ground, none(), 0, None)
+                let rocks = builtin::valley_rocks(VALLEY_SIDE);
+                ("valley".into(), ground, rocks, 0, None)
             }
             (SceneKind::Plane, None) => {
                 let side = side_for(total);

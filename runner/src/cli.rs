@@ -412,6 +412,10 @@ pub struct RenderArgs {
     /// Camera angle above the horizon, degrees, 1 to 85 [default: the scene's framing].
     #[arg(long, value_parser = range(1.0, 85.0))]
     pub pitch: Option<f32>,
+    /// Fly the valley's path at the bench's flight speed (6 units a second) over the
+    /// frames instead of standing still (`--scene valley`).
+    #[arg(long)]
+    pub flight: bool,
 }
 
 fn parse_point(s: &str) -> Result<Vec3, String> {

@@ -103,7 +103,21 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     // the GPU, which may still be drawing into it when a frame fails.
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
-    let eye = camera.viewpoint(offscreen.size());
+    if args.flight && scene.name != "valley" {
+        anyhow::bail!("--flight flies over the valley: add --scene valley");
+    }
+    let size = offscreen.size();
+    let still = camera.viewpoint(size);
+    let eye_at = |time: f32| {
+        if args.flight {
+            let travelled = super::bench::FLIGHT_SPEED * time;
+            crate::scene::valley_camera(travelled).viewpoint(size)
+        } else {
+            still
+        }
+    };
+    // The last frame's eye, for the report.
+    let last_eye = std::cell::Cell::new(still);
     let progress_every = (args.frames / 10).max(1);
     for frame in 0..args.frames {
         let last = frame + 1 == args.frames;
@@ -114,6 +128,8 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
                 Ball::dropped(&scene.solid, path.at(travelled), common.collider_radius)
             });
             let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
+            let eye = eye_at(f.time);
+            last_eye.set(eye);
             settings.uniforms(&eye, count, &balls)
         };
         driver.run(&mut offscreen, 1.0 / 60.0, uniforms, last)?;
@@ -130,6 +146,6 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         times: readback.times,
         blades: count,
         validation_errors: ctx.validation_errors(),
-        view_proj: eye.view_proj,
+        view_proj: last_eye.get().view_proj,
     })
 }

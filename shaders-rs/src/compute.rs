@@ -665,6 +665,7 @@ pub fn generate_tile(
 /// `i` of the pushed tile (every one kept: the pool's tiles are near, and a trampled
 /// one keeps its blades as the camera leaves) into field slot `push.slot.x + i` at
 /// rest, with its id, no collision strength, and its clump in the natural look.
+#[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn generate_pool_tile(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -781,6 +782,7 @@ pub fn select_far_tiles(
 /// (`tiles::tile_blade`: thinned and widened with distance) into the field's slots the
 /// selection gave it, with their ids and, in the natural look, their clumps. Not
 /// simulated: at rest.
+#[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn generate_far(
     #[spirv(workgroup_id)] group: UVec3,

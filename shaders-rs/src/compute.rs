@@ -14,7 +14,8 @@ use shared::layout::{
 };
 use shared::layout::{
     COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_HIDDEN, COUNTER_TILES_SHORT, EMPTY_SLOT,
-    GENERATE_WORKGROUP, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+    GENERATE_WORKGROUP, POOL_WORDS, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL,
+    TilePush,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -28,7 +29,8 @@ use shared::raster::{
 };
 use shared::simulate::simulate;
 use shared::tiles::{
-    blade_id, drawn_width, far_count, kept, tile_blade, tile_ground, tile_in_view, tile_occluded,
+    blade_id, drawn_width, fade_to_rest, far_count, kept, tile_blade, tile_ground, tile_in_view,
+    tile_occluded,
 };
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
@@ -230,13 +232,16 @@ fn simulate_and_cull<T: Copy + Default>(
     // A pool blade's width as its distance thins it, like a far one's: a blade its
     // rank has left is still simulated (its trail decays as if seen) but not drawn.
     let mut pool_width = 0.0;
+    // A tile nobody needs goes back to its generated pose (`tiles::fade_to_rest`).
+    let mut fade = 0.0;
+    let mut rest_tile = IVec2::ZERO;
     if in_field && tiled {
         let i = index as usize;
         name = ids[i];
         if simulated {
             let params = &push.tiles;
             let per_tile = params.per_side * params.per_side;
-            let slot = TILES_POOL + 2 * (index / per_tile) as usize;
+            let slot = TILES_POOL + POOL_WORDS * (index / per_tile) as usize;
             let tile = IVec2::new(tiles[slot] as i32, tiles[slot + 1] as i32);
             let blade = &blades[i];
             let root = blade.root();
@@ -247,6 +252,8 @@ fn simulate_and_cull<T: Copy + Default>(
                 && drawn_width(tile, k, root, root, params, paint) > 0.0;
             if in_field {
                 pool_width = drawn_width(tile, k, root, frame.camera.position, params, paint);
+                fade = f32::from_bits(tiles[slot + 2]);
+                rest_tile = tile;
             }
         } else {
             in_field = kept(&blades[i]);
@@ -270,6 +277,11 @@ fn simulate_and_cull<T: Copy + Default>(
                 push.first_step,
                 push.steps,
             );
+            if fade > 0.0 {
+                let k = index % (push.tiles.per_side * push.tiles.per_side);
+                let rest = tile_blade(rest_tile, k, blade.root(), &push.tiles, paint);
+                blade = fade_to_rest(&blade, &rest, fade);
+            }
             blades[i] = blade;
             strengths[i] = strength;
         }
@@ -733,7 +745,7 @@ pub fn select_far_tiles(
     }
     let mut slot = 0;
     while slot < push.far.x {
-        let at = TILES_POOL + 2 * slot as usize;
+        let at = TILES_POOL + POOL_WORDS * slot as usize;
         if tiles[at] as i32 == tile.x && tiles[at + 1] as i32 == tile.y {
             return;
         }

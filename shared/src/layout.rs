@@ -125,15 +125,18 @@ pub const BINDING_PAINT: u32 = 22;
 /// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
 /// per far tile in view).
 pub const TILES_DISPATCH: usize = 0;
-/// First word of the pool's tiles: (x, z) per slot, [`EMPTY_SLOT`] in x where the
-/// slot holds none.
+/// First word of the pool's tiles: (x, z, fade) per slot ([`POOL_WORDS`]),
+/// [`EMPTY_SLOT`] in x where the slot holds none; the fade (`f32` bits, 0..1) is how
+/// far a tile nobody needs has gone back to its generated pose (`tiles::fade_to_rest`).
 pub const TILES_POOL: usize = 4;
+/// Words per pool slot in the table.
+pub const POOL_WORDS: usize = 3;
 /// Slots the pool's table can hold.
 pub const MAX_POOL_TILES: usize = 1024;
 /// x of a pool slot that holds no tile.
 pub const EMPTY_SLOT: i32 = i32::MIN;
 /// First word of the far tiles in view: (x, z, first blade, blade count) per tile.
-pub const TILES_LIST: usize = TILES_POOL + 2 * MAX_POOL_TILES;
+pub const TILES_LIST: usize = TILES_POOL + POOL_WORDS * MAX_POOL_TILES;
 /// Words per far tile in the list.
 pub const TILE_WORDS: usize = 4;
 /// Threads per workgroup of the far blades' generation (one workgroup per tile).

@@ -310,6 +310,17 @@ pub fn tile_occluded(
     crate::hiz::box_occluded(low, high, view_proj, pyramid, hiz)
 }
 
+/// A pool blade `fade` (0..1) of the way back to `rest`, its generated pose: how a
+/// tile nobody needs returns to the pose the far tiles draw before its slot is given
+/// away, so it leaves the pool without a jump (its root, scalars and width as they
+/// are).
+pub fn fade_to_rest(blade: &Blade, rest: &Blade, fade: f32) -> Blade {
+    blade.with_curve(
+        blade.guide().lerp(rest.guide(), fade),
+        blade.tip().lerp(rest.tip(), fade),
+    )
+}
+
 /// Whether a generated blade is drawn: its rank has not left it ([`tile_blade`]).
 pub fn kept(blade: &Blade) -> bool {
     blade.width() > 0.0

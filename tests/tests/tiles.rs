@@ -757,3 +757,64 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
         assert!(grass_right > 1000, "{grass_right}");
     });
 }
+
+/// A pool tile nobody needs goes back to its generated pose before it can leave: the
+/// camera's first tile, bent by the breeze and gravity while the camera stands over
+/// it, is at rest (the far tiles' pose, `tiles::tile_blade`) once the camera has been
+/// 200 units away for 1.5 s (`passes::tiles::FADE_SECONDS` is 1 s). Measured on
+/// lavapipe: guide and tip 0.61 of the height from rest (mean) before, 0 after.
+/// Planted fault: the fade ignored on the GPU failed (2.3 at most).
+#[test]
+fn a_tile_nobody_needs_goes_back_to_its_generated_pose() {
+    use runner::app::driver::FrameDriver;
+    use runner::app::headless::Offscreen;
+    use shared::glam::Vec2;
+    tests::with_device("a_tile_nobody_needs_goes_back", |ctx| {
+        let (scene, spec) = small_world(16, 1000.0);
+        let per_tile = spec.tile_blades();
+        let settings = scene.settings();
+        let home = Vec2::new(1.0, 2.0);
+        let mut target = Offscreen::new(&ctx, 96, 64).unwrap();
+        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+        let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
+        let mut frame = |driver: &mut FrameDriver, at: Vec2| {
+            let eye = camera_at(at).viewpoint(target.size());
+            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            driver
+                .run(&mut target, 1.0 / 60.0, |_| uniforms, false)
+                .unwrap();
+        };
+        let eye = camera_at(home).viewpoint((96, 64)).position;
+        let tile = spec.needed(eye)[0];
+        // Largest and mean tip distance from rest over height, of the tile's blades.
+        let from_rest = |driver: &FrameDriver| {
+            let r = &driver.renderer;
+            let slot = r.tiles.as_ref().unwrap().slot_of(tile).expect("still held");
+            let count = r.field.blade_count as usize;
+            let blades: Vec<shared::Blade> = r.download(&r.field.blades, count).unwrap();
+            let (mut sum, mut most) = (0.0f32, 0.0f32);
+            for k in 0..per_tile {
+                let b = &blades[slot * per_tile as usize + k as usize];
+                let rest = tile_blade(tile, k, eye, &spec.params, &[]);
+                let d = ((b.tip() - rest.tip()).length() + (b.guide() - rest.guide()).length())
+                    / rest.height();
+                sum += d;
+                most = most.max(d);
+            }
+            (sum / per_tile as f32, most)
+        };
+        for _ in 0..60 {
+            frame(&mut driver, home);
+        }
+        driver.finish().unwrap();
+        let (bent, _) = from_rest(&driver);
+        for _ in 0..90 {
+            frame(&mut driver, Vec2::new(200.0, 2.0));
+        }
+        driver.finish().unwrap();
+        let (_, left) = from_rest(&driver);
+        println!("tile {tile}: {bent} from rest (mean) while needed, {left} at most after");
+        assert!(bent > 0.05, "{bent}: the breeze did not bend it");
+        assert!(left < 1e-4, "{left}");
+    });
+}

@@ -4,7 +4,8 @@
 //! pool into its slot; then a compute pass picks the far tiles in view, each taking
 //! room for the blades its distance keeps, and one workgroup per far tile generates
 //! them. The simulate-and-cull pass that follows simulates the pool's blades and
-//! culls both.
+//! culls both. A pool tile nobody needs any more goes back to its generated pose over
+//! [`FADE_SECONDS`], so that it leaves the pool as the far tiles draw it.
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
@@ -15,8 +16,8 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::glam::{IVec2, UVec2, UVec4, Vec2};
 use shared::layout::{
-    EMPTY_SLOT, FrameUniforms, MAX_POOL_TILES, SIMULATE_WORKGROUP, SelectPush, TILE_WORDS,
-    TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+    EMPTY_SLOT, FrameUniforms, MAX_POOL_TILES, POOL_WORDS, SIMULATE_WORKGROUP, SelectPush,
+    TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
 };
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -42,6 +43,11 @@ pub struct PoolStats {
     pub pinned: u32,
 }
 
+/// Seconds a pool tile nobody needs takes to go back to its generated pose
+/// (`shared::tiles::fade_to_rest`): by then it can leave the pool without a jump, and
+/// the least recently needed, which leave first, have.
+pub const FADE_SECONDS: f32 = 1.0;
+
 /// The tiled field's pipelines and pool.
 pub struct TilesPass {
     ctx: Arc<Context>,
@@ -52,6 +58,8 @@ pub struct TilesPass {
     pool: TilePool,
     /// Trampled tiles and the seconds left before they may leave the pool.
     trails: HashMap<IVec2, f32>,
+    /// Seconds each slot's tile has gone unneeded (0 while needed or trampled).
+    idle: Vec<f32>,
     /// The last frame's host side.
     pub stats: PoolStats,
 }
@@ -74,6 +82,7 @@ impl TilesPass {
             generate: Pipeline::compute(ctx, layout, module, shaders::GENERATE_FAR)?,
             pool: TilePool::new(spec.pool_tiles as usize),
             trails: HashMap::new(),
+            idle: vec![0.0; spec.pool_tiles as usize],
             stats: PoolStats::default(),
         })
     }
@@ -145,14 +154,27 @@ impl TilesPass {
             .as_ref()
             .context("a tiled field's tile buffer")?;
         // The far generation's dispatch (x by the selection), the pool's table.
-        let mut words = vec![0u32; TILES_POOL + 2 * spec.pool_tiles as usize];
+        let mut words = vec![0u32; TILES_POOL + POOL_WORDS * spec.pool_tiles as usize];
         words[TILES_DISPATCH..TILES_DISPATCH + 3].copy_from_slice(&[0, 1, 1]);
         for slot in 0..spec.pool_tiles as usize {
-            words[TILES_POOL + 2 * slot] = EMPTY_SLOT as u32;
+            words[TILES_POOL + POOL_WORDS * slot] = EMPTY_SLOT as u32;
+        }
+        for &(slot, _) in &update.placed {
+            self.idle[slot] = 0.0;
         }
         for (tile, slot) in self.pool.held() {
-            words[TILES_POOL + 2 * slot] = tile.x as u32;
-            words[TILES_POOL + 2 * slot + 1] = tile.y as u32;
+            let at = TILES_POOL + POOL_WORDS * slot;
+            self.idle[slot] = if needed.contains(&tile) {
+                0.0
+            } else {
+                self.idle[slot] + seconds
+            };
+            let fade = (self.idle[slot] / FADE_SECONDS).min(1.0);
+            words[at..at + POOL_WORDS].copy_from_slice(&[
+                tile.x as u32,
+                tile.y as u32,
+                fade.to_bits(),
+            ]);
         }
         rec.update_buffer(tiles.buffer, bytemuck::cast_slice(&words));
 

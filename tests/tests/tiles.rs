@@ -166,6 +166,17 @@ fn small_world(pool: u32, half: f32) -> (Scene, runner::tiles::TiledSpec) {
     (scene, spec)
 }
 
+/// [`small_world`] 80 units wide with every blade kept at any distance and room for
+/// them all, for the painted maps' tests.
+fn open_world() -> (Scene, runner::tiles::TiledSpec) {
+    let (mut scene, mut spec) = small_world(8, 40.0);
+    spec.params.full_distance = 1e4;
+    spec.far_blades = 1 << 17;
+    spec.reach = 200.0;
+    scene.make_tiled(spec);
+    (scene, spec)
+}
+
 /// A camera `at` (x, z) on the plane, 2.9 units up, looking 10 units along −z.
 fn camera_at(at: shared::glam::Vec2) -> runner::camera::OrbitCamera {
     let mut camera = runner::camera::OrbitCamera::framing(10.0);
@@ -574,11 +585,7 @@ fn height_and_colour_maps_paint_the_blades() {
     use runner::app::headless::Offscreen;
     use shared::paint::{COLOUR, HEIGHT, grey, words};
     tests::with_device("height_and_colour_maps_paint_the_blades", |ctx| {
-        let (mut scene, mut spec) = small_world(8, 40.0);
-        spec.params.full_distance = 1e4;
-        spec.far_blades = 1 << 17;
-        spec.reach = 200.0;
-        scene.make_tiled(spec);
+        let (mut scene, spec) = open_world();
         let heights = grey(&[64, 64, 64, 64, 255, 255, 255, 255]);
         let colours = [[255u8, 0, 0, 255], [255, 255, 255, 255]];
         let colours: Vec<[u8; 4]> = (0..8).map(|i| colours[i / 4]).collect();
@@ -697,11 +704,7 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
     use shared::paint::{TYPE, grey, words};
     use shared::settings::BladeShape;
     tests::with_device("a_type_map_grows_dandelions_and_bare_ground", |ctx| {
-        let (mut scene, mut spec) = small_world(8, 40.0);
-        spec.params.full_distance = 1e4;
-        spec.far_blades = 1 << 17;
-        spec.reach = 200.0;
-        scene.make_tiled(spec);
+        let (mut scene, _) = open_world();
         let (width, height) = (160, 160);
         let mut camera = runner::camera::OrbitCamera::framing(80.0);
         camera.target = Vec3::ZERO;

@@ -166,6 +166,25 @@ fn small_world(pool: u32, half: f32) -> (Scene, runner::tiles::TiledSpec) {
     (scene, spec)
 }
 
+/// One frame of no time of `scene` seen by `camera` at `size`: its pixels, and the
+/// driver (finished) whose renderer holds the frame's buffers.
+fn still_frame(
+    ctx: &std::sync::Arc<runner::vulkan::Context>,
+    scene: &Scene,
+    settings: &shared::settings::Settings,
+    camera: &runner::camera::OrbitCamera,
+    (width, height): (u32, u32),
+) -> (Vec<u8>, runner::app::driver::FrameDriver) {
+    let mut target = runner::app::headless::Offscreen::new(ctx, width, height).unwrap();
+    let renderer = Renderer::new(ctx, &scene.meshes(), FORMAT).unwrap();
+    let mut driver = runner::app::driver::FrameDriver::new(ctx, renderer).unwrap();
+    let eye = camera.viewpoint(target.size());
+    let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+    driver.run(&mut target, 0.0, |_| uniforms, true).unwrap();
+    driver.finish().unwrap();
+    (target.pixels().unwrap(), driver)
+}
+
 /// [`small_world`] 80 units wide with every blade kept at any distance and room for
 /// them all, for the painted maps' tests.
 fn open_world() -> (Scene, runner::tiles::TiledSpec) {
@@ -581,8 +600,6 @@ fn a_density_map_paints_where_grass_grows() {
 /// mirrored (at −x) failed (0 % lower, 21.9 apart).
 #[test]
 fn height_and_colour_maps_paint_the_blades() {
-    use runner::app::driver::FrameDriver;
-    use runner::app::headless::Offscreen;
     use shared::paint::{COLOUR, HEIGHT, grey, words};
     tests::with_device("height_and_colour_maps_paint_the_blades", |ctx| {
         let (mut scene, spec) = open_world();
@@ -606,14 +623,9 @@ fn height_and_colour_maps_paint_the_blades() {
                 maps.push((COLOUR, 8, 1, colours.as_slice()));
             }
             scene.paint = words(&maps);
-            let mut target = Offscreen::new(&ctx, width, height).unwrap();
-            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
-            let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
-            let eye = camera.viewpoint(target.size());
-            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
-            driver.run(&mut target, 0.0, |_| uniforms, true).unwrap();
-            driver.finish().unwrap();
-            images.push(target.pixels().unwrap());
+            let (pixels, driver) = still_frame(&ctx, &scene, &settings, &camera, (width, height));
+            let eye = camera.viewpoint((width, height));
+            images.push(pixels);
             if with_colour {
                 continue;
             }
@@ -699,8 +711,6 @@ fn height_and_colour_maps_paint_the_blades() {
 /// drawing stages (the field's shape used) failed (17.1 against 14.1).
 #[test]
 fn a_type_map_grows_dandelions_and_bare_ground() {
-    use runner::app::driver::FrameDriver;
-    use runner::app::headless::Offscreen;
     use shared::paint::{TYPE, grey, words};
     use shared::settings::BladeShape;
     tests::with_device("a_type_map_grows_dandelions_and_bare_ground", |ctx| {
@@ -718,18 +728,12 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
             let mut settings = scene.settings();
             settings.look.style = shared::settings::Look::Paper;
             settings.shape = shape;
-            let mut target = Offscreen::new(&ctx, width, height).unwrap();
-            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
-            let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
-            let eye = camera.viewpoint(target.size());
-            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
-            driver.run(&mut target, 0.0, |_| uniforms, true).unwrap();
-            driver.finish().unwrap();
+            let (pixels, driver) = still_frame(&ctx, &scene, &settings, &camera, (width, height));
             let r = &driver.renderer;
             let blades: Vec<shared::Blade> = r
                 .download(&r.field.blades, scene.blade_count() as usize)
                 .unwrap();
-            (target.pixels().unwrap(), blades)
+            (pixels, blades)
         };
         let (painted, _) = render(words(&[(TYPE, 1, 1, &dandelions)]), BladeShape::Quadratic);
         let (shaped, _) = render(Vec::new(), BladeShape::Dandelion);

@@ -4,7 +4,8 @@
 //! naming the map and the file.
 
 use anyhow::{Context as _, Result, bail};
-use image::{ColorType, ImageFormat, ImageReader};
+use image::codecs::png::PngDecoder;
+use image::{ColorType, ImageDecoder};
 use std::path::Path;
 
 /// Largest side of a map (pixels): 4096 × 4096 is 64 MiB of texels on the device.
@@ -52,34 +53,30 @@ pub fn load(path: &Path, which: usize) -> Result<Map> {
 }
 
 fn load_named(path: &Path, which: usize) -> Result<Map> {
+    use std::io::{Read, Seek};
     let shown = path.display();
+    let mut file = std::fs::File::open(path).with_context(|| format!("{shown}: cannot open it"))?;
+    // Every PNG starts with these eight bytes (PNG specification, 5.2); read first, so
+    // that no other file (a device, a pipe) is read further.
     let mut signature = [0u8; 8];
-    std::fs::File::open(path)
-        .and_then(|mut f| std::io::Read::read(&mut f, &mut signature))
-        .with_context(|| format!("{shown}: cannot open it"))?;
-    // Every PNG starts with these eight bytes (PNG specification, 5.2).
-    if signature != [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'] {
+    let read = file
+        .read(&mut signature)
+        .with_context(|| format!("{shown}: cannot read it"))?;
+    if read < signature.len() || signature != [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'] {
         bail!("{shown}: not a PNG image");
     }
-    let reader = ImageReader::with_format(
-        std::io::BufReader::new(
-            std::fs::File::open(path).with_context(|| format!("{shown}: cannot open it"))?,
-        ),
-        ImageFormat::Png,
-    );
-    let (width, height) = reader
-        .into_dimensions()
-        .with_context(|| format!("{shown}: not a readable PNG"))?;
+    file.rewind()
+        .with_context(|| format!("{shown}: cannot read it"))?;
+    let unreadable = || format!("{shown}: not a readable PNG");
+    let decoder = PngDecoder::new(std::io::BufReader::new(file)).with_context(unreadable)?;
+    let (width, height) = decoder.dimensions();
     if width == 0 || height == 0 {
         bail!("{shown}: the image has no pixels ({width}x{height})");
     }
     if width > MAX_SIDE || height > MAX_SIDE {
         bail!("{shown}: {width}x{height} pixels, more than {MAX_SIDE} a side");
     }
-    let file = std::fs::File::open(path).with_context(|| format!("{shown}: cannot open it"))?;
-    let image = ImageReader::with_format(std::io::BufReader::new(file), ImageFormat::Png)
-        .decode()
-        .with_context(|| format!("{shown}: not a readable PNG"))?;
+    let image = image::DynamicImage::from_decoder(decoder).with_context(unreadable)?;
     let color = image.color();
     if !matches!(
         color,
@@ -98,6 +95,7 @@ fn load_named(path: &Path, which: usize) -> Result<Map> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use image::ImageFormat;
 
     fn temp(name: &str) -> std::path::PathBuf {
         std::env::temp_dir().join(format!("grass-paint-{}-{name}", std::process::id()))

@@ -7,6 +7,7 @@
 //! dropped for the frame (drawn from its generated pose) and counted.
 
 use shared::glam::{IVec2, Vec2, Vec3, Vec4};
+use shared::layout::{MAX_POOL_TILES, TILE_WORDS, TILES_LIST};
 use shared::tiles::TileParams;
 use std::collections::HashMap;
 
@@ -56,19 +57,17 @@ impl TiledSpec {
     /// The tiles inside the world whose square comes within `radius` of `at` on the
     /// ground plane (x, z), nearest first.
     pub fn tiles_within(&self, at: Vec2, radius: f32) -> Vec<IVec2> {
-        let size = self.params.size;
-        let lo = ((at - Vec2::splat(radius)) / size).floor().as_ivec2();
-        let hi = ((at + Vec2::splat(radius)) / size).floor().as_ivec2();
-        let half = self.params.half_extent;
+        use shared::tiles::{tile_in_world, tile_of, tile_square};
+        let params = &self.params;
+        let lo = tile_of(at - Vec2::splat(radius), params);
+        let hi = tile_of(at + Vec2::splat(radius), params);
         let mut near: Vec<(f32, IVec2)> = Vec::new();
         for z in lo.y..=hi.y {
             for x in lo.x..=hi.x {
                 let tile = IVec2::new(x, z);
-                let min = tile.as_vec2() * size;
-                let max = min + Vec2::splat(size);
-                let inside = max.x > -half && max.y > -half && min.x < half && min.y < half;
+                let (min, max) = tile_square(tile, params);
                 let distance = at.clamp(min, max).distance(at);
-                if inside && distance <= radius {
+                if tile_in_world(tile, params) && distance <= radius {
                     near.push((distance, tile));
                 }
             }
@@ -93,6 +92,41 @@ impl TiledSpec {
     pub fn touched(&self, ball: Vec4) -> Vec<IVec2> {
         let reach = ball.w + shared::tiles::HEIGHT.1;
         self.tiles_within(Vec2::new(ball.x, ball.z), reach)
+    }
+
+    /// Tiles from the camera's tile to the edge of the far tiles' candidate square:
+    /// enough to reach [`TiledSpec::reach`], and one more.
+    pub fn reach_tiles(&self) -> i32 {
+        (self.reach / self.params.size).ceil() as i32 + 1
+    }
+
+    /// Tiles along a side of the candidate square (the camera's tile at its centre).
+    pub fn candidate_side(&self) -> u32 {
+        (2 * self.reach_tiles() + 1) as u32
+    }
+
+    /// Words of the tile buffer for this layout: the header, the pool's table and the
+    /// list of far tiles (every candidate of the selection's square at most).
+    pub fn tile_words(&self) -> u32 {
+        let side = self.candidate_side() as usize;
+        (TILES_LIST + TILE_WORDS * side * side) as u32
+    }
+
+    /// Checks the layout against the pool table's room.
+    pub fn check(&self) -> anyhow::Result<()> {
+        if self.pool_tiles as usize > MAX_POOL_TILES || self.pool_tiles == 0 {
+            anyhow::bail!(
+                "a tiled field's pool holds 1 to {MAX_POOL_TILES} tiles, not {}",
+                self.pool_tiles
+            );
+        }
+        if !self.params.per_side.is_power_of_two() {
+            anyhow::bail!(
+                "tiles need a power of two blades a side, not {}",
+                self.params.per_side
+            );
+        }
+        Ok(())
     }
 }
 

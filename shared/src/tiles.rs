@@ -169,18 +169,41 @@ pub fn blade_id(tile: IVec2, index: u32) -> u32 {
     )
 }
 
+/// The square `tile` covers on the ground plane: its (x, z) corners, low and high.
+pub fn tile_square(tile: IVec2, params: &TileParams) -> (Vec2, Vec2) {
+    let lo = tile.as_vec2() * params.size;
+    (lo, lo + Vec2::splat(params.size))
+}
+
+/// Whether any of `tile`'s square lies inside the world (`half_extent`).
+pub fn tile_in_world(tile: IVec2, params: &TileParams) -> bool {
+    let (lo, hi) = tile_square(tile, params);
+    let half = params.half_extent;
+    hi.x > -half && hi.y > -half && lo.x < half && lo.y < half
+}
+
+/// The point of `tile`'s box (its square, from `bottom` to `top` in height) nearest
+/// `camera`.
+pub fn nearest_point(
+    tile: IVec2,
+    camera: Vec3,
+    params: &TileParams,
+    (bottom, top): (f32, f32),
+) -> Vec3 {
+    let (lo, hi) = tile_square(tile, params);
+    Vec3::new(
+        camera.x.clamp(lo.x, hi.x),
+        camera.y.clamp(bottom, top),
+        camera.z.clamp(lo.y, hi.y),
+    )
+}
+
 /// How many of `tile`'s first blades can be kept seen from `camera`: every blade
 /// whose rank is below the share at the nearest point of the tile's box (ground from
 /// `ground.0` to `ground.1`), at most all of them. A far tile's blades beyond this
 /// are never kept, so they need not be generated.
 pub fn far_count(tile: IVec2, camera: Vec3, params: &TileParams, ground: (f32, f32)) -> u32 {
-    let lo = tile.as_vec2() * params.size;
-    let hi = lo + Vec2::splat(params.size);
-    let nearest = Vec3::new(
-        camera.x.clamp(lo.x, hi.x),
-        camera.y.clamp(ground.0, ground.1),
-        camera.z.clamp(lo.y, hi.y),
-    );
+    let nearest = nearest_point(tile, camera, params, ground);
     let count = params.per_side * params.per_side;
     let share = kept_share((nearest - camera).length(), params);
     ((share * count as f32) as u32 + 1).min(count)
@@ -283,7 +306,8 @@ pub fn tile_ground(tile: IVec2, params: &TileParams, ground: (f32, f32)) -> (f32
     if params.terrain != TERRAIN_VALLEY {
         return ground;
     }
-    let centre = (tile.as_vec2() + Vec2::splat(0.5)) * params.size;
+    let (lo, hi) = tile_square(tile, params);
+    let centre = 0.5 * (lo + hi);
     let h = terrain::valley_height(centre);
     let reach = terrain::VALLEY_MAX_SLOPE * params.size * core::f32::consts::FRAC_1_SQRT_2;
     (
@@ -303,8 +327,7 @@ pub fn tile_occluded(
     pyramid: &[f32],
     hiz: &crate::hiz::HiZLayout,
 ) -> bool {
-    let lo = tile.as_vec2() * params.size;
-    let hi = lo + Vec2::splat(params.size);
+    let (lo, hi) = tile_square(tile, params);
     let low = Vec3::new(lo.x, ground.0, lo.y);
     let high = Vec3::new(hi.x, ground.1 + HEIGHT.1, hi.y);
     crate::hiz::box_occluded(low, high, view_proj, pyramid, hiz)
@@ -340,21 +363,12 @@ pub fn tile_in_view(
     ground: (f32, f32),
     reach: f32,
 ) -> bool {
-    let lo = tile.as_vec2() * params.size;
-    let hi = lo + Vec2::splat(params.size);
-    if hi.x <= -params.half_extent
-        || hi.y <= -params.half_extent
-        || lo.x >= params.half_extent
-        || lo.y >= params.half_extent
-    {
+    if !tile_in_world(tile, params) {
         return false;
     }
+    let (lo, hi) = tile_square(tile, params);
     let (bottom, top) = (ground.0, ground.1 + HEIGHT.1);
-    let nearest = Vec3::new(
-        camera.x.clamp(lo.x, hi.x),
-        camera.y.clamp(bottom, top),
-        camera.z.clamp(lo.y, hi.y),
-    );
+    let nearest = nearest_point(tile, camera, params, (bottom, top));
     if (nearest - camera).length() > reach {
         return false;
     }

@@ -15,7 +15,7 @@ pub mod viewer;
 
 use crate::cli::{Cli, Command, Common, FieldChoice, PipelineChoice};
 use crate::field::Field;
-use crate::scene::{BladeCount, Scene, SceneFile};
+use crate::scene::{BladeCount, Scene, SceneFile, SceneKind};
 use crate::tiles::TiledSpec;
 use crate::vulkan::Context;
 use anyhow::Result;
@@ -145,7 +145,7 @@ pub fn prepare(
         common.colour_map.as_deref(),
         common.type_map.as_deref(),
     )?;
-    if tiled(common, &scene)? {
+    if tiled(common, &scene.kind)? {
         let spec = tiled_spec(&scene, ctx);
         log::info!(
             "scene {}: tiled field, {:.0} M blades in the world, a pool of {} tiles \
@@ -176,15 +176,15 @@ pub fn prepare(
 
 /// Whether the field is tiled: `--field`, else on the valley only. Tiles grow on the
 /// plane and the valley; other scenes' surfaces are not tiled yet.
-pub fn tiled(common: &Common, scene: &Scene) -> Result<bool> {
-    let flat_or_valley = matches!(scene.name.as_str(), "plane" | "valley");
+pub fn tiled(common: &Common, kind: &SceneKind) -> Result<bool> {
+    let flat_or_valley = matches!(kind, SceneKind::Plane | SceneKind::Valley);
     match common.field {
         Some(FieldChoice::Tiles) if !flat_or_valley => anyhow::bail!(
             "--field tiles: scene {} cannot be tiled yet (the plane and the valley can)",
-            scene.name
+            common.scene
         ),
         Some(choice) => Ok(choice == FieldChoice::Tiles),
-        None => Ok(scene.name == "valley"),
+        None => Ok(*kind == SceneKind::Valley),
     }
 }
 
@@ -197,7 +197,7 @@ pub fn tiled(common: &Common, scene: &Scene) -> Result<bool> {
 /// the 3,338 blades drawn when every blade was kept to 6 units, 21 ms for 895 at 3).
 pub fn tiled_spec(scene: &Scene, ctx: &Context) -> TiledSpec {
     use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams};
-    let valley = scene.name == "valley";
+    let valley = scene.kind == SceneKind::Valley;
     let (lo, hi) = scene.surface.bounds().unwrap_or_default();
     let half_extent = 0.5 * (hi.x - lo.x).max(hi.z - lo.z);
     let software = ctx.is_software();

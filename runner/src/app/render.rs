@@ -103,7 +103,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     // the GPU, which may still be drawing into it when a frame fails.
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
-    if args.flight && scene.name != "valley" {
+    if args.flight && scene.kind != crate::scene::SceneKind::Valley {
         anyhow::bail!("--flight flies over the valley: add --scene valley");
     }
     let size = offscreen.size();

@@ -184,7 +184,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     let circle = camera.distance * 0.2;
     // Over the valley the camera flies down its path instead of turning, so tiles
     // keep entering and leaving the pool while the memory is read.
-    let flying = scene.name == "valley";
+    let flying = scene.kind == crate::scene::SceneKind::Valley;
     let mut travelled = 0.0;
     let progress = Progress::new(args.frames as usize);
     let mut readings = Vec::new();

@@ -16,8 +16,8 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::glam::{IVec2, UVec2, UVec4, Vec2};
 use shared::layout::{
-    EMPTY_SLOT, FrameUniforms, MAX_POOL_TILES, POOL_WORDS, SIMULATE_WORKGROUP, SelectPush,
-    TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL, TilePush,
+    EMPTY_SLOT, FrameUniforms, POOL_WORDS, SIMULATE_WORKGROUP, SelectPush, TILES_DISPATCH,
+    TILES_POOL, TilePush,
 };
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -200,10 +200,8 @@ impl TilesPass {
         );
 
         // The far tiles in view: a square of candidates around the camera's tile.
-        let size = spec.params.size;
-        let reach_tiles = (spec.reach / size).ceil() as i32 + 1;
-        let centre = (Vec2::new(camera.x, camera.z) / size).floor().as_ivec2();
-        let side = (2 * reach_tiles + 1) as u32;
+        let centre = shared::tiles::tile_of(Vec2::new(camera.x, camera.z), &spec.params);
+        let (reach_tiles, side) = (spec.reach_tiles(), spec.candidate_side());
         let push = SelectPush {
             view_proj: uniforms.camera.view_proj,
             camera: camera.extend(spec.reach),
@@ -241,32 +239,6 @@ impl TilesPass {
             dropped: update.dropped as u32,
             pinned: self.trails.len() as u32,
         };
-        Ok(())
-    }
-}
-
-impl TiledSpec {
-    /// Words of the tile buffer for this layout: the header, the pool's table and the
-    /// list of far tiles (every candidate of the selection's square at most).
-    pub fn tile_words(&self) -> u32 {
-        let side = 2 * ((self.reach / self.params.size).ceil() as u32 + 1) + 1;
-        (TILES_LIST + TILE_WORDS * (side * side) as usize) as u32
-    }
-
-    /// Checks the layout against the pool table's room.
-    pub fn check(&self) -> Result<()> {
-        if self.pool_tiles as usize > MAX_POOL_TILES || self.pool_tiles == 0 {
-            anyhow::bail!(
-                "a tiled field's pool holds 1 to {MAX_POOL_TILES} tiles, not {}",
-                self.pool_tiles
-            );
-        }
-        if !self.params.per_side.is_power_of_two() {
-            anyhow::bail!(
-                "tiles need a power of two blades a side, not {}",
-                self.params.per_side
-            );
-        }
         Ok(())
     }
 }

@@ -68,6 +68,8 @@ pub enum BladeCount {
 pub struct Scene {
     /// Name for logs and titles.
     pub name: String,
+    /// Which scene it is.
+    pub kind: SceneKind,
     /// The blades at rest.
     pub blades: Vec<Blade>,
     /// Where grass grows (drawn as soil).
@@ -233,6 +235,7 @@ impl Scene {
         };
         Ok(Self {
             name,
+            kind: kind.clone(),
             blades: scatter_scaled(&surface, blades, seed, 1.0),
             natural_scale,
             blade_scale: 1.0,
@@ -316,7 +319,7 @@ impl Scene {
     /// A view that frames the scene: over a field from beyond its edge, or the whole
     /// planet.
     pub fn camera(&self) -> OrbitCamera {
-        if self.name == "valley" {
+        if self.kind == SceneKind::Valley {
             return valley_camera(0.0);
         }
         let (centre, radius) = self.bounds;
@@ -340,7 +343,7 @@ impl Scene {
             has_occluders: self.has_occluders(),
             tiles: self.tiles,
             paint: &self.paint,
-            valley: (self.name == "valley").then_some(0.5 * VALLEY_SIDE),
+            valley: (self.kind == SceneKind::Valley).then_some(0.5 * VALLEY_SIDE),
         }
     }
 

@@ -71,8 +71,7 @@ fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
     }
     // A tiled field is one world, whatever the count (the stored blades of a count
     // of one are dropped).
-    let valley = common.scene_kind() == crate::scene::SceneKind::Valley;
-    if common.field == Some(crate::cli::FieldChoice::Tiles) || (valley && common.field.is_none()) {
+    if super::tiled(common, &common.scene_kind()).unwrap_or(false) {
         return vec![1];
     }
     if !args.counts.is_empty() {
@@ -152,11 +151,11 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             common.seed,
             |_| Ok(()),
         )?;
-        if args.camera == CameraPreset::Flight && scene.name != "valley" {
+        if args.camera == CameraPreset::Flight && scene.kind != crate::scene::SceneKind::Valley {
             anyhow::bail!("--camera flight flies over the valley: add --scene valley");
         }
         let mut n = n;
-        if super::tiled(common, &scene)? {
+        if super::tiled(common, &scene.kind)? {
             scene.make_tiled(super::tiled_spec(&scene, &ctx));
             n = scene.blade_count();
             last_count = n;

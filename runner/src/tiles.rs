@@ -4,7 +4,7 @@
 //! world. A tile keeps its slot while it is needed (near the camera) or pinned (a
 //! collider trampled it and its strength has not decayed); a needed tile without a
 //! slot takes a free one, else the least recently needed unpinned tile's, else it is
-//! dropped for the frame (drawn from its generated pose) and counted.
+//! dropped for the frame (drawn in the far tiles' pose) and counted.
 
 use shared::glam::{IVec2, Vec2, Vec3, Vec4};
 use shared::layout::{MAX_POOL_TILES, TILE_WORDS, TILES_LIST};
@@ -158,7 +158,7 @@ struct Slot {
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PoolUpdate {
     /// Slots given to tiles this frame, (slot, tile): their blades start from the
-    /// generated pose.
+    /// far tiles' pose (`shared::tiles::far_blade`).
     pub placed: Vec<(usize, IVec2)>,
     /// Tiles that lost their slot to a needed one (their state is gone).
     pub evicted: Vec<IVec2>,

@@ -29,8 +29,8 @@ use shared::raster::{
 };
 use shared::simulate::simulate;
 use shared::tiles::{
-    blade_id, drawn_width, fade_to_rest, far_count, kept, tile_blade, tile_ground, tile_in_view,
-    tile_occluded,
+    blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, tile_blade, tile_ground,
+    tile_in_view, tile_occluded,
 };
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
@@ -232,7 +232,7 @@ fn simulate_and_cull<T: Copy + Default>(
     // A pool blade's width as its distance thins it, like a far one's: a blade its
     // rank has left is still simulated (its trail decays as if seen) but not drawn.
     let mut pool_width = 0.0;
-    // A tile nobody needs goes back to its generated pose (`tiles::fade_to_rest`).
+    // A tile nobody needs goes back to its far pose (`tiles::fade_to_far`).
     let mut fade = 0.0;
     let mut rest_tile = IVec2::ZERO;
     if in_field && tiled {
@@ -279,8 +279,9 @@ fn simulate_and_cull<T: Copy + Default>(
             );
             if fade > 0.0 {
                 let k = index % (push.tiles.per_side * push.tiles.per_side);
-                let rest = tile_blade(rest_tile, k, blade.root(), &push.tiles, paint);
-                blade = fade_to_rest(&blade, &rest, fade);
+                let params = &push.tiles;
+                let far = far_blade(rest_tile, k, blade.root(), params, paint, &frame.forces);
+                blade = fade_to_far(&blade, &far, fade);
             }
             blades[i] = blade;
             strengths[i] = strength;
@@ -675,8 +676,8 @@ pub fn generate_tile(
 
 /// One thread per blade of a tile entering the tiled field's pool (issue 19): blade
 /// `i` of the pushed tile (every one kept: the pool's tiles are near, and a trampled
-/// one keeps its blades as the camera leaves) into field slot `push.slot.x + i` at
-/// rest, with its id, no collision strength, and its clump in the natural look.
+/// one keeps its blades as the camera leaves) into field slot `push.slot.x + i` in
+/// the far tiles' pose (`tiles::far_blade`: it starts as it was drawn), with its id, no collision strength, and its clump in the natural look.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn generate_pool_tile(
@@ -694,7 +695,8 @@ pub fn generate_pool_tile(
     let params = &push.params;
     if index < params.per_side * params.per_side {
         let slot = (push.slot.x + index) as usize;
-        let blade = tile_blade(push.tile, index, push.camera.truncate(), params, paint);
+        let camera = push.camera.truncate();
+        let blade = far_blade(push.tile, index, camera, params, paint, &frame.forces);
         blades[slot] = blade;
         strengths[slot] = 0.0;
         ids[slot] = blade_id(push.tile, index);
@@ -793,7 +795,8 @@ pub fn select_far_tiles(
 /// dispatch): its threads generate the tile's first blades as the camera sees them
 /// (`tiles::tile_blade`: thinned and widened with distance) into the field's slots the
 /// selection gave it, with their ids and, in the natural look, their clumps. Not
-/// simulated: at rest.
+/// simulated: in the pose the frame's gravity and wind settle them into
+/// (`tiles::far_blade`).
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn generate_far(
@@ -816,7 +819,7 @@ pub fn generate_far(
     let mut k = local;
     while k < count {
         let slot = (first + k) as usize;
-        let blade = tile_blade(tile, k, camera, &push.params, paint);
+        let blade = far_blade(tile, k, camera, &push.params, paint, &frame.forces);
         blades[slot] = blade;
         ids[slot] = blade_id(tile, k);
         if natural {

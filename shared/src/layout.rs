@@ -127,7 +127,7 @@ pub const BINDING_PAINT: u32 = 22;
 pub const TILES_DISPATCH: usize = 0;
 /// First word of the pool's tiles: (x, z, fade) per slot ([`POOL_WORDS`]),
 /// [`EMPTY_SLOT`] in x where the slot holds none; the fade (`f32` bits, 0..1) is how
-/// far a tile nobody needs has gone back to its generated pose (`tiles::fade_to_rest`).
+/// far a tile nobody needs has gone back to its far pose (`tiles::fade_to_far`).
 pub const TILES_POOL: usize = 4;
 /// Words per pool slot in the table.
 pub const POOL_WORDS: usize = 3;

@@ -456,7 +456,8 @@ impl Settings {
             strength_decay: self.trample_decay,
             stiffness_scale: self.stiffness,
             colliders,
-            padding: [0; 3],
+            time: 0.0,
+            padding: [0; 2],
         }
     }
 

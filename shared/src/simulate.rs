@@ -39,8 +39,11 @@ pub struct Environment {
     pub stiffness_scale: f32,
     /// Sphere colliders in use (the first of the collider array).
     pub colliders: u32,
+    /// Simulated time at the end of the frame's steps: when the far blades' wind pose
+    /// is taken (`sway::settled`). The renderer sets it from the frame's steps.
+    pub time: f32,
     /// Pads the block to 16 bytes.
-    pub padding: [u32; 3],
+    pub padding: [u32; 2],
 }
 
 impl Default for Environment {
@@ -55,7 +58,8 @@ impl Default for Environment {
             strength_decay: 0.0,
             stiffness_scale: 1.0,
             colliders: 0,
-            padding: [0; 3],
+            time: 0.0,
+            padding: [0; 2],
         }
     }
 }

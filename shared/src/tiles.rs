@@ -333,14 +333,30 @@ pub fn tile_occluded(
     crate::hiz::box_occluded(low, high, view_proj, pyramid, hiz)
 }
 
-/// A pool blade `fade` (0..1) of the way back to `rest`, its generated pose: how a
-/// tile nobody needs returns to the pose the far tiles draw before its slot is given
-/// away, so it leaves the pool without a jump (its root, scalars and width as they
-/// are).
-pub fn fade_to_rest(blade: &Blade, rest: &Blade, fade: f32) -> Blade {
+/// Blade `index` of `tile` as the far tiles draw it and as a tile entering the pool
+/// starts: [`tile_blade`] in the pose the frame's gravity and wind (`env`, at
+/// `env.time`) settle it into (`sway::settled`), so that it sways with the simulated
+/// blades around it.
+pub fn far_blade(
+    tile: IVec2,
+    index: u32,
+    camera: Vec3,
+    params: &TileParams,
+    map: &[u32],
+    env: &crate::simulate::Environment,
+) -> Blade {
+    let blade = tile_blade(tile, index, camera, params, map);
+    crate::sway::settled(&blade, env, env.time)
+}
+
+/// A pool blade `fade` (0..1) of the way to `far`, its pose as a far blade
+/// ([`far_blade`]): how a tile nobody needs returns to the pose the far tiles draw
+/// before its slot is given away, so it leaves the pool without a jump (its root,
+/// scalars and width as they are).
+pub fn fade_to_far(blade: &Blade, far: &Blade, fade: f32) -> Blade {
     blade.with_curve(
-        blade.guide().lerp(rest.guide(), fade),
-        blade.tip().lerp(rest.tip(), fade),
+        blade.guide().lerp(far.guide(), fade),
+        blade.tip().lerp(far.tip(), fade),
     )
 }
 

@@ -4,7 +4,7 @@
 //! pool into its slot; then a compute pass picks the far tiles in view, each taking
 //! room for the blades its distance keeps, and one workgroup per far tile generates
 //! them. The simulate-and-cull pass that follows simulates the pool's blades and
-//! culls both. A pool tile nobody needs any more goes back to its generated pose over
+//! culls both. A pool tile nobody needs any more goes back to the far tiles' pose over
 //! [`FADE_SECONDS`], so that it leaves the pool as the far tiles draw it.
 
 use crate::field::{Field, PUSH_CONSTANTS};
@@ -43,8 +43,8 @@ pub struct PoolStats {
     pub pinned: u32,
 }
 
-/// Seconds a pool tile nobody needs takes to go back to its generated pose
-/// (`shared::tiles::fade_to_rest`): by then it can leave the pool without a jump, and
+/// Seconds a pool tile nobody needs takes to go back to the far tiles' pose
+/// (`shared::tiles::fade_to_far`): by then it can leave the pool without a jump, and
 /// the least recently needed, which leave first, have.
 pub const FADE_SECONDS: f32 = 1.0;
 

@@ -309,6 +309,8 @@ impl Renderer {
         };
         uniforms.look.shadow_size = self.shadow.size();
         self.tile_uniforms(&mut uniforms);
+        uniforms.forces.time =
+            shared::simulate::step_time(input.push.first_step + input.push.steps);
         self.ground.follow(uniforms.camera.position);
         uniforms.raster.width = target.extent.width;
         uniforms.raster.height = target.extent.height;

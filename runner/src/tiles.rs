@@ -28,6 +28,8 @@ pub struct TiledSpec {
     pub reach: f32,
     /// The ground's lowest and highest points (the tiles' boxes).
     pub ground: (f32, f32),
+    /// The world's surface area: its square's, or a loaded scene's triangles'.
+    pub area: f64,
 }
 
 impl TiledSpec {
@@ -49,9 +51,17 @@ impl TiledSpec {
     /// Blades the world could grow at full density (every tile, every blade): what
     /// a stored field of the same world would hold.
     pub fn potential_blades(&self) -> f64 {
-        let side = 2.0 * f64::from(self.params.half_extent);
-        let per_unit = f64::from(self.params.per_side) / f64::from(self.params.size);
-        side * side * per_unit * per_unit
+        self.area * f64::from(self.per_area())
+    }
+
+    /// Blades a square unit grows at full density: a tile's over its square, on a
+    /// loaded scene a share of that (`shared::surface::per_area`: room for slopes).
+    pub fn per_area(&self) -> f32 {
+        if self.params.terrain == shared::tiles::TERRAIN_MESH {
+            return shared::surface::per_area(self.params.size, self.tile_blades());
+        }
+        let per_unit = self.params.per_side as f32 / self.params.size;
+        per_unit * per_unit
     }
 
     /// The tiles inside the world whose square comes within `radius` of `at` on the

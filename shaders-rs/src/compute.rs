@@ -29,14 +29,14 @@ use shared::raster::{
 };
 use shared::simulate::simulate;
 use shared::tiles::{
-    blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, tile_blade, tile_ground,
-    tile_in_view, tile_occluded,
+    blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, map_point, tile_blade,
+    tile_box, tile_in_view, tile_occluded,
 };
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
 };
-use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec4};
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec4};
 use spirv_std::image::ImageWithMethods;
 use spirv_std::image::sample_with::sample_index;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
@@ -154,7 +154,7 @@ pub fn simulate_cull_natural(
         let clump = Clump::unpack(clumps[index as usize]);
         let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
         // The painted colour map (white where there is none).
-        let at = Vec2::new(blade.v0.x, blade.v0.z);
+        let at = map_point(blade.root(), &push.tiles);
         let colour = if tiled {
             shared::paint::sample(paint, shared::paint::COLOUR, at, half)
         } else {
@@ -724,6 +724,7 @@ pub fn select_far_tiles(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     if index >= push.count.x * push.count.y {
@@ -732,12 +733,12 @@ pub fn select_far_tiles(
     let tile = push.first + UVec2::new(index % push.count.x, index / push.count.x).as_ivec2();
     let camera = push.camera.truncate();
     let (view_proj, params) = (push.view_proj, &push.params);
-    let ground = tile_ground(tile, params, (push.ground.x, push.ground.y));
-    if !tile_in_view(tile, view_proj, camera, params, ground, push.camera.w) {
+    let span = tile_box(tile, params, (push.ground.x, push.ground.y), paint);
+    if !tile_in_view(tile, view_proj, camera, params, span, push.camera.w) {
         return;
     }
     // The occlusion test at tile level (the pyramid is empty when it is off).
-    if tile_occluded(tile, params, ground, view_proj, pyramid, &frame.hiz) {
+    if tile_occluded(tile, params, span, view_proj, pyramid, &frame.hiz) {
         unsafe {
             atomic_i_increment::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
                 &mut counters[COUNTER_TILES_HIDDEN],
@@ -753,7 +754,7 @@ pub fn select_far_tiles(
         }
         slot += 1;
     }
-    let wanted = far_count(tile, camera, &push.params, ground);
+    let wanted = far_count(tile, camera, &push.params, span, paint);
     let first = unsafe {
         atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
             &mut counters[COUNTER_TILE_BLADES],
@@ -839,18 +840,19 @@ pub fn select_tiles(
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(push_constant)] push: &SelectPush,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] out: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     if index < push.count.x * push.count.y {
         let tile = push.first + UVec2::new(index % push.count.x, index / push.count.x).as_ivec2();
         let camera = push.camera.truncate();
-        let ground = (push.ground.x, push.ground.y);
+        let span = tile_box(tile, &push.params, (push.ground.x, push.ground.y), paint);
         if tile_in_view(
             tile,
             push.view_proj,
             camera,
             &push.params,
-            ground,
+            span,
             push.camera.w,
         ) {
             let at = unsafe {

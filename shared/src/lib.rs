@@ -26,6 +26,7 @@ pub mod settings;
 pub mod shade;
 pub mod shape;
 pub mod simulate;
+pub mod surface;
 pub mod sway;
 pub mod terrain;
 pub mod tiles;

@@ -1,7 +1,8 @@
 //! Painted maps (issue 19): 8-bit images laid over the world's square, read where a
 //! blade grows: how dense the grass is ([`DENSITY`]), how tall ([`HEIGHT`]), what
 //! colour ([`COLOUR`]) and what grows there ([`TYPE`]: grass, dandelions, nothing). The maps travel in one set of `u32` words: a header of
-//! [`MAPS`] word offsets (0: no such map), then each map as its width, its height
+//! [`MAPS`] word offsets (0: no such map) and the loaded scene's surface table's
+//! ([`SURFACE`], `surface`), then each map as its width, its height
 //! and its texels row by row (the image's top row at −z), one RGBA texel a word
 //! (red in the lowest byte): the same words in a storage buffer on the GPU and in a
 //! `Vec` on the host. A missing map reads white everywhere.
@@ -21,6 +22,9 @@ pub const COLOUR: usize = 2;
 pub const TYPE: usize = 3;
 /// Maps a set can hold.
 pub const MAPS: usize = 4;
+/// The header word after the maps': where a loaded scene's surface table starts
+/// (`surface`; 0: none).
+pub const SURFACE: usize = MAPS;
 
 /// What grows at a point of the type map: grass.
 pub const KIND_GRASS: u32 = 0;
@@ -29,7 +33,7 @@ pub const KIND_DANDELION: u32 = 1;
 /// Nothing.
 pub const KIND_BARE: u32 = 2;
 /// Words of the set's header.
-pub const HEADER_WORDS: usize = MAPS;
+pub const HEADER_WORDS: usize = MAPS + 1;
 
 /// Texel (x, y) of the map at `base`, 0..1 per channel.
 fn texel(set: &[u32], base: usize, width: u32, x: u32, y: u32) -> Vec4 {
@@ -123,6 +127,19 @@ pub fn words(maps: &[(usize, u32, u32, &[[u8; 4]])]) -> Vec<u32> {
         words.extend(texels.iter().map(|&t| u32::from_le_bytes(t)));
     }
     words
+}
+
+/// `set` (a set of maps, or none) with the surface table `surface` after it.
+#[cfg(not(target_arch = "spirv"))]
+pub fn with_surface(mut set: Vec<u32>, surface: &[u32]) -> Vec<u32> {
+    set.resize(set.len().max(HEADER_WORDS), 0);
+    // A table set before is the last thing in the set: replaced.
+    if set[SURFACE] != 0 {
+        set.truncate(set[SURFACE] as usize);
+    }
+    set[SURFACE] = set.len() as u32;
+    set.extend_from_slice(surface);
+    set
 }
 
 /// Grey texels as RGBA (the grey in red, green and blue, alpha 255).

@@ -58,11 +58,18 @@ pub struct TileParams {
     pub full_distance: f32,
     /// The ground the blades stand on: [`TERRAIN_FLAT`] or [`TERRAIN_VALLEY`].
     pub terrain: u32,
-    /// The world is the square from −`half_extent` to `half_extent` in x and z: no
-    /// blade grows outside it.
+    /// The world is the square from −`half_extent` to `half_extent` in x and z around
+    /// `centre`: no blade grows outside it, and the painted maps lie over it.
     pub half_extent: f32,
-    /// Padding to 32 bytes.
-    pub pad: UVec2,
+    /// The world's square's centre (x, z): 0 for the plane and the valley, a loaded
+    /// scene's own.
+    pub centre: Vec2,
+    /// The blades' size: heights, widths and tile sizes are the course's times this,
+    /// stiffnesses over it (`mesh::scatter_scaled`'s rule: the same bend under the same
+    /// forces).
+    pub blade_scale: f32,
+    /// Padding to 48 bytes.
+    pub pad: [u32; 3],
 }
 
 /// Blades on the plane y = 0, up +Y.
@@ -70,6 +77,9 @@ pub const TERRAIN_FLAT: u32 = 0;
 /// Blades on the valley (`terrain::valley_height`), up its normal, none on the bare
 /// path.
 pub const TERRAIN_VALLEY: u32 = 1;
+/// Blades on a loaded scene's surface, by area (`surface`: its table in the world's
+/// set), up its interpolated normal.
+pub const TERRAIN_MESH: u32 = 2;
 
 impl Default for TileParams {
     /// Tiles of 32/3 units at the course's density (36 blades a square unit: 64
@@ -82,7 +92,9 @@ impl Default for TileParams {
             full_distance: 16.0,
             terrain: TERRAIN_FLAT,
             half_extent: 1000.0,
-            pad: UVec2::ZERO,
+            centre: Vec2::ZERO,
+            blade_scale: 1.0,
+            pad: [0; 3],
         }
     }
 }
@@ -115,7 +127,7 @@ pub fn cell_of(index: u32, per_side: u32) -> UVec2 {
 }
 
 /// The even bits of `v`, packed (Morton decoding of one axis).
-fn compact_bits(v: u32) -> u32 {
+pub fn compact_bits(v: u32) -> u32 {
     let mut x = v & 0x5555_5555;
     x = (x | (x >> 1)) & 0x3333_3333;
     x = (x | (x >> 2)) & 0x0f0f_0f0f;
@@ -151,11 +163,29 @@ pub fn kept_share(distance: f32, params: &TileParams) -> f32 {
     density(distance, params).min(1.0)
 }
 
-/// A blade's rank, (index + jitter) / count: it is kept while [`kept_share`] at its
-/// distance is above this, so the kept blades of a tile are always its first ones.
-pub fn rank_of(tile: IVec2, index: u32, params: &TileParams) -> f32 {
-    let count = (params.per_side * params.per_side).max(1) as f32;
+/// A blade's rank, (index + jitter) / count, count the tile's blades
+/// ([`tile_count`]): it is kept while [`kept_share`] at its distance is above this, so
+/// the kept blades of a tile are always its first ones.
+pub fn rank_of(tile: IVec2, index: u32, params: &TileParams, map: &[u32]) -> f32 {
+    let count = tile_count(tile, params, map).max(1) as f32;
     (index as f32 + blade_unit(tile, index, params.seed, 2)) / count
+}
+
+/// The blades `tile` grows at full density: `per_side`², or on a loaded scene its
+/// share of the surface's (`surface::SurfaceTile::blades`, from the world's set
+/// `map`).
+pub fn tile_count(tile: IVec2, params: &TileParams, map: &[u32]) -> u32 {
+    if params.terrain == TERRAIN_MESH {
+        crate::surface::tile(map, tile).blades
+    } else {
+        params.per_side * params.per_side
+    }
+}
+
+/// Where a blade rooted at `root` reads the painted maps: its x and z from the
+/// world's centre.
+pub fn map_point(root: Vec3, params: &TileParams) -> Vec2 {
+    Vec2::new(root.x, root.z) - params.centre
 }
 
 /// A name for blade `index` of `tile` that stays with it wherever it is generated
@@ -175,9 +205,11 @@ pub fn tile_square(tile: IVec2, params: &TileParams) -> (Vec2, Vec2) {
     (lo, lo + Vec2::splat(params.size))
 }
 
-/// Whether any of `tile`'s square lies inside the world (`half_extent`).
+/// Whether any of `tile`'s square lies inside the world (`half_extent` around
+/// `centre`).
 pub fn tile_in_world(tile: IVec2, params: &TileParams) -> bool {
     let (lo, hi) = tile_square(tile, params);
+    let (lo, hi) = (lo - params.centre, hi - params.centre);
     let half = params.half_extent;
     hi.x > -half && hi.y > -half && lo.x < half && lo.y < half
 }
@@ -199,12 +231,19 @@ pub fn nearest_point(
 }
 
 /// How many of `tile`'s first blades can be kept seen from `camera`: every blade
-/// whose rank is below the share at the nearest point of the tile's box (ground from
-/// `ground.0` to `ground.1`), at most all of them. A far tile's blades beyond this
-/// are never kept, so they need not be generated.
-pub fn far_count(tile: IVec2, camera: Vec3, params: &TileParams, ground: (f32, f32)) -> u32 {
-    let nearest = nearest_point(tile, camera, params, ground);
-    let count = params.per_side * params.per_side;
+/// whose rank is below the share at the nearest point of the tile's box (its square
+/// over the height range `span`, [`tile_box`]), at most all of them ([`tile_count`]; `map` the world's
+/// set). A far tile's blades beyond this are never kept, so they need not be
+/// generated.
+pub fn far_count(
+    tile: IVec2,
+    camera: Vec3,
+    params: &TileParams,
+    span: (f32, f32),
+    map: &[u32],
+) -> u32 {
+    let nearest = nearest_point(tile, camera, params, span);
+    let count = tile_count(tile, params, map);
     let share = kept_share((nearest - camera).length(), params);
     ((share * count as f32) as u32 + 1).min(count)
 }
@@ -232,11 +271,13 @@ pub fn painted_scale(rank: f32, density: f32, paint: f32) -> f32 {
 }
 
 /// Blade `index` of `tile` at rest on its ground (`params.terrain`: the plane y = 0,
-/// up +Y, or the valley, up its normal), seen from `camera`, its width carrying
+/// up +Y; the valley, up its normal; or a loaded scene's surface, up its normal, from
+/// the world's set `map`: [`mesh_root`]), seen from `camera`, its width carrying
 /// [`width_scale`]: 0 (not [`kept`]) when its rank has left it at that distance or it
 /// stands on bare ground. `map` holds the painted maps (`paint`: the density thins the
 /// blades as the distance does, the height map scales their heights, the type map
-/// makes dandelions or bare ground; `&[]` for none).
+/// makes dandelions or bare ground; `&[]` for none). On a loaded scene, a blade past
+/// the tile's count ([`tile_count`]) is empty (all zero: height 0).
 pub fn tile_blade(
     tile: IVec2,
     index: u32,
@@ -244,13 +285,25 @@ pub fn tile_blade(
     params: &TileParams,
     map: &[u32],
 ) -> Blade {
-    let root2 = root_of(tile, index, params);
-    let (height_at, up) = if params.terrain == TERRAIN_VALLEY {
-        (terrain::valley_height(root2), terrain::valley_normal(root2))
+    let (root, up) = if params.terrain == TERRAIN_MESH {
+        let surface = crate::surface::tile(map, tile);
+        if index >= surface.blades {
+            return Blade::default();
+        }
+        mesh_root(tile, index, params, map, &surface)
     } else {
-        (0.0, Vec3::Y)
+        let root2 = root_of(tile, index, params);
+        if params.terrain == TERRAIN_VALLEY {
+            let y = terrain::valley_height(root2);
+            (
+                Vec3::new(root2.x, y, root2.y),
+                terrain::valley_normal(root2),
+            )
+        } else {
+            (Vec3::new(root2.x, 0.0, root2.y), Vec3::Y)
+        }
     };
-    let root = Vec3::new(root2.x, height_at, root2.y);
+    let root2 = map_point(root, params);
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
     let dandelion =
@@ -262,10 +315,32 @@ pub fn tile_blade(
         0.0
     };
     let orientation = pick(3, (0.0, core::f32::consts::TAU)) + turns;
-    let height = pick(4, HEIGHT) * crate::paint::height_factor(map, root2, params.half_extent);
+    let scale = params.blade_scale;
+    let height =
+        pick(4, HEIGHT) * scale * crate::paint::height_factor(map, root2, params.half_extent);
     let width = drawn_width(tile, index, root, camera, params, map);
-    let stiffness = pick(6, STIFFNESS);
+    let stiffness = pick(6, STIFFNESS) / scale;
     Blade::at_rest(root, up, orientation, height, width, stiffness)
+}
+
+/// Blade `index`'s root and up on a loaded scene's `surface` part of `tile`: at the
+/// share u = (index's bits reversed + jitter) / per_side² of the tile's area
+/// (`surface::point`, which runs through the pieces in Morton order and through each
+/// piece in Morton order too), so that, as [`cell_of`] does on a square, every prefix
+/// of the tile's blades is spread over all of it; up the surface's normal there.
+pub fn mesh_root(
+    tile: IVec2,
+    index: u32,
+    params: &TileParams,
+    map: &[u32],
+    surface: &crate::surface::SurfaceTile,
+) -> (Vec3, Vec3) {
+    let room = params.per_side * params.per_side;
+    let bits = room.max(2).trailing_zeros();
+    let stratum = index.reverse_bits() >> (32 - bits);
+    let unit = |k: u32| blade_unit(tile, index, params.seed, k);
+    let u = (stratum as f32 + unit(0)) / room as f32;
+    crate::surface::point(map, surface, u)
 }
 
 /// How wide blade `index` of `tile`, rooted at `root`, is drawn seen from `camera`:
@@ -282,7 +357,7 @@ pub fn drawn_width(
     params: &TileParams,
     map: &[u32],
 ) -> f32 {
-    let root2 = Vec2::new(root.x, root.z);
+    let root2 = map_point(root, params);
     let inside = root2.abs().max_element() < params.half_extent;
     let valley = params.terrain == TERRAIN_VALLEY;
     let painted_bare =
@@ -291,18 +366,27 @@ pub fn drawn_width(
         return 0.0;
     }
     let scale = painted_scale(
-        rank_of(tile, index, params),
+        rank_of(tile, index, params, map),
         density((root - camera).length(), params),
         crate::paint::density(map, root2, params.half_extent),
     );
     let (lo, hi) = WIDTH;
-    (lo + (hi - lo) * blade_unit(tile, index, params.seed, 5)) * scale
+    (lo + (hi - lo) * blade_unit(tile, index, params.seed, 5)) * scale * params.blade_scale
 }
 
 /// The lowest and highest ground under `tile` (within `ground`, the world's): the
-/// plane's 0, or the valley's height at the tile's centre ± its steepest slope over
-/// the half diagonal (`terrain::VALLEY_MAX_SLOPE`).
-pub fn tile_ground(tile: IVec2, params: &TileParams, ground: (f32, f32)) -> (f32, f32) {
+/// plane's 0, the valley's height at the tile's centre ± its steepest slope over
+/// the half diagonal (`terrain::VALLEY_MAX_SLOPE`), or a loaded scene's lowest and
+/// highest point in the tile (`surface`, from the world's set `map`).
+pub fn tile_ground(
+    tile: IVec2,
+    params: &TileParams,
+    ground: (f32, f32),
+    map: &[u32],
+) -> (f32, f32) {
+    if params.terrain == TERRAIN_MESH {
+        return crate::surface::tile(map, tile).ground;
+    }
     if params.terrain != TERRAIN_VALLEY {
         return ground;
     }
@@ -316,20 +400,33 @@ pub fn tile_ground(tile: IVec2, params: &TileParams, ground: (f32, f32)) -> (f32
     )
 }
 
+/// The height range of `tile`'s box: its ground ([`tile_ground`]) up to the tallest
+/// blade it can grow (the course's tallest times the blade scale, twice that under a
+/// height map, `paint::height_factor`).
+pub fn tile_box(tile: IVec2, params: &TileParams, ground: (f32, f32), map: &[u32]) -> (f32, f32) {
+    let (low, high) = tile_ground(tile, params, ground, map);
+    let painted = if crate::paint::has(map, crate::paint::HEIGHT) {
+        2.0
+    } else {
+        1.0
+    };
+    (low, high + HEIGHT.1 * params.blade_scale * painted)
+}
+
 /// Whether every blade `tile` can hold is hidden behind the occluders' depth
-/// pyramid (`hiz::box_occluded` on its box: its square, its ground up to the tallest
-/// blade).
+/// pyramid (`hiz::box_occluded` on its box: its square, over the height range `span`,
+/// [`tile_box`]).
 pub fn tile_occluded(
     tile: IVec2,
     params: &TileParams,
-    ground: (f32, f32),
+    span: (f32, f32),
     view_proj: Mat4,
     pyramid: &[f32],
     hiz: &crate::hiz::HiZLayout,
 ) -> bool {
     let (lo, hi) = tile_square(tile, params);
-    let low = Vec3::new(lo.x, ground.0, lo.y);
-    let high = Vec3::new(hi.x, ground.1 + HEIGHT.1, hi.y);
+    let low = Vec3::new(lo.x, span.0, lo.y);
+    let high = Vec3::new(hi.x, span.1, hi.y);
     crate::hiz::box_occluded(low, high, view_proj, pyramid, hiz)
 }
 
@@ -346,6 +443,9 @@ pub fn far_blade(
     env: &crate::simulate::Environment,
 ) -> Blade {
     let blade = tile_blade(tile, index, camera, params, map);
+    if blade.height() <= 0.0 {
+        return blade;
+    }
     crate::sway::settled(&blade, env, env.time)
 }
 
@@ -366,9 +466,8 @@ pub fn kept(blade: &Blade) -> bool {
 }
 
 /// Whether `tile` can show a blade to a camera at `camera` with `view_proj`: inside
-/// the world (`half_extent`), its box
-/// (the tile's square, from `ground.0` to `ground.1` + the tallest blade in height)
-/// not wholly outside one plane of the view volume (the eight corners in clip space),
+/// the world (`half_extent`), its box (the tile's square over the height range
+/// `span`, [`tile_box`]) not wholly outside one plane of the view volume (the eight corners in clip space),
 /// and its nearest point within `reach` of the camera (beyond, [`density`] has left
 /// too few blades to draw: the caller's choice).
 pub fn tile_in_view(
@@ -376,14 +475,14 @@ pub fn tile_in_view(
     view_proj: Mat4,
     camera: Vec3,
     params: &TileParams,
-    ground: (f32, f32),
+    span: (f32, f32),
     reach: f32,
 ) -> bool {
     if !tile_in_world(tile, params) {
         return false;
     }
     let (lo, hi) = tile_square(tile, params);
-    let (bottom, top) = (ground.0, ground.1 + HEIGHT.1);
+    let (bottom, top) = span;
     let nearest = nearest_point(tile, camera, params, (bottom, top));
     if (nearest - camera).length() > reach {
         return false;
@@ -674,7 +773,7 @@ mod tests {
         let tile = IVec2::new(2, -1);
         for distance in [0.0, 12.0, 20.0, 40.0, 90.0, 400.0] {
             let camera = Vec3::new(-distance, 1.7, -3.0);
-            let count = far_count(tile, camera, &params, (0.0, 0.0));
+            let count = far_count(tile, camera, &params, (0.0, 0.0), &[]);
             let last_kept = (0..all)
                 .filter(|&i| kept(&tile_blade(tile, i, camera, &params, &[])))
                 .max()
@@ -687,7 +786,7 @@ mod tests {
             );
         }
         assert_eq!(
-            far_count(tile, Vec3::new(20.0, 1.0, -5.0), &params, (0.0, 0.0)),
+            far_count(tile, Vec3::new(20.0, 1.0, -5.0), &params, (0.0, 0.0), &[]),
             all
         );
     }
@@ -730,7 +829,10 @@ mod tests {
             }
         }
         let (hiz, pyramid) = crate::hiz::build(&depth, w, h);
-        let hidden = |t: IVec2| tile_occluded(t, &params, (0.0, 0.0), view_proj, &pyramid, &hiz);
+        let hidden = |t: IVec2| {
+            let span = tile_box(t, &params, (0.0, 0.0), &[]);
+            tile_occluded(t, &params, span, view_proj, &pyramid, &hiz)
+        };
         // Just behind the wall (z from −12 to −10): tips at least 8.5° below the eye,
         // the wall's top 5.7° below it.
         assert!(hidden(IVec2::new(0, -6)) && hidden(IVec2::new(-1, -6)));
@@ -752,7 +854,7 @@ mod tests {
         };
         for t in 0..200 {
             let tile = IVec2::new((t * 37) % 180 - 90, (t * 53) % 180 - 90);
-            let (lo, hi) = tile_ground(tile, &params, (-1e3, 1e3));
+            let (lo, hi) = tile_ground(tile, &params, (-1e3, 1e3), &[]);
             for i in (0..params.per_side * params.per_side).step_by(13) {
                 let y = root_of(tile, i, &params);
                 let h = terrain::valley_height(y);

@@ -146,9 +146,9 @@ pub fn prepare(
         common.type_map.as_deref(),
     )?;
     if tiled(common, &scene.kind)? {
-        let spec = tiled_spec(&scene, ctx);
+        let spec = tiled_spec(&scene, ctx, scene.scale_for(common.look));
         log::info!(
-            "scene {}: tiled field, {:.0} M blades in the world, a pool of {} tiles \
+            "scene {}: tiled field, {:.2} M blades in the world, a pool of {} tiles \
              ({} blades simulated), room for {} far blades",
             scene.name,
             spec.potential_blades() / 1e6,
@@ -174,18 +174,14 @@ pub fn prepare(
     Ok((scene, settings))
 }
 
-/// Whether the field is tiled: `--field`, else on the valley only. Tiles grow on the
-/// plane and the valley; other scenes' surfaces are not tiled yet.
+/// Whether the field is tiled: `--field`, else on the valley only. Every scene can
+/// be tiled: the plane and the valley from their formulas, the others (built-in
+/// meshes and loaded files) over their triangles (`shared::surface`).
 pub fn tiled(common: &Common, kind: &SceneKind) -> Result<bool> {
-    let flat_or_valley = matches!(kind, SceneKind::Plane | SceneKind::Valley);
-    match common.field {
-        Some(FieldChoice::Tiles) if !flat_or_valley => anyhow::bail!(
-            "--field tiles: scene {} cannot be tiled yet (the plane and the valley can)",
-            common.scene
-        ),
-        Some(choice) => Ok(choice == FieldChoice::Tiles),
-        None => Ok(*kind == SceneKind::Valley),
-    }
+    Ok(match common.field {
+        Some(choice) => choice == FieldChoice::Tiles,
+        None => *kind == SceneKind::Valley,
+    })
 }
 
 /// The tiled field's layout on `scene` for `ctx`: on a GPU, tiles of 64² blades at
@@ -195,28 +191,47 @@ pub fn tiled(common: &Common, kind: &SceneKind) -> Result<bool> {
 /// blade kept to 4.5 units, 16 pool tiles for those within 3 units, and room for
 /// 65,536 far blades out to 120 (lavapipe's grass pass at 1280x720 took 41 ms for
 /// the 3,338 blades drawn when every blade was kept to 6 units, 21 ms for 895 at 3).
-pub fn tiled_spec(scene: &Scene, ctx: &Context) -> TiledSpec {
-    use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams};
-    let valley = scene.kind == SceneKind::Valley;
+pub fn tiled_spec(scene: &Scene, ctx: &Context, scale: f32) -> TiledSpec {
+    use shared::tiles::{TERRAIN_FLAT, TERRAIN_MESH, TERRAIN_VALLEY, TileParams};
+    let terrain = match scene.kind {
+        SceneKind::Valley => TERRAIN_VALLEY,
+        SceneKind::Plane => TERRAIN_FLAT,
+        _ => TERRAIN_MESH,
+    };
+    // The plane and the valley are centred on the origin, at the course's size.
+    let scale = if terrain == TERRAIN_MESH { scale } else { 1.0 };
     let (lo, hi) = scene.surface.bounds().unwrap_or_default();
     let half_extent = 0.5 * (hi.x - lo.x).max(hi.z - lo.z);
+    let centre = if terrain == TERRAIN_MESH {
+        shared::glam::Vec2::new(0.5 * (lo.x + hi.x), 0.5 * (lo.z + hi.z))
+    } else {
+        shared::glam::Vec2::ZERO
+    };
     let software = ctx.is_software();
     let params = TileParams {
-        size: if software { 16.0 / 3.0 } else { 32.0 / 3.0 },
+        size: if software { 16.0 / 3.0 } else { 32.0 / 3.0 } * scale,
         per_side: if software { 32 } else { 64 },
         seed: scene.seed as u32,
-        full_distance: if software { 4.5 } else { 48.0 },
-        terrain: if valley { TERRAIN_VALLEY } else { TERRAIN_FLAT },
+        full_distance: if software { 4.5 } else { 48.0 } * scale,
+        terrain,
         half_extent,
-        pad: Default::default(),
+        centre,
+        blade_scale: scale,
+        pad: [0; 3],
+    };
+    let area = if terrain == TERRAIN_MESH {
+        f64::from(scene.surface.area())
+    } else {
+        (2.0 * f64::from(half_extent)).powi(2)
     };
     TiledSpec {
         params,
         pool_tiles: if software { 16 } else { 96 },
-        pool_radius: if software { 3.0 } else { 16.0 },
+        pool_radius: if software { 3.0 } else { 16.0 } * scale,
         far_blades: if software { 1 << 16 } else { 1 << 22 },
-        reach: if software { 120.0 } else { 800.0 },
+        reach: if software { 120.0 } else { 800.0 } * scale,
         ground: scene.ground_range(),
+        area,
     }
 }
 

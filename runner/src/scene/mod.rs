@@ -256,6 +256,10 @@ impl Scene {
     pub fn make_tiled(&mut self, spec: TiledSpec) {
         self.blades = Vec::new();
         self.tiles = Some(spec);
+        if spec.params.terrain == shared::tiles::TERRAIN_MESH {
+            let table = shared::surface::build(&self.surface, spec.params.size, spec.tile_blades());
+            self.paint = shared::paint::with_surface(std::mem::take(&mut self.paint), &table);
+        }
     }
 
     /// A stored field under a density map (`paint`): each blade kept with the

@@ -34,7 +34,7 @@ impl SurfaceMesh {
     }
 
     /// The corners of triangle `i`, or `None` when it or one of its indices is out of range.
-    fn corners(&self, i: usize) -> Option<[Vec3; 3]> {
+    pub(crate) fn corners(&self, i: usize) -> Option<[Vec3; 3]> {
         let [a, b, c] = *self.triangles.get(i)?;
         Some([
             *self.positions.get(a as usize)?,
@@ -123,7 +123,7 @@ impl SurfaceMesh {
 
     /// The unit normal at barycentric `weights` of triangle `i` (corners `abc`): the
     /// interpolated vertex normals, or the face normal where they cancel or are missing.
-    fn normal_at(&self, i: usize, abc: [Vec3; 3], weights: Vec3) -> Vec3 {
+    pub(crate) fn normal_at(&self, i: usize, abc: [Vec3; 3], weights: Vec3) -> Vec3 {
         let face = Self::face_normal(abc);
         let [ia, ib, ic] = self.triangles[i];
         let normal = |v: u32| self.normals.get(v as usize).copied();

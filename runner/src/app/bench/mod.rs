@@ -156,7 +156,8 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         }
         let mut n = n;
         if super::tiled(common, &scene.kind)? {
-            scene.make_tiled(super::tiled_spec(&scene, &ctx));
+            let scale = scene.scale_for(common.look);
+            scene.make_tiled(super::tiled_spec(&scene, &ctx, scale));
             n = scene.blade_count();
             last_count = n;
         }

@@ -16,7 +16,7 @@ use shared::layout::{
 use shared::layout::{SelectPush, TilePush};
 use shared::lod::blades_per_chunk;
 use shared::look::DressedBlade;
-use shared::meshlet::{SEGMENT_BUCKETS, StripBlade};
+use shared::meshlet::{BUCKETS, StripBlade};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -215,7 +215,7 @@ pub struct Field {
     /// One `VkDrawIndirectCommand` per chunk.
     pub draws: Buffer,
     /// The mesh path's indirect draws: one mesh grid per strip length
-    /// (`meshlet::SEGMENT_BUCKETS`).
+    /// (`meshlet::BUCKETS`).
     pub mesh_draw: Buffer,
     /// The compute rasterizer's indirect dispatch and resolve draw
     /// (`layout::RASTER_DISPATCH`, `layout::RASTER_DRAW`, `layout::RASTER_PREPARE`).
@@ -363,7 +363,7 @@ impl Field {
         )?;
         let mesh_draw = device_buffer(
             "mesh draws",
-            u64::from(SEGMENT_BUCKETS) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
+            u64::from(BUCKETS) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
         let levels = device_buffer("levels", u64::from(count) * 4, U::STORAGE_BUFFER)?;

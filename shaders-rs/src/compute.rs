@@ -20,8 +20,8 @@ use shared::layout::{
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
 use shared::meshlet::{
-    SEGMENT_BUCKETS, StripBlade, binned_counter, bucket_base, draw_segments, mesh_grid,
-    strip_counter, strip_segments,
+    BUCKETS, StripBlade, binned_counter, bucket_base, bucket_of, bucket_segments, mesh_grid,
+    near_band, pack_level, strip_counter, strip_segments, top_segments, unpack_level,
 };
 use shared::raster::{
     Coverage, EMPTY, RASTER_GRID_WIDTH, in_front, is_far, packed_depth, pixel_index,
@@ -315,12 +315,19 @@ fn simulate_and_cull<T: Copy + Default>(
         if outcome == KEPT {
             (prepared, level) = prepare(index, name, &blade, paint);
             if mesh && !far && level > 0.0 {
+                // Its bucket: its strip length, and near the camera its band.
+                let distance = (blade.root() - frame.camera.position).length();
+                let band = near_band(distance, blade.height());
+                let top = top_segments(frame.lod.most);
+                // Its bucket from the level as the binning pass reads it back.
+                level = pack_level(level, band);
+                let bucket = bucket_of(strip_segments(unpack_level(level).0), band, top);
                 unsafe {
                     atomic_i_increment::<
                         u32,
                         { Scope::Workgroup as u32 },
                         { Semantics::NONE.bits() },
-                    >(&mut tally[strip_counter(strip_segments(level))]);
+                    >(&mut tally[strip_counter(bucket)]);
                 }
             }
         }
@@ -377,50 +384,50 @@ pub fn bin_blades(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &mut [StripBlade],
-    #[spirv(workgroup)] tally: &mut [u32; SEGMENT_BUCKETS as usize],
+    #[spirv(workgroup)] tally: &mut [u32; BUCKETS as usize],
 ) {
-    if local < SEGMENT_BUCKETS {
+    if local < BUCKETS {
         tally[local as usize] = 0;
     }
     workgroup_memory_barrier_with_group_sync();
     let slot = flat_index(id, workgroups, SIMULATE_WORKGROUP);
-    let mut segments = 0;
+    let mut bucket = BUCKETS;
     let mut level = 0.0;
     let mut place = 0;
     if slot < counters[COUNTER_VISIBLE] {
-        level = levels[slot as usize];
+        let band;
+        (level, band) = unpack_level(levels[slot as usize]);
         if level > 0.0 {
-            segments = strip_segments(level);
+            bucket = bucket_of(strip_segments(level), band, top_segments(frame.lod.most));
             place = unsafe {
                 atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                    &mut tally[segments as usize - 1],
+                    &mut tally[bucket as usize],
                 )
             };
         }
     }
     workgroup_memory_barrier_with_group_sync();
-    // Thread k takes the workgroup's slots of bucket k + 1 and keeps their start.
-    if local < SEGMENT_BUCKETS {
+    // Thread k takes the workgroup's slots of bucket k and keeps their start.
+    if local < BUCKETS {
         let count = tally[local as usize];
         if count > 0 {
-            let n = local + 1;
             let first = unsafe {
                 atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                    &mut counters[binned_counter(n)],
+                    &mut counters[binned_counter(local)],
                     count,
                 )
             };
-            tally[local as usize] = bucket_base(counters, n) + first;
+            tally[local as usize] = bucket_base(counters, local) + first;
         }
     }
     workgroup_memory_barrier_with_group_sync();
-    if segments > 0 {
+    if bucket < BUCKETS {
         let source = if frame.look.style == LOOK_NATURAL {
             slot
         } else {
             visible[slot as usize]
         };
-        let at = tally[segments as usize - 1] + place;
+        let at = tally[bucket as usize] + place;
         binned[at as usize] = StripBlade { source, level };
     }
 }
@@ -959,9 +966,10 @@ pub fn write_draws(
         raster_args[RASTER_PREPARE + 1] = y;
         raster_args[RASTER_PREPARE + 2] = 1;
         let mut draw = 0;
-        while draw < SEGMENT_BUCKETS {
-            let n = draw_segments(draw);
-            mesh_draws[draw as usize] = mesh_grid(counters[strip_counter(n)], n).into();
+        let top = top_segments(frame.lod.most);
+        while draw < BUCKETS {
+            let n = bucket_segments(draw, top);
+            mesh_draws[draw as usize] = mesh_grid(counters[strip_counter(draw)], n).into();
             draw += 1;
         }
     }

@@ -14,9 +14,9 @@ use shared::Blade;
 use shared::layout::FrameUniforms;
 use shared::look::DressedBlade;
 use shared::meshlet::{
-    MAX_STRIP_VERTICES, StripBlade, bucket_base, draw_segments, group_index, group_strips,
+    MAX_STRIP_VERTICES, StripBlade, bucket_base, bucket_segments, group_index, group_strips,
     strip_coord, strip_counter, strip_lane, strip_triangle, strip_triangles, strip_vertices,
-    strips_per_group,
+    strips_per_group, top_segments,
 };
 use shared::shape::surface_point;
 use spirv_std::arch::set_mesh_outputs_ext;
@@ -43,11 +43,13 @@ pub(crate) fn strip_outputs(
 
 /// Sets the workgroup's outputs and writes its triangles, then gives this
 /// invocation's vertex: (output index, the binned blade's slot, the binned blade,
-/// (u, v, level)), if it has one. Draw `draw` holds the strips of [`draw_segments`]
-/// segments; workgroup `group` of the launch `groups` takes the next
+/// (u, v, level)), if it has one. Draw `draw` holds bucket `draw`'s strips
+/// (`meshlet::bucket_segments` segments, `top` those of the longest); workgroup `group` of the launch `groups` takes the next
 /// [`strips_per_group`] of them.
+#[allow(clippy::too_many_arguments)]
 fn strip_vertex(
     draw: u32,
+    top: u32,
     group: UVec3,
     groups: UVec3,
     lane: u32,
@@ -55,16 +57,16 @@ fn strip_vertex(
     binned: &[StripBlade],
     indices: &mut [UVec3; 30],
 ) -> Option<(usize, u32, StripBlade, Vec3)> {
-    let segments = draw_segments(draw);
+    let segments = bucket_segments(draw, top);
     let per = strips_per_group(segments);
     let first = group_index(group, groups) * per;
-    let count = counters[strip_counter(segments)];
+    let count = counters[strip_counter(draw)];
     let strips = group_strips(count, first, per);
     let (strip, k) = strip_outputs(lane, strips, segments, indices);
     if strip >= strips {
         return None;
     }
-    let at = bucket_base(counters, segments) + first + strip;
+    let at = bucket_base(counters, draw) + first + strip;
     let blade = binned[at as usize];
     let (u, v) = strip_coord(k, blade.level);
     Some((lane as usize, at, blade, Vec3::new(u, v, blade.level)))
@@ -102,7 +104,8 @@ pub fn paper_mesh(
     out_normal_v: &mut [Vec4; 32],
     #[spirv(flat)] out_level: &mut [f32; 32],
 ) {
-    let vertex = strip_vertex(draw, group, groups, lane, counters, binned, indices);
+    let top = top_segments(frame.lod.most);
+    let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
         let (clip, normal_v) = paper_vertex(frame, &blades[strip.source as usize], uvl);
         out_position[k] = clip;
@@ -136,13 +139,14 @@ pub fn paper_mesh_capture(
     out_normal_v: &mut [Vec4; 32],
     #[spirv(flat)] out_level: &mut [f32; 32],
 ) {
-    let vertex = strip_vertex(draw, group, groups, lane, counters, binned, indices);
+    let top = top_segments(frame.lod.most);
+    let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, at, strip, uvl)) = vertex {
         let (clip, normal_v) = paper_vertex(frame, &blades[strip.source as usize], uvl);
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
-        let (_, vertex) = strip_lane(lane, draw_segments(draw));
+        let (_, vertex) = strip_lane(lane, bucket_segments(draw, top));
         capture[(at * MAX_STRIP_VERTICES + vertex) as usize] = clip;
     }
 }
@@ -174,7 +178,8 @@ pub fn natural_mesh(
     #[spirv(flat)] out_tint: &mut [Vec4; 32],
     #[spirv(flat)] out_width_dir: &mut [Vec3; 32],
 ) {
-    let vertex = strip_vertex(draw, group, groups, lane, counters, binned, indices);
+    let top = top_segments(frame.lod.most);
+    let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
         let drawn = &dressed[strip.source as usize];

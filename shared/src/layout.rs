@@ -5,7 +5,7 @@
 use crate::collide::MAX_COLLIDERS;
 use crate::cull::{self, CullParams};
 use crate::hiz::HiZLayout;
-use crate::lod::{LodParams, MAX_SEGMENTS};
+use crate::lod::LodParams;
 use crate::look::LookParams;
 use crate::raster::RasterParams;
 use crate::shade::Light;
@@ -227,16 +227,16 @@ pub const COUNTER_FAR: usize = 6;
 pub fn far_slot(k: u32, blades: u32) -> u32 {
     blades - 1 - k
 }
-/// First of the mesh path's counts of visible blades by strip length (strips of 1
-/// to `lod::MAX_SEGMENTS` segments, `meshlet::strip_counter`), counted by the
-/// compute pass.
+/// First of the mesh path's counts of visible blades by bucket (strip length, and
+/// for the longest strips the band of distance: `meshlet::bucket_of`,
+/// `meshlet::strip_counter`), counted by the compute pass.
 pub const COUNTER_STRIPS: usize = 8;
-/// First of the binning pass's fill counters, one per strip length
+/// First of the binning pass's fill counters, one per bucket
 /// (`meshlet::binned_counter`).
-pub const COUNTER_BINNED: usize = COUNTER_STRIPS + MAX_SEGMENTS as usize;
+pub const COUNTER_BINNED: usize = COUNTER_STRIPS + crate::meshlet::BUCKETS as usize;
 /// Pixels the compute rasterizer's far blades covered on the target (their coverage
 /// drew them), counted by the rasterizer (`raster::raster_blade`'s plots).
-pub const COUNTER_RASTER_COVERED: usize = COUNTER_BINNED + MAX_SEGMENTS as usize;
+pub const COUNTER_RASTER_COVERED: usize = COUNTER_BINNED + crate::meshlet::BUCKETS as usize;
 /// Of those, the pixels the rasterizer wrote with an atomic: in front of the
 /// hardware's depth and of the far blade the pixel held when it looked
 /// (`raster::in_front`).

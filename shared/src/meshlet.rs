@@ -8,11 +8,13 @@
 //! whole number: the shape morphs continuously, as fractional-odd spacing does.
 //!
 //! The compute pass, which knows each visible blade's level, counts the blades of each
-//! strip length N (one bucket per N, [`SEGMENT_BUCKETS`] of them) and bins them into
-//! one list per bucket (bucket N after the buckets below it, [`bucket_base`]). One
-//! indirect draw per bucket then launches mesh workgroups of [`strips_per_group`]
-//! strips each: every workgroup knows its strips from its index alone, with no task
-//! stage, no packing and no search. On the NVIDIA H100, which runs graphics stages on
+//! strip length N and bins them into one list per bucket ([`BUCKETS`] of them, each
+//! after the buckets before it, [`bucket_base`]): one per N, the longest strips (the
+//! nearest blades, at the level's cap) split further into [`NEAR_BANDS`] bands of
+//! distance ([`bucket_of`]). One indirect draw per bucket, nearest first, then
+//! launches mesh workgroups of [`strips_per_group`] strips each: every workgroup
+//! knows its strips from its index alone, with no task stage, no packing and no
+//! search. On the NVIDIA H100, which runs graphics stages on
 //! a few of its SMs, the work of a task stage costs most there (performance notes,
 //! attempt 12).
 
@@ -36,9 +38,76 @@ pub const MESHLET_TRIANGLES: u32 = MESHLET_VERTICES - 2;
 pub const MESH_GRID_WIDTH: u32 = 32_768;
 /// Most vertices of one strip: [`MAX_SEGMENTS`] segments.
 pub const MAX_STRIP_VERTICES: u32 = 2 * (MAX_SEGMENTS + 1);
-/// Buckets of strip lengths: strips of 1 to [`MAX_SEGMENTS`] segments, one indirect
-/// draw each.
-pub const SEGMENT_BUCKETS: u32 = MAX_SEGMENTS;
+/// Bands of distance the longest strips are split into, nearest first, so that the
+/// blades nearest the camera, which cover the most pixels, are drawn before those
+/// they hide and the depth test rejects the hidden ones' fragments early
+/// ([`near_band`]).
+pub const NEAR_BANDS: u32 = 8;
+/// Buckets, one indirect draw each: strips of 1 to [`MAX_SEGMENTS`] segments, those
+/// of the most segments in [`NEAR_BANDS`] bands ([`bucket_of`]).
+pub const BUCKETS: u32 = MAX_SEGMENTS + NEAR_BANDS - 1;
+/// A visible blade's packed level ([`pack_level`]): its band times this, plus the
+/// level (at most `lod::MAX_LEVEL`).
+pub const BAND_STRIDE: f32 = 16.0;
+
+/// The band of a blade `distance` from the camera and `height` tall: 0 within
+/// [`FIRST_BAND`] heights, each next band √2 times as far, the last beyond
+/// ([`NEAR_BANDS`]).
+pub fn near_band(distance: f32, height: f32) -> u32 {
+    let ratio = distance / height.max(1e-6);
+    let (mut band, mut edge) = (0, FIRST_BAND);
+    while band < NEAR_BANDS - 1 && ratio >= edge {
+        band += 1;
+        edge *= core::f32::consts::SQRT_2;
+    }
+    band
+}
+
+/// The nearest band's reach, in blade heights ([`near_band`]).
+pub const FIRST_BAND: f32 = 1.5;
+
+/// A visible blade's `level` and `band` as the levels buffer holds them (one float;
+/// the level comes back within 4 ulps of 16·band, about 4e-6 at band 3, which
+/// [`unpack_level`]'s readers all take as the level).
+pub fn pack_level(level: f32, band: u32) -> f32 {
+    level + BAND_STRIDE * band as f32
+}
+
+/// [`pack_level`]'s inverse: (level, band).
+pub fn unpack_level(packed: f32) -> (f32, u32) {
+    let band = (packed / BAND_STRIDE) as u32;
+    (packed - BAND_STRIDE * band as f32, band)
+}
+
+/// Segments of the longest strips at a level cap of `most` (`lod.most`).
+pub fn top_segments(most: f32) -> u32 {
+    strip_segments(most)
+}
+
+/// The bucket (and draw) of a strip of `segments` in `band`, the longest strips being
+/// of `top` segments ([`top_segments`]): the longest in their band's bucket (0 to
+/// [`NEAR_BANDS`] − 1), then one bucket per shorter length, longest first, then
+/// (unused while no level passes its cap) one per longer length.
+pub fn bucket_of(segments: u32, band: u32, top: u32) -> u32 {
+    if segments == top {
+        band.min(NEAR_BANDS - 1)
+    } else if segments < top {
+        NEAR_BANDS + (top - 1 - segments)
+    } else {
+        NEAR_BANDS + top - 1 + (segments - top - 1)
+    }
+}
+
+/// Segments of the strips of `bucket` ([`bucket_of`]'s inverse in length).
+pub fn bucket_segments(bucket: u32, top: u32) -> u32 {
+    if bucket < NEAR_BANDS {
+        top
+    } else if bucket < NEAR_BANDS + top - 1 {
+        top - 1 - (bucket - NEAR_BANDS)
+    } else {
+        top + 1 + (bucket - (NEAR_BANDS + top - 1))
+    }
+}
 
 /// Segments of a blade strip at `level`: the level rounded up.
 pub fn strip_segments(level: f32) -> u32 {
@@ -85,13 +154,6 @@ pub fn strips_per_group(segments: u32) -> u32 {
     MESHLET_VERTICES / strip_vertices(segments).max(1)
 }
 
-/// Strip length drawn by the mesh draw `draw` (its `DrawIndex`): the longest strips
-/// first, which are the nearest blades (the level follows the size on screen), so the
-/// depth test rejects early most fragments of the many far blades drawn after them.
-pub fn draw_segments(draw: u32) -> u32 {
-    SEGMENT_BUCKETS - draw
-}
-
 /// A visible blade binned by strip length: what the mesh stage reads it from (the
 /// blade's index in the paper look, its dressed slot in the natural look) and its
 /// level of detail.
@@ -105,7 +167,7 @@ pub struct StripBlade {
     pub level: f32,
 }
 
-/// The mesh grid of bucket `segments` holding `count` strips: enough workgroups of
+/// The mesh grid of a bucket of strips of `segments` holding `count` strips: enough workgroups of
 /// [`strips_per_group`], as (x, y, 1) no wider than [`MESH_GRID_WIDTH`], with fewer
 /// than y workgroups past the last strip; (0, 0, 1) for an empty bucket.
 pub fn mesh_grid(count: u32, segments: u32) -> UVec3 {
@@ -131,27 +193,26 @@ pub fn group_index(group: UVec3, groups: UVec3) -> u32 {
     group.y * groups.x + group.x
 }
 
-/// The first binned slot of bucket `segments`: the blades of the shorter strips,
-/// whose counts are `counters[COUNTER_STRIPS..]` (`layout::COUNTER_STRIPS`).
-pub fn bucket_base(counters: &[u32], segments: u32) -> u32 {
+/// The first binned slot of `bucket`: the blades of the buckets before it, whose
+/// counts are `counters[COUNTER_STRIPS..]` (`layout::COUNTER_STRIPS`).
+pub fn bucket_base(counters: &[u32], bucket: u32) -> u32 {
     let mut base = 0;
-    let mut n = 1;
-    while n < segments {
-        base += counters[strip_counter(n)];
-        n += 1;
+    let mut b = 0;
+    while b < bucket {
+        base += counters[strip_counter(b)];
+        b += 1;
     }
     base
 }
 
-/// The counter of bucket `segments`: blades of strips that long
-/// (`counters[strip_counter(n)]`).
-pub fn strip_counter(segments: u32) -> usize {
-    COUNTER_STRIPS + segments as usize - 1
+/// The counter of `bucket`'s blades (`counters[strip_counter(b)]`).
+pub fn strip_counter(bucket: u32) -> usize {
+    COUNTER_STRIPS + bucket as usize
 }
 
-/// The counter the binning pass fills bucket `segments` with.
-pub fn binned_counter(segments: u32) -> usize {
-    COUNTER_BINNED + segments as usize - 1
+/// The counter the binning pass fills `bucket` with.
+pub fn binned_counter(bucket: u32) -> usize {
+    COUNTER_BINNED + bucket as usize
 }
 
 /// Where invocation `lane` of a mesh workgroup lies in its strips: (strip, vertex of
@@ -185,6 +246,47 @@ mod tests {
         assert_eq!(strip_segments(4.0), 4);
     }
 
+    /// Every strip length and band has a bucket within [`BUCKETS`], the longest
+    /// strips' bands first and apart, the others one bucket per length, longest first;
+    /// each bucket's length is the one that went in. Bands double with the distance
+    /// in heights; a packed level comes back whole.
+    #[test]
+    fn buckets_hold_each_length_and_the_longest_by_band() {
+        for top in 1..=MAX_SEGMENTS {
+            let mut seen = Vec::new();
+            for segments in 1..=MAX_SEGMENTS {
+                for band in 0..NEAR_BANDS {
+                    let b = bucket_of(segments, band, top);
+                    assert!(b < BUCKETS, "{segments} {band} {top}: {b}");
+                    assert_eq!(bucket_segments(b, top), segments);
+                    if segments == top {
+                        assert_eq!(b, band);
+                    } else {
+                        assert_eq!(b, bucket_of(segments, 0, top));
+                    }
+                    seen.push(b);
+                }
+            }
+            seen.sort_unstable();
+            seen.dedup();
+            assert_eq!(seen.len() as u32, BUCKETS);
+            // Shorter strips after longer ones.
+            assert!(bucket_of(top.max(2) - 1, 0, top.max(2)) >= NEAR_BANDS);
+        }
+        // Edges at 1.5, 2.12, 3, 4.24, 6, 8.49 and 12 heights.
+        let h = 2.0;
+        let bands: Vec<u32> = [
+            0.0, 2.9, 3.1, 5.9, 6.1, 8.4, 8.6, 16.9, 17.1, 23.9, 24.1, 1e6,
+        ]
+        .iter()
+        .map(|&d| near_band(d, h))
+        .collect();
+        assert_eq!(bands, [0, 0, 1, 2, 3, 3, 4, 5, 6, 6, 7, 7]);
+        for (level, band) in [(1.0, 0), (9.0, 3), (4.25, 2), (0.0, 0)] {
+            assert_eq!(unpack_level(pack_level(level, band)), (level, band));
+        }
+    }
+
     #[test]
     fn rows_morph_continuously_across_whole_levels() {
         // Just above a whole level n the extra row sits at the tip; just below, the
@@ -202,10 +304,10 @@ mod tests {
 
     #[test]
     fn each_bucket_fills_its_workgroups_within_the_output_limits() {
-        assert_eq!(SEGMENT_BUCKETS, 9);
-        let per: Vec<u32> = (1..=SEGMENT_BUCKETS).map(strips_per_group).collect();
+        assert_eq!(MAX_SEGMENTS, 9);
+        let per: Vec<u32> = (1..=MAX_SEGMENTS).map(strips_per_group).collect();
         assert_eq!(per, [8, 5, 4, 3, 2, 2, 2, 1, 1]);
-        for n in 1..=SEGMENT_BUCKETS {
+        for n in 1..=MAX_SEGMENTS {
             let p = strips_per_group(n);
             assert!(p * strip_vertices(n) <= MESHLET_VERTICES, "{n}");
             assert!(p * strip_triangles(n) <= MESHLET_TRIANGLES, "{n}");
@@ -216,7 +318,9 @@ mod tests {
             // One strip more would not fit.
             assert!((p + 1) * strip_vertices(n) > MESHLET_VERTICES, "{n}");
         }
-        const { assert!(COUNTER_BINNED + SEGMENT_BUCKETS as usize <= COUNTER_COUNT) };
+        const { assert!(COUNTER_BINNED + BUCKETS as usize <= COUNTER_COUNT) };
+        // The compute pass's workgroups add one counter a thread.
+        const { assert!(COUNTER_COUNT <= 64) };
     }
 
     #[test]
@@ -245,23 +349,27 @@ mod tests {
 
     /// The compute pass's binning and the mesh stage's reading, run on the host:
     /// every blade lands once in its bucket, and the lanes of the bucket's
-    /// workgroups write each vertex of each strip once.
+    /// workgroups write each vertex of each strip once. Blades of every length in
+    /// every band (the band of blade i is i mod [`NEAR_BANDS`]).
     #[test]
     fn binned_blades_are_drawn_once_each_with_their_strip() {
         let levels: Vec<f32> = (0..1000)
             .map(|i| 1.0 + (i * 7919 % 1000) as f32 / 1000.0 * (MAX_LEVEL - 1.0))
             .collect();
+        let top = top_segments(MAX_LEVEL);
+        let band = |i: usize| i as u32 % NEAR_BANDS;
+        let bucket = |i: usize| bucket_of(strip_segments(levels[i]), band(i), top);
         let mut counters = [0u32; COUNTER_COUNT];
-        for &l in &levels {
-            counters[strip_counter(strip_segments(l))] += 1;
+        for i in 0..levels.len() {
+            counters[strip_counter(bucket(i))] += 1;
         }
         let mut binned = vec![StripBlade::default(); levels.len()];
         let mut written = vec![false; levels.len()];
         for (source, &level) in levels.iter().enumerate() {
-            let n = strip_segments(level);
-            let place = counters[binned_counter(n)];
-            counters[binned_counter(n)] += 1;
-            let slot = (bucket_base(&counters, n) + place) as usize;
+            let b = bucket(source);
+            let place = counters[binned_counter(b)];
+            counters[binned_counter(b)] += 1;
+            let slot = (bucket_base(&counters, b) + place) as usize;
             assert!(!written[slot], "slot {slot} written twice");
             written[slot] = true;
             binned[slot] = StripBlade {
@@ -271,13 +379,19 @@ mod tests {
         }
         assert!(written.iter().all(|&w| w));
         let mut seen = vec![0u32; levels.len()];
-        let order: Vec<u32> = (0..SEGMENT_BUCKETS).map(draw_segments).collect();
-        assert_eq!(order, [9, 8, 7, 6, 5, 4, 3, 2, 1], "longest strips first");
-        for n in order {
-            let count = counters[strip_counter(n)];
-            assert_eq!(counters[binned_counter(n)], count);
+        let order: Vec<u32> = (0..BUCKETS).map(|d| bucket_segments(d, top)).collect();
+        assert_eq!(order[..NEAR_BANDS as usize], [9; NEAR_BANDS as usize]);
+        assert_eq!(
+            order[NEAR_BANDS as usize..],
+            [8, 7, 6, 5, 4, 3, 2, 1],
+            "longest first"
+        );
+        for (draw, n) in order.into_iter().enumerate() {
+            let draw = draw as u32;
+            let count = counters[strip_counter(draw)];
+            assert_eq!(counters[binned_counter(draw)], count);
             let grid = mesh_grid(count, n);
-            let base = bucket_base(&counters, n);
+            let base = bucket_base(&counters, draw);
             for y in 0..grid.y {
                 for x in 0..grid.x {
                     let first = group_index(UVec3::new(x, y, 0), grid) * strips_per_group(n);

@@ -87,7 +87,8 @@ fn mesh_and_tessellation_draw_the_same_field() {
 /// each vertex's clip position; the host takes the same binned blades and computes
 /// every vertex of every strip with the same `shared` functions (`blade_level`,
 /// `strip_coord`, `surface_point`). Blades of every strip length, 1 to 9 segments,
-/// are checked, and every vertex the draw should have written was written. Limit: a
+/// are checked, each in its bucket (the longest strips in their band of distance,
+/// `meshlet::near_band`), and every vertex the draw should have written was written. Limit: a
 /// relative difference of 1e-5 of the clip coordinates (measured on lavapipe: 9e-8;
 /// rows moved by a hundredth of a level in the mesh stage gave 1.2e-4 and failed).
 #[test]
@@ -101,8 +102,9 @@ fn mesh_stage_vertices_equal_the_hosts() {
     use shared::layout::COUNTER_COUNT;
     use shared::lod::blade_level;
     use shared::meshlet::{
-        MAX_STRIP_VERTICES, SEGMENT_BUCKETS, StripBlade, bucket_base, strip_coord, strip_counter,
-        strip_segments, strip_vertices,
+        BUCKETS, MAX_STRIP_VERTICES, NEAR_BANDS, StripBlade, bucket_base, bucket_segments,
+        near_band, pack_level, strip_coord, strip_counter, strip_segments, strip_vertices,
+        top_segments, unpack_level,
     };
     use shared::settings::{GrassPipeline, Look};
     use shared::shape::surface_point;
@@ -134,7 +136,8 @@ fn mesh_stage_vertices_equal_the_hosts() {
         let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
         let eye = scene.camera().viewpoint(target.size());
         let (mut checked, mut worst) = (0usize, 0f32);
-        let mut per_bucket = [0u32; SEGMENT_BUCKETS as usize];
+        let mut per_bucket = [0u32; shared::lod::MAX_SEGMENTS as usize];
+        let top = top_segments(settings.lod.most);
         // From many pixels a segment (every blade at 1) to few (the near ones at 9).
         for pixels in [24.0, 8.0, 4.0, 2.5, 1.6, 1.1] {
             settings.lod.pixels_per_segment = pixels;
@@ -152,13 +155,22 @@ fn mesh_stage_vertices_equal_the_hosts() {
             let captured: Vec<Vec4> = capture.read(entries).unwrap();
             let (shape, tip) = (uniforms.grass.shape, uniforms.grass.tip_start);
             let mut binned_total = 0;
-            for n in 1..=SEGMENT_BUCKETS {
-                let base = bucket_base(&counters, n);
-                for at in base..base + counters[strip_counter(n)] {
+            for b in 0..BUCKETS {
+                let n = bucket_segments(b, top);
+                let base = bucket_base(&counters, b);
+                for at in base..base + counters[strip_counter(b)] {
                     let strip = binned[at as usize];
                     let blade = &scene.blades[strip.source as usize];
-                    assert_eq!(strip.level, blade_level(blade, &uniforms), "level of {at}");
+                    // Its level as the levels buffer carries it with its band.
+                    let distance = (blade.root() - eye.position).length();
+                    let band = near_band(distance, blade.height());
+                    let packed = pack_level(blade_level(blade, &uniforms), band);
+                    assert_eq!(strip.level, unpack_level(packed).0, "level of {at}");
                     assert_eq!(strip_segments(strip.level), n, "bucket of {at}");
+                    // The longest strips in their band of distance, nearest first.
+                    if b < NEAR_BANDS {
+                        assert_eq!(band, b, "band of {at}");
+                    }
                     per_bucket[n as usize - 1] += 1;
                     binned_total += 1;
                     for k in 0..strip_vertices(n) {

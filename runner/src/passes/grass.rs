@@ -18,7 +18,7 @@ use anyhow::Result;
 use ash::vk;
 use shared::layout::PIPELINE_MESH;
 use shared::look::LOOK_NATURAL;
-use shared::meshlet::SEGMENT_BUCKETS;
+use shared::meshlet::BUCKETS;
 use shared::shade::{VIEW_LOD, VIEW_WIREFRAME};
 use std::sync::Arc;
 
@@ -159,7 +159,7 @@ impl GrassPass {
                     _ => looks.pick(view, style),
                 };
                 bind(rec, picked, field);
-                rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, SEGMENT_BUCKETS);
+                rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, BUCKETS);
             }
             _ => self.record_with(self.tess.pick(view, style), rec, field),
         }

@@ -322,7 +322,7 @@ impl Field {
                 let blades = device_buffer("blades", size, blade_usage | U::TRANSFER_DST)?;
                 let ids = device_buffer(
                     "blade ids",
-                    u64::from(count) * 4,
+                    u64::from(count) * 4 * layout::IDS_WORDS as u64,
                     U::STORAGE_BUFFER | U::TRANSFER_SRC,
                 )?;
                 let tiles = device_buffer(

@@ -14,8 +14,8 @@ use shared::layout::{
 };
 use shared::layout::{
     COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_HIDDEN, COUNTER_TILES_SHORT, EMPTY_SLOT,
-    GENERATE_WORKGROUP, POOL_WORDS, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST, TILES_POOL,
-    TilePush,
+    GENERATE_WORKGROUP, IDS_WORDS, POOL_WORDS, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST,
+    TILES_POOL, TilePush,
 };
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
@@ -29,14 +29,14 @@ use shared::raster::{
 };
 use shared::simulate::simulate;
 use shared::tiles::{
-    blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, map_point, tile_blade,
-    tile_box, tile_in_view, tile_occluded,
+    blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, pack_map_point, tile_blade,
+    tile_box, tile_in_view, tile_occluded, unpack_map_point,
 };
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
 };
-use spirv_std::glam::{IVec2, UVec2, UVec3, Vec4};
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec4};
 use spirv_std::image::ImageWithMethods;
 use spirv_std::image::sample_with::sample_index;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
@@ -95,7 +95,7 @@ pub fn simulate_cull(
         paint,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
-    let prepare = |_: u32, _: u32, kept: &Blade, _: &[u32]| {
+    let prepare = |_: u32, _: u32, kept: &Blade, _: &[u32], _: Vec2| {
         ((), if mesh { blade_level(kept, frame) } else { 0.0 })
     };
     simulate_and_cull(
@@ -150,11 +150,10 @@ pub fn simulate_cull_natural(
     let camera = frame.camera.position;
     let tiled = frame.grass.tiled != 0;
     let half = push.tiles.half_extent;
-    let prepare = |index: u32, id: u32, kept: &Blade, paint: &[u32]| {
+    let prepare = |index: u32, id: u32, kept: &Blade, paint: &[u32], at: Vec2| {
         let clump = Clump::unpack(clumps[index as usize]);
         let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
         // The painted colour map (white where there is none).
-        let at = map_point(blade.root(), &push.tiles);
         let colour = if tiled {
             shared::paint::sample(paint, shared::paint::COLOUR, at, half)
         } else {
@@ -197,7 +196,7 @@ fn simulate_and_cull<T: Copy + Default>(
     push: &SimulatePush,
     buffers: BladeBuffers,
     tally: &mut [u32; COUNTER_COUNT],
-    mut prepare: impl FnMut(u32, u32, &Blade, &[u32]) -> (T, f32),
+    mut prepare: impl FnMut(u32, u32, &Blade, &[u32], Vec2) -> (T, f32),
     mut store: impl FnMut(usize, T),
 ) {
     let BladeBuffers {
@@ -229,6 +228,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut prepared = T::default();
     let mut level = 0.0;
     let mut name = index;
+    // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`).
+    let mut map_at = Vec2::ZERO;
     // A pool blade's width as its distance thins it, like a far one's: a blade its
     // rank has left is still simulated (its trail decays as if seen) but not drawn.
     let mut pool_width = 0.0;
@@ -237,7 +238,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut rest_tile = IVec2::ZERO;
     if in_field && tiled {
         let i = index as usize;
-        name = ids[i];
+        name = ids[IDS_WORDS * i];
+        map_at = unpack_map_point(ids[IDS_WORDS * i + 1], &push.tiles);
         if simulated {
             let params = &push.tiles;
             let per_tile = params.per_side * params.per_side;
@@ -313,7 +315,7 @@ fn simulate_and_cull<T: Copy + Default>(
             );
         }
         if outcome == KEPT {
-            (prepared, level) = prepare(index, name, &blade, paint);
+            (prepared, level) = prepare(index, name, &blade, paint, map_at);
             if mesh && !far && level > 0.0 {
                 // Its bucket: its strip length, and near the camera its band.
                 let distance = (blade.root() - frame.camera.position).length();
@@ -514,7 +516,7 @@ pub fn raster_far_natural(
 /// id (`tiles::blade_id`) in a tiled one.
 fn blade_name(index: u32, frame: &FrameUniforms, ids: &[u32]) -> u32 {
     if frame.grass.tiled != 0 {
-        ids[index as usize]
+        ids[IDS_WORDS * index as usize]
     } else {
         index
     }
@@ -706,7 +708,8 @@ pub fn generate_pool_tile(
         let blade = far_blade(push.tile, index, camera, params, paint, &frame.forces);
         blades[slot] = blade;
         strengths[slot] = 0.0;
-        ids[slot] = blade_id(push.tile, index);
+        ids[IDS_WORDS * slot] = blade_id(push.tile, index);
+        ids[IDS_WORDS * slot + 1] = pack_map_point(push.tile, index, &blade, params, paint);
         let look = &frame.look;
         if look.style == LOOK_NATURAL {
             clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
@@ -829,7 +832,8 @@ pub fn generate_far(
         let slot = (first + k) as usize;
         let blade = far_blade(tile, k, camera, &push.params, paint, &frame.forces);
         blades[slot] = blade;
-        ids[slot] = blade_id(tile, k);
+        ids[IDS_WORDS * slot] = blade_id(tile, k);
+        ids[IDS_WORDS * slot + 1] = pack_map_point(tile, k, &blade, &push.params, paint);
         if natural {
             clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
         }

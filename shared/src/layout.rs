@@ -119,6 +119,9 @@ pub const BINDING_TILES: u32 = 20;
 /// index, which changes as a tile moves between the far list and the pool. A stored
 /// field reads its index and binds a placeholder.
 pub const BINDING_IDS: u32 = 21;
+/// Words a blade has in the ids buffer: its name (`tiles::blade_id`) and where it
+/// reads the painted maps (`tiles::pack_map_point`).
+pub const IDS_WORDS: usize = 2;
 /// Binding of the painted density map (storage, `u32` words: `paint`'s layout),
 /// read where a tiled field's blades grow; a map of no texels in a field without one.
 pub const BINDING_PAINT: u32 = 22;

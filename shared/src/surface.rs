@@ -9,20 +9,21 @@
 //!
 //! The table travels as `u32` words in the world's set (`paint`, after the maps; its
 //! header's [`paint::SURFACE`](crate::paint::SURFACE) gives where): [`HEADER_WORDS`]
-//! words (the first tile's x and z, the tiles along x and z), then one record of
-//! [`RECORD_WORDS`] per tile, row by row (the first piece, the pieces, the blades, the
-//! area, the lowest and highest point), then the pieces, [`PIECE_WORDS`] each (the
-//! running area of the tile's pieces at its end, its three corners and their unit
-//! normals).
+//! words (the first tile's x and z, the tiles along x and z, and 1 where the mesh
+//! has texture coordinates), then one record of [`RECORD_WORDS`] per tile, row by
+//! row (the first piece, the pieces, the blades, the area, the lowest and highest
+//! point), then the pieces, [`PIECE_WORDS`] each (the running area of the tile's
+//! pieces at its end, its three corners, their unit normals and their texture
+//! coordinates).
 
-use spirv_std::glam::{IVec2, Vec3};
+use spirv_std::glam::{IVec2, Vec2, Vec3};
 
 /// Words before the tile records.
-pub const HEADER_WORDS: usize = 4;
+pub const HEADER_WORDS: usize = 5;
 /// Words of a tile's record.
 pub const RECORD_WORDS: usize = 6;
 /// Words of a piece.
-pub const PIECE_WORDS: usize = 19;
+pub const PIECE_WORDS: usize = 25;
 
 /// A tile's part of the surface.
 #[derive(Copy, Clone, Debug, Default, PartialEq)]
@@ -48,6 +49,13 @@ pub fn table(set: &[u32]) -> usize {
     set[crate::paint::SURFACE] as usize
 }
 
+/// Whether the surface in `set` has texture coordinates: the painted maps are then
+/// read at a blade's, not over the world's square.
+pub fn has_uvs(set: &[u32]) -> bool {
+    let base = table(set);
+    base != 0 && set[base + 4] != 0
+}
+
 /// `tile`'s part of the surface in `set`: no pieces outside the table's tiles or
 /// without a table.
 pub fn tile(set: &[u32], tile: IVec2) -> SurfaceTile {
@@ -70,6 +78,10 @@ pub fn tile(set: &[u32], tile: IVec2) -> SurfaceTile {
     }
 }
 
+fn vec2_at(set: &[u32], at: usize) -> Vec2 {
+    Vec2::new(f32::from_bits(set[at]), f32::from_bits(set[at + 1]))
+}
+
 fn vec3_at(set: &[u32], at: usize) -> Vec3 {
     Vec3::new(
         f32::from_bits(set[at]),
@@ -82,9 +94,9 @@ fn vec3_at(set: &[u32], at: usize) -> Vec3 {
 /// piece whose running area first passes u·area (a binary search), and in it the
 /// point at the share f of its own area that u has gone past its start
 /// ([`in_triangle`]), so that nearby shares of u are nearby points and a stratified
-/// u gives stratified points. Returns the position and the unit normal interpolated
-/// there.
-pub fn point(set: &[u32], t: &SurfaceTile, u: f32) -> (Vec3, Vec3) {
+/// u gives stratified points. Returns the position, the unit normal and the texture
+/// coordinates interpolated there.
+pub fn point(set: &[u32], t: &SurfaceTile, u: f32) -> Spot {
     let target = u * t.area;
     let (mut lo, mut hi) = (0u32, t.pieces.max(1) - 1);
     while lo < hi {
@@ -105,11 +117,39 @@ pub fn point(set: &[u32], t: &SurfaceTile, u: f32) -> (Vec3, Vec3) {
     };
     let f = ((target - start) / (end - start).max(1e-30)).clamp(0.0, 1.0);
     let w = in_triangle(f);
-    let corner = |k: usize| vec3_at(set, p + 1 + 3 * k);
-    let normal = |k: usize| vec3_at(set, p + 10 + 3 * k);
-    let position = corner(0) * w.x + corner(1) * w.y + corner(2) * w.z;
-    let n = normal(0) * w.x + normal(1) * w.y + normal(2) * w.z;
-    (position, n.normalize_or(Vec3::Y))
+    let (c0, c1, c2) = (
+        vec3_at(set, p + 1),
+        vec3_at(set, p + 4),
+        vec3_at(set, p + 7),
+    );
+    let (n0, n1, n2) = (
+        vec3_at(set, p + 10),
+        vec3_at(set, p + 13),
+        vec3_at(set, p + 16),
+    );
+    let (t0, t1, t2) = (
+        vec2_at(set, p + 19),
+        vec2_at(set, p + 21),
+        vec2_at(set, p + 23),
+    );
+    let position = c0 * w.x + c1 * w.y + c2 * w.z;
+    let n = n0 * w.x + n1 * w.y + n2 * w.z;
+    Spot {
+        position,
+        normal: n.normalize_or(Vec3::Y),
+        uv: t0 * w.x + t1 * w.y + t2 * w.z,
+    }
+}
+
+/// A point of the surface ([`point`]).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct Spot {
+    /// Its position.
+    pub position: Vec3,
+    /// The unit normal there.
+    pub normal: Vec3,
+    /// The texture coordinates there (zero on a mesh without them).
+    pub uv: Vec2,
 }
 
 /// How much more surface than its square a tile has room for: a tile grows `room` /
@@ -131,7 +171,7 @@ pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> 
     use spirv_std::glam::Vec2;
     let per_area = per_area(size, room);
     let Some((lo, hi)) = mesh.bounds() else {
-        return vec![0, 0, 0, 0];
+        return vec![0; HEADER_WORDS];
     };
     let first = (Vec2::new(lo.x, lo.z) / size).floor().as_ivec2();
     let last = (Vec2::new(hi.x, hi.z) / size).floor().as_ivec2();
@@ -139,12 +179,18 @@ pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> 
         (last.x - first.x + 1) as usize,
         (last.y - first.y + 1) as usize,
     );
-    // Each tile's pieces: corners and normals.
-    let mut pieces: Vec<Vec<[Vec3; 6]>> = vec![Vec::new(); nx * nz];
+    // Each tile's pieces.
+    let mut pieces: Vec<Vec<[Corner; 3]>> = vec![Vec::new(); nx * nz];
     for i in 0..mesh.triangles.len() {
         let Some(abc) = mesh.corners(i) else { continue };
-        let normals = [Vec3::X, Vec3::Y, Vec3::Z].map(|w| mesh.normal_at(i, abc, w));
-        let corners: Vec<(Vec3, Vec3)> = abc.into_iter().zip(normals).collect();
+        let weights = [Vec3::X, Vec3::Y, Vec3::Z];
+        let corners: Vec<Corner> = (0..3)
+            .map(|k| Corner {
+                position: abc[k],
+                normal: mesh.normal_at(i, abc, weights[k]),
+                uv: mesh.uv_at(i, weights[k]),
+            })
+            .collect();
         let min = abc
             .iter()
             .fold(Vec2::splat(f32::MAX), |m, p| m.min(Vec2::new(p.x, p.z)));
@@ -164,8 +210,8 @@ pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> 
                 let polygon = clip_to_square(&corners, square_lo, square_lo + Vec2::splat(size));
                 let cell = (tz - first.y) as usize * nx + (tx - first.x) as usize;
                 for k in 1..polygon.len().saturating_sub(1) {
-                    let (a, b, c) = (polygon[0], polygon[k], polygon[k + 1]);
-                    split([a, b, c], size / SPLIT, &mut pieces[cell]);
+                    let piece = [polygon[0], polygon[k], polygon[k + 1]];
+                    split(piece, size / SPLIT, &mut pieces[cell]);
                 }
             }
         }
@@ -173,30 +219,37 @@ pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> 
     // Each tile's pieces in Morton order of their centres, so that a run of the area
     // is a compact patch and every prefix of the blades' strata is spread over it.
     for list in &mut pieces {
+        let centre = |p: &[Corner; 3]| (p[0].position + p[1].position + p[2].position) / 3.0;
         let (lo, hi) = list.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| {
-            let c = (p[0] + p[1] + p[2]) / 3.0;
-            (lo.min(c), hi.max(c))
+            (lo.min(centre(p)), hi.max(centre(p)))
         });
         let extent = (hi - lo).max(Vec3::splat(1e-6));
         list.sort_by_cached_key(|p| {
-            let c = ((p[0] + p[1] + p[2]) / 3.0 - lo) / extent * 1023.0;
+            let c = (centre(p) - lo) / extent * 1023.0;
             morton3(c.x as u32, c.y as u32, c.z as u32)
         });
     }
-    let mut words = vec![first.x as u32, first.y as u32, nx as u32, nz as u32];
+    let uvs = u32::from(mesh.has_uvs());
+    let mut words = vec![first.x as u32, first.y as u32, nx as u32, nz as u32, uvs];
     let records = words.len();
     words.resize(records + RECORD_WORDS * nx * nz, 0);
     for (cell, list) in pieces.iter().enumerate() {
         let start = words.len();
         let (mut area, mut low, mut high) = (0.0f64, f32::MAX, f32::MIN);
         for piece in list {
-            area += f64::from(crate::mesh::triangle_area(piece[0], piece[1], piece[2]));
+            let [a, b, c] = piece.map(|k| k.position);
+            area += f64::from(crate::mesh::triangle_area(a, b, c));
             words.push((area as f32).to_bits());
-            for v in piece {
+            for v in piece
+                .iter()
+                .map(|k| k.position)
+                .chain(piece.iter().map(|k| k.normal))
+            {
                 words.extend([v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]);
             }
-            for v in &piece[..3] {
-                (low, high) = (low.min(v.y), high.max(v.y));
+            for k in piece {
+                words.extend([k.uv.x.to_bits(), k.uv.y.to_bits()]);
+                (low, high) = (low.min(k.position.y), high.max(k.position.y));
             }
         }
         let blades = ((area * f64::from(per_area)).round() as u32).min(room);
@@ -247,32 +300,49 @@ pub fn in_triangle(f: f32) -> Vec3 {
 /// even a mesh of a few large triangles spreads a tile's blades evenly.
 pub const SPLIT: f32 = 8.0;
 
-/// `piece` (corners and normals), halved across its longest edge until no edge is
-/// longer than `longest`, into `out` (pieces of no area left out).
+/// A corner of a piece as the table is built.
 #[cfg(not(target_arch = "spirv"))]
-fn split(piece: [(Vec3, Vec3); 3], longest: f32, out: &mut Vec<[Vec3; 6]>) {
-    let [a, b, c] = piece;
-    let area = crate::mesh::triangle_area(a.0, b.0, c.0);
+#[derive(Copy, Clone, Debug)]
+struct Corner {
+    position: Vec3,
+    normal: Vec3,
+    uv: Vec2,
+}
+
+#[cfg(not(target_arch = "spirv"))]
+impl Corner {
+    /// The corner `t` of the way to `other`.
+    fn lerp(self, other: Corner, t: f32) -> Corner {
+        Corner {
+            position: self.position.lerp(other.position, t),
+            normal: self.normal.lerp(other.normal, t),
+            uv: self.uv.lerp(other.uv, t),
+        }
+    }
+}
+
+/// `piece`, halved across its longest edge until no edge is longer than `longest`,
+/// into `out` (pieces of no area left out).
+#[cfg(not(target_arch = "spirv"))]
+fn split(piece: [Corner; 3], longest: f32, out: &mut Vec<[Corner; 3]>) {
+    let [a, b, c] = piece.map(|k| k.position);
+    let area = crate::mesh::triangle_area(a, b, c);
     if area.is_nan() || area <= 0.0 {
         return;
     }
-    let edges = [
-        (a.0 - b.0).length(),
-        (b.0 - c.0).length(),
-        (c.0 - a.0).length(),
-    ];
+    let edges = [(a - b).length(), (b - c).length(), (c - a).length()];
     let (i, &length) = edges
         .iter()
         .enumerate()
         .max_by(|x, y| x.1.total_cmp(y.1))
         .unwrap_or((0, &0.0));
     if length <= longest || out.len() > 1 << 20 {
-        out.push([a.0, b.0, c.0, a.1, b.1, c.1]);
+        out.push(piece);
         return;
     }
     // Corners from the longest edge's start: (p, q) the edge, r the opposite.
     let [p, q, r] = [piece[i], piece[(i + 1) % 3], piece[(i + 2) % 3]];
-    let m = (p.0.lerp(q.0, 0.5), p.1.lerp(q.1, 0.5));
+    let m = p.lerp(q, 0.5);
     split([p, m, r], longest, out);
     split([m, q, r], longest, out);
 }
@@ -290,15 +360,11 @@ fn morton3(x: u32, y: u32, z: u32) -> u32 {
     spread(x) | (spread(y) << 1) | (spread(z) << 2)
 }
 
-/// The part of the polygon `corners` (positions and normals) inside the column over
-/// the square `lo`..`hi` in x and z (Sutherland–Hodgman against its four sides),
-/// normals interpolated with the positions.
+/// The part of the polygon `corners` inside the column over the square `lo`..`hi` in
+/// x and z (Sutherland–Hodgman against its four sides), normals and texture
+/// coordinates interpolated with the positions.
 #[cfg(not(target_arch = "spirv"))]
-fn clip_to_square(
-    corners: &[(Vec3, Vec3)],
-    lo: spirv_std::glam::Vec2,
-    hi: spirv_std::glam::Vec2,
-) -> Vec<(Vec3, Vec3)> {
+fn clip_to_square(corners: &[Corner], lo: Vec2, hi: Vec2) -> Vec<Corner> {
     // Each side as (axis: 0 x, 2 z; bound; keep below the bound).
     let sides = [
         (0, lo.x, false),
@@ -308,8 +374,8 @@ fn clip_to_square(
     ];
     let mut polygon = corners.to_vec();
     for (axis, bound, below) in sides {
-        let inside = |p: &(Vec3, Vec3)| {
-            let d = p.0[axis] - bound;
+        let inside = |p: &Corner| {
+            let d = p.position[axis] - bound;
             if below { d <= 0.0 } else { d >= 0.0 }
         };
         let mut out = Vec::with_capacity(polygon.len() + 1);
@@ -319,8 +385,8 @@ fn clip_to_square(
                 out.push(a);
             }
             if inside(&a) != inside(&b) {
-                let t = (bound - a.0[axis]) / (b.0[axis] - a.0[axis]);
-                out.push((a.0.lerp(b.0, t), a.1.lerp(b.1, t)));
+                let t = (bound - a.position[axis]) / (b.position[axis] - a.position[axis]);
+                out.push(a.lerp(b, t));
             }
         }
         polygon = out;
@@ -336,6 +402,7 @@ mod tests {
     use super::*;
     use crate::mesh::SurfaceMesh;
     use crate::tiles::{TERRAIN_MESH, TileParams, kept, tile_blade, tile_count};
+    use spirv_std::glam::Vec2;
 
     /// A grid of `n` × `n` quads over x in `x0`..`x1`, z in −2..2, at height `f`,
     /// with normals from `f`'s slope.
@@ -498,5 +565,63 @@ mod tests {
                 assert!(off < within, "strip {i}: {c} against {mean}");
             }
         }
+    }
+
+    /// A painted map lies over a mesh's texture coordinates where it has them: a
+    /// density map black on its left half (u < 0.5) over a square whose u runs
+    /// against x leaves the right half (x > 0) bare, and over the same square without
+    /// texture coordinates (the map over the world's square) the left half. Blades
+    /// counted per half at full density, off the map's blend between its halves.
+    /// Planted fault: the texture coordinates ignored (the map always over the
+    /// world's square) failed (0 left). A mesh put together from parts keeps its
+    /// texture coordinates only if every part has them.
+    #[test]
+    fn painted_maps_follow_the_texture_coordinates() {
+        let mut mirrored = sheet(8, (-4.0, 4.0), |_, _| 0.0);
+        mirrored.uvs = mirrored
+            .positions
+            .iter()
+            .map(|p| Vec2::new(0.5 - p.x / 8.0, 0.5 + p.z / 8.0))
+            .collect();
+        let plain = sheet(8, (-4.0, 4.0), |_, _| 0.0);
+        let left_black = crate::paint::grey(&[0, 0, 0, 0, 255, 255, 255, 255]);
+        let maps = crate::paint::words(&[(crate::paint::DENSITY, 8, 1, &left_black)]);
+        let params = TileParams {
+            half_extent: 4.0,
+            ..params(2.0, 32)
+        };
+        let halves = |mesh: &SurfaceMesh| {
+            let room = params.per_side * params.per_side;
+            let set = crate::paint::with_surface(maps.clone(), &build(mesh, params.size, room));
+            assert_eq!(has_uvs(&set), mesh.has_uvs());
+            let (mut left, mut right) = (0, 0);
+            for tz in -2..2 {
+                for tx in -2..2 {
+                    let t = IVec2::new(tx, tz);
+                    for k in 0..tile_count(t, &params, &set) {
+                        let b = tile_blade(t, k, Vec3::Y, &params, &set);
+                        // Off the map's blend between its halves (x within 0.5 of 0).
+                        if kept(&b) && b.root().x < -0.5 {
+                            left += 1;
+                        } else if kept(&b) && b.root().x > 0.5 {
+                            right += 1;
+                        }
+                    }
+                }
+            }
+            (left, right)
+        };
+        let (left, right) = halves(&mirrored);
+        println!("texture coordinates: {left} left, {right} right");
+        assert!(left > 1000 && right == 0, "{left} {right}");
+        let (left, right) = halves(&plain);
+        println!("world square: {left} left, {right} right");
+        assert!(left == 0 && right > 1000, "{left} {right}");
+        // Parts with and without texture coordinates.
+        let mut both = mirrored.clone();
+        both.append(&mirrored);
+        assert!(both.has_uvs());
+        both.append(&plain);
+        assert!(!both.has_uvs() && both.uvs.is_empty());
     }
 }

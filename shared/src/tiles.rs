@@ -188,6 +188,55 @@ pub fn map_point(root: Vec3, params: &TileParams) -> Vec2 {
     Vec2::new(root.x, root.z) - params.centre
 }
 
+/// Where a blade at texture coordinates `uv` reads the painted maps: the maps laid
+/// over the texture's unit square (v down the image, as glTF has it; the OBJ loader
+/// turns its v round), clamped at its edges, in the map's own measure (the world's
+/// square, `half_extent` around 0).
+pub fn uv_map_point(uv: Vec2, params: &TileParams) -> Vec2 {
+    (uv - Vec2::splat(0.5)) * (2.0 * params.half_extent)
+}
+
+/// Blade `index` of `tile`'s map point ([`blade_map_point`]) as the field's ids
+/// buffer keeps it next to its name (`layout::IDS_WORDS`), for the passes that know
+/// a blade but not its tile: x and z over the map's square, 16 bits each.
+pub fn pack_map_point(
+    tile: IVec2,
+    index: u32,
+    blade: &Blade,
+    params: &TileParams,
+    map: &[u32],
+) -> u32 {
+    let at = blade_map_point(tile, index, blade.root(), params, map);
+    let unit =
+        (at / (2.0 * params.half_extent.max(1e-6)) + Vec2::splat(0.5)).clamp(Vec2::ZERO, Vec2::ONE);
+    let q = (unit * 65535.0 + Vec2::splat(0.5)).as_uvec2();
+    q.x | (q.y << 16)
+}
+
+/// [`pack_map_point`]'s inverse (within 1/65535 of the map's side).
+pub fn unpack_map_point(word: u32, params: &TileParams) -> Vec2 {
+    let unit = Vec2::new((word & 0xffff) as f32, (word >> 16) as f32) / 65535.0;
+    (unit - Vec2::splat(0.5)) * (2.0 * params.half_extent)
+}
+
+/// Where blade `index` of `tile`, rooted at `root`, reads the painted maps: on a
+/// loaded scene with texture coordinates at its own ([`uv_map_point`], found again
+/// by [`mesh_root`]), elsewhere over the world's square ([`map_point`]).
+pub fn blade_map_point(
+    tile: IVec2,
+    index: u32,
+    root: Vec3,
+    params: &TileParams,
+    map: &[u32],
+) -> Vec2 {
+    if params.terrain == TERRAIN_MESH && crate::surface::has_uvs(map) {
+        let surface = crate::surface::tile(map, tile);
+        uv_map_point(mesh_root(tile, index, params, map, &surface).uv, params)
+    } else {
+        map_point(root, params)
+    }
+}
+
 /// A name for blade `index` of `tile` that stays with it wherever it is generated
 /// (a far tile's list or a pool slot): what the cull's buckets and the look's
 /// per-blade hashes read in place of a stored field's index.
@@ -285,25 +334,28 @@ pub fn tile_blade(
     params: &TileParams,
     map: &[u32],
 ) -> Blade {
-    let (root, up) = if params.terrain == TERRAIN_MESH {
+    let mut spot = crate::surface::Spot::default();
+    if params.terrain == TERRAIN_MESH {
         let surface = crate::surface::tile(map, tile);
         if index >= surface.blades {
             return Blade::default();
         }
-        mesh_root(tile, index, params, map, &surface)
+        spot = mesh_root(tile, index, params, map, &surface);
     } else {
-        let root2 = root_of(tile, index, params);
+        let at = root_of(tile, index, params);
+        spot.position = Vec3::new(at.x, 0.0, at.y);
+        spot.normal = Vec3::Y;
         if params.terrain == TERRAIN_VALLEY {
-            let y = terrain::valley_height(root2);
-            (
-                Vec3::new(root2.x, y, root2.y),
-                terrain::valley_normal(root2),
-            )
-        } else {
-            (Vec3::new(root2.x, 0.0, root2.y), Vec3::Y)
+            spot.position.y = terrain::valley_height(at);
+            spot.normal = terrain::valley_normal(at);
         }
+    }
+    let (root, up) = (spot.position, spot.normal);
+    let root2 = if params.terrain == TERRAIN_MESH && crate::surface::has_uvs(map) {
+        uv_map_point(spot.uv, params)
+    } else {
+        map_point(root, params)
     };
-    let root2 = map_point(root, params);
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
     let dandelion =
@@ -323,18 +375,19 @@ pub fn tile_blade(
     Blade::at_rest(root, up, orientation, height, width, stiffness)
 }
 
-/// Blade `index`'s root and up on a loaded scene's `surface` part of `tile`: at the
-/// share u = (index's bits reversed + jitter) / per_side² of the tile's area
-/// (`surface::point`, which runs through the pieces in Morton order and through each
-/// piece in Morton order too), so that, as [`cell_of`] does on a square, every prefix
-/// of the tile's blades is spread over all of it; up the surface's normal there.
+/// Blade `index`'s root (its position, up and texture coordinates) on a loaded
+/// scene's `surface` part of `tile`: at the share u = (index's bits reversed + jitter) / per_side² of
+/// the tile's area (`surface::point`, which runs through the pieces in Morton order
+/// and through each piece in Morton order too), so that, as [`cell_of`] does on a
+/// square, every prefix of the tile's blades is spread over all of it; up the
+/// surface's normal there.
 pub fn mesh_root(
     tile: IVec2,
     index: u32,
     params: &TileParams,
     map: &[u32],
     surface: &crate::surface::SurfaceTile,
-) -> (Vec3, Vec3) {
+) -> crate::surface::Spot {
     let room = params.per_side * params.per_side;
     let bits = room.max(2).trailing_zeros();
     let stratum = index.reverse_bits() >> (32 - bits);
@@ -357,8 +410,10 @@ pub fn drawn_width(
     params: &TileParams,
     map: &[u32],
 ) -> f32 {
-    let root2 = map_point(root, params);
-    let inside = root2.abs().max_element() < params.half_extent;
+    let root2 = blade_map_point(tile, index, root, params, map);
+    // A loaded scene's blades grow where its surface is.
+    let inside = params.terrain == TERRAIN_MESH
+        || map_point(root, params).abs().max_element() < params.half_extent;
     let valley = params.terrain == TERRAIN_VALLEY;
     let painted_bare =
         crate::paint::kind(map, root2, params.half_extent) == crate::paint::KIND_BARE;

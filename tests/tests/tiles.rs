@@ -214,10 +214,13 @@ fn camera_at(at: shared::glam::Vec2) -> runner::camera::OrbitCamera {
 /// in view (`tiles::tile_in_view`) the pool does not hold, each with its
 /// `tiles::far_count` blades equal to the host's `far_blade` (the same kept, control
 /// points within 1e-5) and their ids; the pool's tiles hold the host's blades, drawn
-/// as wide as `tiles::drawn_width` says at their distance. On the plane and on a
-/// loaded scene's surface (the built-in hills mesh, tiled over its triangles by
-/// `shared::surface`). Measured on lavapipe: the plane 76 far tiles (2,710 blades),
-/// the hills 39 (1,368 blades), none short of room, every blade alike. Planted
+/// as wide as `tiles::drawn_width` says at their distance, and every far blade's map
+/// point (`tiles::pack_map_point`) is the host's within a step. On the plane, on a
+/// mesh's surface (the built-in hills, tiled over its triangles by
+/// `shared::surface`) and on an OBJ square under a density map read at its texture
+/// coordinates. Measured on lavapipe: the plane 76 far tiles (2,843 blades), the
+/// hills 39 (1,368), the textured square 39 (1,319), none short of room, every blade
+/// alike. Planted
 /// faults: the far generation writing blade k + 1 in slot k failed (540 blades
 /// decided differently); the far generation growing the hills' tiles on flat ground
 /// failed (480).
@@ -228,7 +231,48 @@ fn a_tiled_frame_generates_the_hosts_blades() {
         tiled_frame_against_the_host(&ctx, &scene, &spec, shared::glam::Vec2::new(1.0, 2.0));
         let (scene, spec) = mesh_world();
         tiled_frame_against_the_host(&ctx, &scene, &spec, shared::glam::Vec2::new(-1.0, 4.0));
+        let (scene, spec) = textured_world();
+        tiled_frame_against_the_host(&ctx, &scene, &spec, shared::glam::Vec2::new(-1.0, 4.0));
     });
+}
+
+/// A 16-unit square read from an OBJ file whose texture coordinates run against x
+/// (u = 0.5 − x/16), under a density map black on its left half: tiled over its
+/// triangles, the map read at each blade's texture coordinates (the square's x > 0
+/// bare). Tiles as [`mesh_world`]'s.
+fn textured_world() -> (Scene, runner::tiles::TiledSpec) {
+    let mut obj = String::new();
+    let n = 8;
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (
+                -8.0 + 16.0 * i as f32 / n as f32,
+                -8.0 + 16.0 * j as f32 / n as f32,
+            );
+            // OBJ's v runs up the image: v = 1 − (z/16 + 0.5) puts the image's top at −z.
+            obj += &format!("v {x} 0 {z}\nvt {} {}\n", 0.5 - x / 16.0, 0.5 - z / 16.0);
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let v = j * (n + 1) + i + 1;
+            let (a, b, c, d) = (v, v + 1, v + n + 1, v + n + 2);
+            obj += &format!("f {a}/{a} {c}/{c} {b}/{b}\nf {b}/{b} {c}/{c} {d}/{d}\n");
+        }
+    }
+    let path = std::env::temp_dir().join(format!("grass-textured-{}.obj", std::process::id()));
+    std::fs::write(&path, obj).unwrap();
+    let kind = SceneKind::File(path);
+    let file = kind.read().unwrap();
+    let mut scene = Scene::build(&kind, file, BladeCount::Total(64), 5, |_| Ok(())).unwrap();
+    assert!(scene.surface.has_uvs());
+    let left_black = shared::paint::grey(&[0, 0, 0, 0, 255, 255, 255, 255]);
+    scene.paint = shared::paint::words(&[(shared::paint::DENSITY, 8, 1, &left_black)]);
+    let (_, mut spec) = mesh_world();
+    spec.ground = scene.ground_range();
+    spec.area = f64::from(scene.surface.area());
+    scene.make_tiled(spec);
+    (scene, spec)
 }
 
 /// The built-in hills (16 units wide) tiled over their triangles: tiles of 2 with
@@ -273,11 +317,14 @@ fn tiled_frame_against_the_host(
 ) {
     use runner::app::driver::FrameDriver;
     use runner::app::headless::Offscreen;
+    use shared::layout::IDS_WORDS;
     use shared::layout::{
         COUNTER_COUNT, COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT, TILE_WORDS,
         TILES_LIST,
     };
-    use shared::tiles::{blade_id, drawn_width, far_blade, far_count, tile_box, tile_in_view};
+    use shared::tiles::{
+        blade_id, drawn_width, far_blade, far_count, pack_map_point, tile_box, tile_in_view,
+    };
     let params = spec.params;
     let map = &scene.paint;
     let mut target = Offscreen::new(ctx, 160, 120).unwrap();
@@ -291,7 +338,9 @@ fn tiled_frame_against_the_host(
     let r = &driver.renderer;
     let capacity = scene.blade_count() as usize;
     let blades: Vec<shared::Blade> = r.download(&r.field.blades, capacity).unwrap();
-    let ids: Vec<u32> = r.download(r.field.ids.as_ref().unwrap(), capacity).unwrap();
+    let ids: Vec<u32> = r
+        .download(r.field.ids.as_ref().unwrap(), IDS_WORDS * capacity)
+        .unwrap();
     let words = spec.tile_words() as usize;
     let tiles: Vec<u32> = r.download(r.field.tiles.as_ref().unwrap(), words).unwrap();
     let counters: Vec<u32> = r.download(&r.field.counters, COUNTER_COUNT).unwrap();
@@ -316,7 +365,17 @@ fn tiled_frame_against_the_host(
             let g = &blades[first + k as usize];
             // A frame of no time: the wind's pose at time 0.
             let h = far_blade(tile, k, camera, &params, map, &uniforms.forces);
-            assert_eq!(ids[first + k as usize], blade_id(tile, k));
+            assert_eq!(ids[IDS_WORDS * (first + k as usize)], blade_id(tile, k));
+            // Where it reads the maps, within a step of the packing.
+            let (word, host) = (
+                ids[IDS_WORDS * (first + k as usize) + 1],
+                pack_map_point(tile, k, &h, &params, map),
+            );
+            let step = |w: u32| shared::glam::IVec2::new((w & 0xffff) as i32, (w >> 16) as i32);
+            assert!(
+                (step(word) - step(host)).abs().max_element() <= 1,
+                "{tile} {k}"
+            );
             if kept(g) != kept(&h) {
                 differ += 1;
                 continue;
@@ -367,7 +426,7 @@ fn tiled_frame_against_the_host(
         for k in 0..per_tile {
             let i = slot * per_tile as usize + k as usize;
             let (g, h) = (&blades[i], tile_blade(tile, k, camera, &params, map));
-            assert_eq!(ids[i], blade_id(tile, k));
+            assert_eq!(ids[IDS_WORDS * i], blade_id(tile, k));
             assert!((g.root() - h.root()).length() < 1e-5, "{tile} {k}");
             assert_eq!(g.height(), h.height());
             if h.height() > 0.0 {

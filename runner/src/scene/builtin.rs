@@ -303,6 +303,7 @@ pub fn sphere(centre: Vec3, radius: f32, subdivisions: u32) -> SurfaceMesh {
             .collect(),
         normals: directions,
         triangles,
+        uvs: Vec::new(),
     }
 }
 

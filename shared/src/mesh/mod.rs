@@ -6,7 +6,7 @@
 
 use crate::Blade;
 use crate::generate::{HEIGHT, STIFFNESS, SplitMix64, WIDTH};
-use spirv_std::glam::Vec3;
+use spirv_std::glam::{Vec2, Vec3};
 
 /// A triangle mesh the grass grows on: unit vertex normals, counter-clockwise triangles.
 ///
@@ -22,6 +22,9 @@ pub struct SurfaceMesh {
     pub normals: Vec<Vec3>,
     /// Vertex indices of each triangle, counter-clockwise seen from the normal side.
     pub triangles: Vec<[u32; 3]>,
+    /// Texture coordinates, one per position, or none (empty): where painted maps are
+    /// read on a mesh that has them (`surface`).
+    pub uvs: Vec<Vec2>,
 }
 
 impl SurfaceMesh {
@@ -98,8 +101,16 @@ impl SurfaceMesh {
     ///
     /// Indices that would overflow `u32` saturate (and so stay out of range, skipped by
     /// the queries) rather than wrap onto unrelated vertices.
+    /// Texture coordinates stay only while every part has them.
     pub fn append(&mut self, other: &SurfaceMesh) {
         let base = u32::try_from(self.positions.len()).unwrap_or(u32::MAX);
+        if self.positions.is_empty() {
+            self.uvs = other.uvs.clone();
+        } else if self.has_uvs() && other.has_uvs() {
+            self.uvs.extend_from_slice(&other.uvs);
+        } else {
+            self.uvs.clear();
+        }
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);
         self.triangles.extend(
@@ -108,6 +119,19 @@ impl SurfaceMesh {
                 .iter()
                 .map(|t| t.map(|v| v.saturating_add(base))),
         );
+    }
+
+    /// True when every vertex has texture coordinates.
+    pub fn has_uvs(&self) -> bool {
+        !self.positions.is_empty() && self.uvs.len() == self.positions.len()
+    }
+
+    /// The texture coordinates at barycentric `weights` of triangle `i`; zero
+    /// without them.
+    pub(crate) fn uv_at(&self, i: usize, weights: Vec3) -> Vec2 {
+        let [a, b, c] = self.triangles[i];
+        let uv = |v: u32| self.uvs.get(v as usize).copied().unwrap_or(Vec2::ZERO);
+        uv(a) * weights.x + uv(b) * weights.y + uv(c) * weights.z
     }
 
     /// True when the mesh has no triangles.

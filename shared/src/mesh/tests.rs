@@ -146,6 +146,7 @@ fn every_up_is_unit_and_on_the_side_of_the_vertex_normals() {
             Vec3::new(0.0, 1.0, -0.8).normalize(),
         ],
         triangles: vec![[0, 1, 2]],
+        uvs: Vec::new(),
     };
     mesh.append(&four_triangles());
     let roots = scatter_roots(&mesh, 5000, 5);
@@ -169,6 +170,7 @@ fn up_falls_back_to_the_face_normal_when_normals_cancel() {
         positions: vec![Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0), Vec3::X],
         normals: vec![Vec3::ZERO; 3],
         triangles: vec![[0, 1, 2]],
+        uvs: Vec::new(),
     };
     for blade in scatter(&mesh, 100, 1) {
         assert_eq!(blade.up_dir(), Vec3::Y);
@@ -415,6 +417,7 @@ fn upness_tells_a_terrain_from_a_closed_object() {
         positions: vec![Vec3::ZERO, Vec3::Z, Vec3::X],
         normals: vec![Vec3::Y; 3],
         triangles: vec![[0, 1, 2]],
+        uvs: Vec::new(),
     };
     assert!((flat.mean_upness() - 1.0).abs() < 1e-6);
     // A closed box: every face has its opposite, the mean is zero.
@@ -438,6 +441,7 @@ fn scaled_blades_are_the_same_blades_resized() {
         ],
         normals: vec![Vec3::Y; 3],
         triangles: vec![[0, 1, 2]],
+        uvs: Vec::new(),
     };
     let one = scatter(&mesh, 50, 9);
     assert_eq!(scatter_scaled(&mesh, 50, 9, 1.0), one);

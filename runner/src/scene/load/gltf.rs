@@ -296,6 +296,28 @@ fn read_primitive(
         None => None,
     };
 
+    // Texture coordinates (set 0), where there are as many as positions.
+    let uvs = match primitive.get(&Semantic::TexCoords(0)) {
+        Some(accessor) if accessor.count() == positions.len() => {
+            let types = [DataType::F32, DataType::U8, DataType::U16];
+            check_accessor(&accessor, "TEXCOORD_0", &types, Dimensions::Vec2, buffers)
+                .map_err(&malformed)?;
+            reader
+                .read_tex_coords(0)
+                .map(|t| t.into_f32().map(glam::Vec2::from_array).collect::<Vec<_>>())
+        }
+        Some(accessor) => {
+            log::warn!(
+                "scene {}: {label}: {} texture coordinates for {} vertices, none used",
+                builder.scene,
+                accessor.count(),
+                positions.len()
+            );
+            None
+        }
+        None => None,
+    };
+
     let indices: Vec<u32> = match primitive.indices() {
         Some(accessor) => {
             let types = [DataType::U8, DataType::U16, DataType::U32];
@@ -326,6 +348,7 @@ fn read_primitive(
         // A singular transform gives non-finite normals here: they fall back to face
         // normals (and its triangles, squashed flat, are degenerate anyway).
         normals: normals.map(|n| n.iter().map(|&n| normal_matrix * n).collect()),
+        uvs,
         triangles,
         bare: primitive.material().name().is_some_and(is_bare_material),
         label,
@@ -499,6 +522,42 @@ mod tests {
         assert!(loaded.surface.is_empty());
         let [a, b, c] = loaded.bare.triangle(0);
         assert!((b - a).cross(c - a).y > 0.0);
+    }
+
+    /// TEXCOORD_0 reaches the surface, one per vertex, as the file gives them; a
+    /// count that is not the positions' is left out, not an error.
+    #[test]
+    fn gltf_texture_coordinates_reach_the_surface() {
+        let uv = |count: u32| {
+            let mut bin: Vec<u8> = TRIANGLE.iter().flat_map(|f| f.to_le_bytes()).collect();
+            let coords = [0.0f32, 0.0, 0.0, 1.0, 0.5, 0.25];
+            bin.extend(coords.iter().flat_map(|f| f.to_le_bytes()));
+            let json = format!(
+                r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+                "nodes":[{{"mesh":0}}],
+                "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"TEXCOORD_0":1}}}}]}}],
+                "buffers":[{{"byteLength":60}}],
+                "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},
+                               {{"buffer":0,"byteOffset":36,"byteLength":24}}],
+                "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",
+                               "min":[0,0,0],"max":[1,0,1]}},
+                             {{"bufferView":1,"componentType":5126,"count":{count},
+                               "type":"VEC2"}}]}}"#
+            );
+            load_gltf_slice(&glb(&json, &bin), "t").unwrap().surface
+        };
+        let mesh = uv(3);
+        assert!(mesh.has_uvs());
+        // Each vertex keeps its own coordinates (the builder may reorder vertices).
+        for (p, t) in mesh.positions.iter().zip(&mesh.uvs) {
+            let expected = match (p.x, p.z) {
+                (0.0, 0.0) => glam::Vec2::new(0.0, 0.0),
+                (0.0, _) => glam::Vec2::new(0.0, 1.0),
+                _ => glam::Vec2::new(0.5, 0.25),
+            };
+            assert_eq!(*t, expected, "at {p}");
+        }
+        assert!(!uv(2).has_uvs());
     }
 
     #[test]

@@ -22,6 +22,8 @@ pub(super) struct Part {
     pub(super) positions: Vec<Vec3>,
     /// One per position when the file has them.
     pub(super) normals: Option<Vec<Vec3>>,
+    /// Texture coordinates, one per position, when the file has them.
+    pub(super) uvs: Option<Vec<glam::Vec2>>,
     /// Vertex indices as the file gives them, unchecked.
     pub(super) triangles: Vec<[u32; 3]>,
     /// Drawn without grass (a bare material).
@@ -96,6 +98,7 @@ impl Builder {
             label,
             positions,
             normals,
+            uvs,
             triangles,
             bare,
         } = part;
@@ -127,11 +130,32 @@ impl Builder {
             None => None,
         };
         let normal_of = |i: u32| normals.as_ref().and_then(|n| n[i as usize]);
+        // Texture coordinates, one per vertex (non-finite ones as 0), or none.
+        let uvs: Option<Vec<glam::Vec2>> = match uvs {
+            Some(t) if t.len() == positions.len() => Some(
+                t.iter()
+                    .map(|t| if t.is_finite() { *t } else { glam::Vec2::ZERO })
+                    .collect(),
+            ),
+            Some(t) => {
+                log::warn!(
+                    "scene {}: {label}: {} texture coordinates for {} vertices, none used",
+                    self.scene,
+                    t.len(),
+                    positions.len()
+                );
+                None
+            }
+            None => None,
+        };
 
         let mut mesh = SurfaceMesh::default();
-        let mut push = |p: Vec3, n: Vec3| {
-            mesh.positions.push(p);
+        let mut push = |i: u32, n: Vec3| {
+            mesh.positions.push(positions[i as usize]);
             mesh.normals.push(n);
+            if let Some(t) = &uvs {
+                mesh.uvs.push(t[i as usize]);
+            }
             (mesh.positions.len() - 1) as u32
         };
         // Old index → new, for vertices that keep their file normal (shared).
@@ -173,11 +197,11 @@ impl Builder {
                 Some(n) => {
                     let slot = &mut shared[i as usize];
                     if *slot == u32::MAX {
-                        *slot = push(positions[i as usize], n);
+                        *slot = push(i, n);
                     }
                     *slot
                 }
-                None => push(positions[i as usize], face),
+                None => push(i, face),
             }));
         }
         mesh.triangles = kept;

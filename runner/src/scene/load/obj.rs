@@ -154,6 +154,11 @@ pub(super) fn load_obj(bytes: &[u8], scene: &str) -> Result<LoadedMesh, SceneErr
             label: format!("object `{}`", model.name),
             positions: vec3s(&mesh.positions),
             normals: (!mesh.normals.is_empty()).then(|| vec3s(&mesh.normals)),
+            // OBJ's v runs up the image; the maps' rows, like glTF's, down it.
+            uvs: (!mesh.texcoords.is_empty()).then(|| {
+                let uv = mesh.texcoords.as_chunks::<2>().0.iter();
+                uv.map(|&[u, v]| glam::Vec2::new(u, 1.0 - v)).collect()
+            }),
             triangles: mesh.indices.as_chunks::<3>().0.to_vec(),
             bare,
         })?;
@@ -186,6 +191,26 @@ mod tests {
                 "{text:?}"
             );
         }
+    }
+
+    /// `vt` lines reach the surface, one per vertex, as the faces name them, v turned
+    /// to run down the image; a file whose faces name none has none.
+    #[test]
+    fn obj_texture_coordinates_reach_the_surface() {
+        let text = "v 0 0 0\nv 0 0 1\nv 1 0 0\nvt 0.5 0.25\nvt 0 1\nf 1/2 2/2 3/1\n";
+        let (_file, result) = load_obj_text(text);
+        let mesh = result.unwrap().surface;
+        assert!(mesh.has_uvs());
+        for (p, t) in mesh.positions.iter().zip(&mesh.uvs) {
+            let expected = if p.x == 1.0 {
+                glam::Vec2::new(0.5, 0.75)
+            } else {
+                glam::Vec2::new(0.0, 0.0)
+            };
+            assert_eq!(*t, expected, "at {p}");
+        }
+        let (_file, result) = load_obj_text("v 0 0 0\nv 0 0 1\nv 1 0 0\nf 1 2 3\n");
+        assert!(!result.unwrap().surface.has_uvs());
     }
 
     #[test]

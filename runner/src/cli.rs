@@ -198,12 +198,13 @@ pub struct Common {
     pub scene: String,
     /// Where the blades come from: `stored` (generated once, every blade simulated:
     /// the paper's field) or `tiles` (generated from tiles every frame, the near ones
-    /// simulated in a pool: a world of any size in bounded memory; plane and valley)
-    /// [default: tiles on the valley, stored elsewhere].
+    /// simulated in a pool: a world of any size in bounded memory; any scene, a mesh's
+    /// over its triangles) [default: tiles on the valley, stored elsewhere].
     #[arg(long, global = true, value_enum)]
     pub field: Option<FieldChoice>,
     /// A greyscale PNG laid over the scene's ground seen from above (its top row at
-    /// −z): white where every blade grows, black where none does.
+    /// −z), or on a tiled mesh with texture coordinates over those: white where every
+    /// blade grows, black where none does.
     #[arg(long, global = true)]
     pub density_map: Option<PathBuf>,
     /// A greyscale PNG over the ground (as --density-map): each blade's height times

@@ -274,6 +274,10 @@ pub struct Common {
     /// device].
     #[arg(long, global = true)]
     pub no_shadows: bool,
+    /// A tiled field's far blades at rest instead of in the pose the wind settles
+    /// them into.
+    #[arg(long, global = true)]
+    pub far_at_rest: bool,
     /// Sun shadows also on a software device (natural look).
     #[arg(long, global = true, conflicts_with = "no_shadows")]
     pub shadows: bool,

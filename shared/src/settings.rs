@@ -360,6 +360,9 @@ pub struct Settings {
     /// Blades shorter than this on screen (pixels) are drawn by the compute
     /// rasterizer (`raster`); 0 turns it off.
     pub compute_raster_below: f32,
+    /// A tiled field's far blades sway in the pose the wind settles them into
+    /// (`sway::settled`); off, they stand at rest.
+    pub far_sway: bool,
 }
 
 /// How the grass is drawn (`--pipeline`; `auto` is resolved against the device before
@@ -423,6 +426,7 @@ impl Default for Settings {
             look: LookSettings::default(),
             pipeline: GrassPipeline::Tess,
             compute_raster_below: 0.0,
+            far_sway: true,
         }
     }
 }
@@ -457,7 +461,8 @@ impl Settings {
             stiffness_scale: self.stiffness,
             colliders,
             time: 0.0,
-            padding: [0; 2],
+            far_sway: u32::from(self.far_sway),
+            padding: 0,
         }
     }
 

@@ -42,8 +42,10 @@ pub struct Environment {
     /// Simulated time at the end of the frame's steps: when the far blades' wind pose
     /// is taken (`sway::settled`). The renderer sets it from the frame's steps.
     pub time: f32,
+    /// 1: the far blades sway (`tiles::far_blade`); 0: they stand at rest.
+    pub far_sway: u32,
     /// Pads the block to 16 bytes.
-    pub padding: [u32; 2],
+    pub padding: u32,
 }
 
 impl Default for Environment {
@@ -59,7 +61,8 @@ impl Default for Environment {
             stiffness_scale: 1.0,
             colliders: 0,
             time: 0.0,
-            padding: [0; 2],
+            far_sway: 1,
+            padding: 0,
         }
     }
 }

@@ -488,7 +488,7 @@ pub fn tile_occluded(
 /// Blade `index` of `tile` as the far tiles draw it and as a tile entering the pool
 /// starts: [`tile_blade`] in the pose the frame's gravity and wind (`env`, at
 /// `env.time`) settle it into (`sway::settled`), so that it sways with the simulated
-/// blades around it.
+/// blades around it; at rest where `env.far_sway` is 0.
 pub fn far_blade(
     tile: IVec2,
     index: u32,
@@ -498,7 +498,7 @@ pub fn far_blade(
     env: &crate::simulate::Environment,
 ) -> Blade {
     let blade = tile_blade(tile, index, camera, params, map);
-    if blade.height() <= 0.0 {
+    if blade.height() <= 0.0 || env.far_sway == 0 {
         return blade;
     }
     crate::sway::settled(&blade, env, env.time)

@@ -240,7 +240,8 @@ fn environment() -> impl Strategy<Value = Environment> {
                 stiffness_scale: stiffness,
                 colliders,
                 time: 0.0,
-                padding: [0; 2],
+                far_sway: 1,
+                padding: 0,
             },
         )
 }
@@ -542,7 +543,8 @@ fn corners() -> Vec<(Environment, BladeState)> {
                             stiffness_scale: stiffness,
                             colliders: MAX_COLLIDERS as u32,
                             time: 0.0,
-                            padding: [0; 2],
+                            far_sway: 1,
+                            padding: 0,
                         };
                         out.extend(blades.iter().map(|b| (env, (*b, 0.0))));
                     }

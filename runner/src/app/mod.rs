@@ -263,6 +263,7 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s.view = cull.view;
     s.look.style = common.look;
     s.look.shadows = !common.no_shadows;
+    s.far_sway = !common.far_at_rest;
     s.look.exposure = common.exposure;
     s.look.msaa = common.msaa.unwrap_or(1);
     s.look.seed = common.seed as u32;

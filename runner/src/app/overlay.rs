@@ -114,7 +114,7 @@ impl Overlay {
                 .show(ctx, |ui| {
                     performance(ui, readings, &self.device, frame_ms);
                     counts(ui, readings);
-                    tiles(ui, readings, fly, full_distance);
+                    tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
                     controls(ui, settings, ball_on);
                 });
         });
@@ -233,9 +233,15 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
     }
 }
 
-/// A tiled field's far tiles and pool, the distance every blade is kept within, and
-/// flying.
-fn tiles(ui: &mut egui::Ui, r: &Readings, fly: &mut Fly, full_distance: &mut Option<f32>) {
+/// A tiled field's far tiles and pool, the distance every blade is kept within,
+/// whether the far blades sway, and flying.
+fn tiles(
+    ui: &mut egui::Ui,
+    r: &Readings,
+    fly: &mut Fly,
+    full_distance: &mut Option<f32>,
+    far_sway: &mut bool,
+) {
     ui.separator();
     if let Some(d) = full_distance {
         ui.add(
@@ -243,6 +249,7 @@ fn tiles(ui: &mut egui::Ui, r: &Readings, fly: &mut Fly, full_distance: &mut Opt
                 .logarithmic(true)
                 .text("every blade kept within (units)"),
         );
+        ui.checkbox(far_sway, "far blades sway with the wind");
     }
     if let (Some(pool), Some(c)) = (r.pool, r.counts) {
         egui::Grid::new("tiles").num_columns(2).show(ui, |ui| {

@@ -38,6 +38,8 @@ pub enum Command {
     /// Run many frames headless with the validation layer, cycling every switch, and
     /// check that host and device memory stay flat and the layer says nothing.
     Soak(SoakArgs),
+    /// Record a clip headless at a fixed frame time: a GIF, an MP4 (ffmpeg) or PNGs.
+    Record(RecordArgs),
 }
 
 /// Options of the soak run.
@@ -408,6 +410,41 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub height: u32,
+    /// Where the camera stands and how it moves.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
+/// Options of a clip.
+#[derive(Args, Debug, Clone)]
+pub struct RecordArgs {
+    /// The clip: a `.gif` (encoded here), an `.mp4` (through `ffmpeg`, which must be
+    /// installed) or a folder of numbered PNGs.
+    #[arg(long, default_value = "clip.gif")]
+    pub out: PathBuf,
+    /// Frames of the clip, each one step of the fixed frame time (1 / --fps).
+    #[arg(long, default_value_t = 90, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Frames a second of the clip, and of the simulation's clock while recording.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
+    /// Frames simulated before the first recorded one (the blades settle).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub settle: u32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 480, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 270, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    pub height: u32,
+    /// Where the camera stands and how it moves.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
+/// The headless camera: the scene's framing changed by these.
+#[derive(Args, Debug, Clone)]
+pub struct CameraArgs {
     /// Camera closer (above 1) or further (below 1) than the view framing the scene.
     #[arg(long, default_value_t = 1.0, value_parser = range(0.05, 50.0))]
     pub zoom: f32,
@@ -421,6 +458,9 @@ pub struct RenderArgs {
     /// frames instead of standing still (`--scene valley`).
     #[arg(long)]
     pub flight: bool,
+    /// Turn the camera around the scene by this many degrees a second.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = range(-720.0, 720.0))]
+    pub orbit: f32,
 }
 
 fn parse_point(s: &str) -> Result<Vec3, String> {

@@ -8,6 +8,7 @@ pub mod headless;
 pub mod overlay;
 pub mod presenter;
 pub mod progress;
+pub mod record;
 pub mod render;
 pub mod soak;
 pub mod storm;
@@ -34,6 +35,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Render(args)) => render::run(&cli.common, &args).map(|_| ()),
         Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),
         Some(Command::Soak(args)) => soak::run(&cli.common, &args).map(|_| ()),
+        Some(Command::Record(args)) => record::run(&cli.common, &args).map(|_| ()),
         Some(Command::View(args)) => viewer::run(&cli.common, &args),
         None => viewer::run(&cli.common, &cli.view),
     }

@@ -1,45 +1,45 @@
-//! A progress bar on stderr, for the long headless commands (bench, soak).
+//! A progress bar on stderr for the long headless commands (bench, soak, record),
+//! through `indicatif` (hidden where stderr is not a terminal).
 
-use std::io::Write;
-use std::time::Instant;
+use indicatif::{ProgressBar, ProgressStyle};
 
 /// A progress bar of `total` steps.
 pub struct Progress {
-    total: usize,
-    start: Instant,
+    bar: ProgressBar,
 }
 
 impl Progress {
-    /// Starts the clock.
+    /// Starts the clock and shows the bar.
     pub fn new(total: usize) -> Self {
-        Self {
-            total,
-            start: Instant::now(),
-        }
+        let bar = ProgressBar::new(total as u64);
+        let style = ProgressStyle::with_template(
+            "[{bar:30}] {pos}/{len} {elapsed}, {msg} (about {eta} left)",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("#>-");
+        bar.set_style(style);
+        Self { bar }
     }
 
-    /// Redraws the bar at `done` steps, with a word on what runs.
+    /// Moves the bar to `done` steps, with a word on what runs.
     pub fn show(&self, done: usize, what: &str) {
-        let width = 30;
-        let filled = (done * width / self.total.max(1)).min(width);
-        eprint!(
-            "\r[{}{}] {done}/{} {:.0} s, {what}          ",
-            "#".repeat(filled),
-            "-".repeat(width - filled),
-            self.total,
-            self.start.elapsed().as_secs_f64()
-        );
-        let _ = std::io::stderr().flush();
+        self.bar.set_position(done as u64);
+        self.bar.set_message(what.to_owned());
     }
 
-    /// The full bar, and a new line.
+    /// The full bar, left on the screen.
     pub fn done(&self, total: usize) {
-        self.show(total, "done");
-        eprintln!();
+        self.bar.set_position(total as u64);
+        self.bar.finish_with_message("done");
     }
 
     /// Seconds since the start.
     pub fn seconds(&self) -> f64 {
-        self.start.elapsed().as_secs_f64()
+        self.bar.elapsed().as_secs_f64()
+    }
+
+    /// Prints `line` above the bar (a log line would be overdrawn by it).
+    pub fn println(&self, line: impl AsRef<str>) {
+        self.bar.println(line);
     }
 }

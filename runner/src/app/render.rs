@@ -90,32 +90,56 @@ pub fn describe(c: &CullCounts) -> String {
     )
 }
 
+/// Where the headless camera is at simulated `time` on `scene` for a target of `size`:
+/// the scene's framing changed by `args` (zoom, yaw, pitch), turning around the scene
+/// by `args.orbit` degrees a second or flying the valley's path (`args.flight`).
+pub fn camera_path(
+    scene: &crate::scene::Scene,
+    args: &crate::cli::CameraArgs,
+    size: (u32, u32),
+) -> Result<impl Fn(f32) -> shared::settings::Viewpoint + use<>> {
+    if args.flight && scene.kind != crate::scene::SceneKind::Valley {
+        anyhow::bail!("--flight flies over the valley: add --scene valley");
+    }
+    let mut camera = scene.camera();
+    camera.distance /= args.zoom;
+    camera.yaw = args.yaw.map_or(camera.yaw, f32::to_radians);
+    camera.pitch = args.pitch.map_or(camera.pitch, f32::to_radians);
+    let (flight, orbit) = (args.flight, args.orbit.to_radians());
+    Ok(move |time: f32| {
+        if flight {
+            let travelled = super::bench::FLIGHT_SPEED * time;
+            crate::scene::valley_camera(travelled).viewpoint(size)
+        } else {
+            let mut turned = camera;
+            turned.yaw += orbit * time;
+            turned.viewpoint(size)
+        }
+    })
+}
+
+/// The ball's sphere at simulated `time` along the command line's collider path, if
+/// there is one.
+pub fn ball_at(common: &Common, scene: &crate::scene::Scene, time: f32) -> Vec<glam::Vec4> {
+    let ball = common.collider_path.as_ref().and_then(|path| {
+        let travelled = common.collider_speed * time;
+        Ball::dropped(&scene.solid, path.at(travelled), common.collider_radius)
+    });
+    ball.iter().map(Ball::sphere).collect()
+}
+
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     let (file, ctx) = super::open_headless(common)?;
     let (scene, settings) = super::prepare(common, &ctx, file)?;
     let count = scene.blade_count();
-    let mut camera = scene.camera();
-    camera.distance /= args.zoom;
-    camera.yaw = args.yaw.map_or(camera.yaw, f32::to_radians);
-    camera.pitch = args.pitch.map_or(camera.pitch, f32::to_radians);
     // Made before the driver, so it is dropped after it: the driver's drop waits for
     // the GPU, which may still be drawing into it when a frame fails.
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
-    if args.flight && scene.kind != crate::scene::SceneKind::Valley {
-        anyhow::bail!("--flight flies over the valley: add --scene valley");
-    }
     let size = offscreen.size();
-    let still = camera.viewpoint(size);
-    let eye_at = |time: f32| {
-        if args.flight {
-            let travelled = super::bench::FLIGHT_SPEED * time;
-            crate::scene::valley_camera(travelled).viewpoint(size)
-        } else {
-            still
-        }
-    };
+    let eye_at = camera_path(&scene, &args.camera, size)?;
+    let still = eye_at(0.0);
     // The last frame's eye, for the report.
     let last_eye = std::cell::Cell::new(still);
     let progress_every = (args.frames / 10).max(1);
@@ -123,11 +147,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         let last = frame + 1 == args.frames;
         let uniforms = |f: &Frame| {
             // The ball's place at this frame's time along its path.
-            let ball = common.collider_path.as_ref().and_then(|path| {
-                let travelled = common.collider_speed * f.time;
-                Ball::dropped(&scene.solid, path.at(travelled), common.collider_radius)
-            });
-            let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
+            let balls = ball_at(common, &scene, f.time);
             let eye = eye_at(f.time);
             last_eye.set(eye);
             settings.uniforms(&eye, count, &balls)

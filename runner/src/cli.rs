@@ -23,6 +23,10 @@ pub struct Cli {
     /// Viewer options, when no command is named.
     #[command(flatten)]
     pub view: ViewArgs,
+    /// Warnings and errors only in the log (RUST_LOG, when set, decides instead; e.g.
+    /// `RUST_LOG=runner=debug`).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
 }
 
 /// The commands.
@@ -382,6 +386,12 @@ pub struct ViewArgs {
     /// Resize, minimise and restore the window by script while drawing (for tests).
     #[arg(long)]
     pub resize_storm: bool,
+    /// Take a screenshot (as the K key does) once this many frames are drawn.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub screenshot_at: Option<u64>,
+    /// Where screenshots go (`grass-<seconds since 1970>.png`).
+    #[arg(long, default_value = ".")]
+    pub screenshot_dir: PathBuf,
 }
 
 impl Default for ViewArgs {
@@ -391,6 +401,8 @@ impl Default for ViewArgs {
             height: 720,
             frames: None,
             resize_storm: false,
+            screenshot_at: None,
+            screenshot_dir: PathBuf::from("."),
         }
     }
 }

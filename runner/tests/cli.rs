@@ -394,8 +394,8 @@ fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
         let out = dir.join(name);
         let out = out.to_str().expect("utf-8 path").to_owned();
         let mut args = vec![
-            "record", "--frames", "6", "--settle", "2", "--width", "96", "--height", "64",
-            "--out", &out,
+            "record", "--frames", "6", "--settle", "2", "--width", "96", "--height", "64", "--out",
+            &out,
         ];
         args.extend_from_slice(&still);
         if ball {
@@ -437,7 +437,10 @@ fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
     };
     let with_ball = frames(&out);
     assert_eq!(with_ball.len(), 6);
-    let moved: Vec<usize> = with_ball.windows(2).map(|w| changed(&w[0], &w[1])).collect();
+    let moved: Vec<usize> = with_ball
+        .windows(2)
+        .map(|w| changed(&w[0], &w[1]))
+        .collect();
     let (ok, stderr, out) = record("still.gif", false);
     assert!(ok, "{stderr}");
     let without = frames(&out);
@@ -446,5 +449,8 @@ fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
     assert!(moved.iter().all(|&n| n >= 8), "{moved:?}");
     assert!(still.iter().all(|&n| n == 0), "{still:?}");
     let (ok, stderr, _) = record("clip.avi", false);
-    assert!(!ok && stderr.contains("clip.avi") && stderr.contains("not a clip"), "{stderr}");
+    assert!(
+        !ok && stderr.contains("clip.avi") && stderr.contains("not a clip"),
+        "{stderr}"
+    );
 }

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::gpu_required;
+use common::{gpu_required, scratch};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -195,4 +195,64 @@ fn a_lost_device_is_made_again_and_the_viewer_carries_on() {
     );
     assert!(log.contains("80 frames drawn"), "{log}");
     assert!(!log.contains("validation:"), "validation messages: {log}");
+}
+
+/// The screenshot key's path (`--screenshot-at`, as K does it): one PNG of the
+/// window's size in the asked folder, with the validation layer silent, showing the
+/// frame: at least 5 % of its pixels grass green (green above red and blue by 20) and
+/// at least 0.2 % the ball's orange (red above green by 60), as lavapipe draws the
+/// default scene. Planted fault: the swapchain's BGRA saved as RGBA failed (the ball
+/// came out blue: 0 orange pixels).
+#[test]
+fn a_screenshot_is_the_window_s_frame() {
+    let Some(x) = Xvfb::start(2) else {
+        assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
+        eprintln!("skipped: no Xvfb");
+        return;
+    };
+    let dir = scratch("screenshot");
+    let dir_arg = dir.to_str().expect("utf-8 path");
+    let args = [
+        "--frames",
+        "12",
+        "--screenshot-at",
+        "6",
+        "--screenshot-dir",
+        dir_arg,
+        "--validation",
+        "--width",
+        "800",
+        "--height",
+        "450",
+    ];
+    let (ok, log) = run_viewer(&x.display, &args, &[], Duration::from_secs(300));
+    if !ok && !gpu_required() && log.contains("device") {
+        eprintln!("skipped, no device: {log}");
+        return;
+    }
+    assert!(ok, "{log}");
+    assert!(!log.contains("validation error"), "{log}");
+    let shots: Vec<_> = std::fs::read_dir(&dir)
+        .expect("the folder")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    assert_eq!(shots.len(), 1, "{shots:?}");
+    let image = image::open(&shots[0]).expect("a PNG").to_rgba8();
+    assert_eq!(image.dimensions(), (800, 450));
+    let share = |f: &dyn Fn(i32, i32, i32) -> bool| {
+        let n = image
+            .pixels()
+            .filter(|p| f(i32::from(p[0]), i32::from(p[1]), i32::from(p[2])))
+            .count();
+        n as f32 / (800.0 * 450.0)
+    };
+    let green = share(&|r, g, b| g > r + 20 && g > b + 20);
+    let orange = share(&|r, g, _| r > g + 60);
+    println!("grass green {green}, ball orange {orange}");
+    assert!(
+        green > 0.05 && orange > 0.002,
+        "green {green}, orange {orange}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

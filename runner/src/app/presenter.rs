@@ -3,10 +3,13 @@
 
 use super::driver::{Acquired, FrameTarget};
 use crate::renderer::Target;
+use crate::vulkan::Buffer;
 use crate::vulkan::Context;
 use crate::vulkan::swapchain::Swapchain;
-use anyhow::{Result, bail};
+use anyhow::{Context as _, Result, bail};
 use ash::vk;
+use gpu_allocator::MemoryLocation::GpuToCpu;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Acquires and presents swapchain images.
@@ -18,6 +21,10 @@ pub struct Presenter {
     pub recreate: bool,
     /// Swapchains made so far.
     pub swapchains: u64,
+    /// Copy the next frame to [`Presenter::screenshot`]'s buffer.
+    pub screenshot: bool,
+    /// Where a screenshot's pixels go, and the size it was made for.
+    capture: Option<(Buffer, vk::Extent2D)>,
     ctx: Arc<Context>,
 }
 
@@ -29,6 +36,8 @@ impl Presenter {
             format: Swapchain::surface_format(ctx)?.format,
             recreate: false,
             swapchains: 0,
+            screenshot: false,
+            capture: None,
             ctx: ctx.clone(),
         })
     }
@@ -66,6 +75,39 @@ impl Presenter {
     }
 }
 
+impl Presenter {
+    /// Writes the frame copied for a screenshot (wait for it first) as a PNG in
+    /// `folder`, named by the time (`grass-<seconds since 1970>.png`), and returns its
+    /// path; the request is then done.
+    pub fn save_screenshot(&mut self, folder: &Path) -> Result<PathBuf> {
+        self.screenshot = false;
+        let (buffer, extent) = self.capture.as_ref().context("no screenshot was taken")?;
+        let mut pixels = buffer.read::<u8>((extent.width * extent.height * 4) as usize)?;
+        // The swapchain's BGRA as the PNG's RGBA.
+        if matches!(
+            self.format,
+            vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
+        ) {
+            pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+        }
+        // Opaque, whatever the surface's alpha holds.
+        pixels.chunks_exact_mut(4).for_each(|p| p[3] = 255);
+        let seconds = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        let path = folder.join(format!("grass-{seconds}.png"));
+        image::save_buffer(
+            &path,
+            &pixels,
+            extent.width,
+            extent.height,
+            image::ColorType::Rgba8,
+        )
+        .with_context(|| format!("write {}", path.display()))?;
+        Ok(path)
+    }
+}
+
 impl FrameTarget for Presenter {
     fn acquire(&mut self, available: vk::Semaphore) -> Result<Option<Acquired>> {
         let Some(swapchain) = self.swapchain.as_ref() else {
@@ -76,6 +118,18 @@ impl FrameTarget for Presenter {
             return Ok(None);
         };
         let i = index as usize;
+        let extent = swapchain.extent;
+        let capture = if self.screenshot {
+            if self.capture.as_ref().is_none_or(|(_, e)| *e != extent) {
+                let bytes = u64::from(extent.width) * u64::from(extent.height) * 4;
+                let usage = vk::BufferUsageFlags::TRANSFER_DST;
+                let buffer = Buffer::new(&self.ctx, "screenshot", bytes, usage, GpuToCpu)?;
+                self.capture = Some((buffer, extent));
+            }
+            self.capture.as_ref().map(|(b, _)| b.buffer)
+        } else {
+            None
+        };
         Ok(Some(Acquired {
             target: Target {
                 image: swapchain.images[i],
@@ -85,7 +139,7 @@ impl FrameTarget for Presenter {
             },
             wait: Some(available),
             signal: Some(swapchain.render_finished[i].semaphore),
-            capture: None,
+            capture,
             image: index,
             suboptimal,
         }))

@@ -376,11 +376,30 @@ impl Renderer {
             pass.record(rec, slot, target.view, target.extent, frame)?;
         }
         stamp(Mark::Overlay);
-        self.finish_target(rec, &target);
-        if let Some(buffer) = input.capture {
-            let color = vk::ImageAspectFlags::COLOR;
-            rec.copy_image_to_buffer(target.image, color, target.extent, buffer);
-            rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+        let copy_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+        match input.capture {
+            Some(buffer) => {
+                // Copied from the transfer layout, then left in the target's own (a
+                // swapchain image's screenshot goes back to presentable).
+                let copied = Target {
+                    final_layout: copy_layout,
+                    ..target
+                };
+                self.finish_target(rec, &copied);
+                let color = vk::ImageAspectFlags::COLOR;
+                rec.copy_image_to_buffer(target.image, color, target.extent, buffer);
+                rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+                if target.final_layout != copy_layout {
+                    rec.image_barrier(
+                        target.image,
+                        color,
+                        (copy_layout, target.final_layout),
+                        (S::COPY, A::TRANSFER_READ),
+                        (S::NONE, A::NONE),
+                    );
+                }
+            }
+            None => self.finish_target(rec, &target),
         }
         Ok(())
     }

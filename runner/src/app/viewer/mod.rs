@@ -66,7 +66,7 @@ pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: 
 arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
-N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, P: pipeline (tessellation, mesh), O: overlay on/off, Esc: quit";
+N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, P: pipeline (tessellation, mesh), K: screenshot, O: overlay on/off, Esc: quit";
 
 /// Arrow keys held down.
 #[derive(Default)]
@@ -154,6 +154,8 @@ struct Running {
     recoveries: u32,
     /// Shown in the overlay and the title after a recovery.
     notice: Option<String>,
+    /// Where the K key's screenshots go.
+    screenshot_dir: std::path::PathBuf,
     window: Window,
 }
 
@@ -196,6 +198,7 @@ impl Running {
             overlay,
             pace: Pace::new(),
             storm: args.resize_storm.then(Storm::default),
+            screenshot_dir: args.screenshot_dir.clone(),
             recoveries: 0,
             notice: None,
             window,
@@ -307,10 +310,16 @@ impl Running {
                 textures: &p.textures,
                 pixels_per_point: p.pixels_per_point,
             }),
-            capture: false,
+            capture: self.gpu.presenter.screenshot,
         };
         let gpu = &mut self.gpu;
+        let screenshot = gpu.presenter.screenshot;
         gpu.driver.submit(frame, &mut gpu.presenter, spec)?;
+        if screenshot {
+            gpu.driver.finish()?;
+            let path = gpu.presenter.save_screenshot(&self.screenshot_dir)?;
+            log::info!("screenshot: {}", path.display());
+        }
         if self.pace.drawn() {
             self.report();
         }
@@ -462,6 +471,7 @@ impl Running {
                     s.view = s.view.next();
                     log::info!("view: {:?}", s.view);
                 }
+                "k" | "K" => self.gpu.presenter.screenshot = true,
                 "o" | "O" => {
                     self.overlay.visible = !self.overlay.visible;
                     log::info!(
@@ -596,6 +606,8 @@ impl ApplicationHandler for Viewer {
                     event_loop.exit();
                 } else if self.args.frames.is_some_and(|n| state.pace.frames >= n) {
                     event_loop.exit();
+                } else if self.args.screenshot_at == Some(state.pace.frames) {
+                    state.gpu.presenter.screenshot = true;
                 }
             }
             _ => {}

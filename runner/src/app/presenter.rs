@@ -88,10 +88,18 @@ impl Presenter {
             self.format,
             vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
         ) {
-            pixels.chunks_exact_mut(4).for_each(|p| p.swap(0, 2));
+            pixels
+                .as_chunks_mut::<4>()
+                .0
+                .iter_mut()
+                .for_each(|p| p.swap(0, 2));
         }
         // Opaque, whatever the surface's alpha holds.
-        pixels.chunks_exact_mut(4).for_each(|p| p[3] = 255);
+        pixels
+            .as_chunks_mut::<4>()
+            .0
+            .iter_mut()
+            .for_each(|p| p[3] = 255);
         let seconds = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());

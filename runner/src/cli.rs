@@ -12,7 +12,12 @@ use std::path::PathBuf;
 
 /// Real-time grass after Jahrmann & Wimmer (I3D 2017): Rust shaders, Vulkan through ash.
 #[derive(Parser, Debug)]
-#[command(name = "grass", version, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "grass",
+    version,
+    args_conflicts_with_subcommands = true,
+    args_override_self = true
+)]
 pub struct Cli {
     /// What to run; the interactive viewer when left out.
     #[command(subcommand)]
@@ -44,6 +49,8 @@ pub enum Command {
     Soak(SoakArgs),
     /// Record a clip headless at a fixed frame time: a GIF, an MP4 (ffmpeg) or PNGs.
     Record(RecordArgs),
+    /// Print every setting at its default as a commented TOML file (for --config).
+    Config,
 }
 
 /// Options of the soak run.
@@ -191,6 +198,11 @@ pub enum CameraPreset {
 /// Options every command takes.
 #[derive(Args, Debug, Clone)]
 pub struct Common {
+    /// Read settings from this TOML file, keys named like the flags
+    /// (`wind-strength = 7.0`; `grass config` prints them all); flags given on the
+    /// command line override the file's.
+    #[arg(long, global = true)]
+    pub config: Option<PathBuf>,
     /// Number of blades, spread over the surface by area [default: 131072 on a GPU,
     /// 2048 on a software device].
     #[arg(long, global = true, value_parser = clap::value_parser!(u32).range(1..=(1 << 26)))]
@@ -199,7 +211,8 @@ pub struct Common {
     #[arg(long, global = true, conflicts_with = "blades", value_parser = parse_density)]
     pub density: Option<f32>,
     /// Surface: plane, hills, planet, meadow (the glTF scene in assets/), walls (stone
-    /// walls hiding grass: occlusion culling), or a .gltf, .glb or .obj file.
+    /// walls hiding grass: occlusion culling), valley (2 km, tiled), or a .gltf, .glb
+    /// or .obj file.
     #[arg(long, global = true, default_value = "plane")]
     pub scene: String,
     /// Where the blades come from: `stored` (generated once, every blade simulated:

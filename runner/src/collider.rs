@@ -58,6 +58,18 @@ pub struct ColliderPath {
     pub points: Vec<Vec2>,
 }
 
+impl std::fmt::Display for ColliderPath {
+    /// "x,z;x,z;...", as [`ColliderPath::parse`] reads it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let points: Vec<String> = self
+            .points
+            .iter()
+            .map(|p| format!("{},{}", p.x, p.y))
+            .collect();
+        write!(f, "{}", points.join(";"))
+    }
+}
+
 impl ColliderPath {
     /// Parses "x,z x,z ..." (at least two points, separated by spaces or `;`).
     pub fn parse(s: &str) -> Result<Self, String> {

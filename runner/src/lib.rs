@@ -14,6 +14,7 @@ pub mod app;
 pub mod camera;
 pub mod cli;
 pub mod collider;
+pub mod config;
 pub mod field;
 pub mod paint;
 pub mod parse;

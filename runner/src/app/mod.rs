@@ -36,6 +36,10 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),
         Some(Command::Soak(args)) => soak::run(&cli.common, &args).map(|_| ()),
         Some(Command::Record(args)) => record::run(&cli.common, &args).map(|_| ()),
+        Some(Command::Config) => {
+            print!("{}", crate::config::defaults());
+            Ok(())
+        }
         Some(Command::View(args)) => viewer::run(&cli.common, &args),
         None => viewer::run(&cli.common, &cli.view),
     }

@@ -50,6 +50,9 @@ pub struct Overlay {
     frame_ms: VecDeque<f32>,
     /// The device's name, shown with the frame rate.
     device: String,
+    /// The "save settings" button was pressed (the viewer writes the file and clears
+    /// this).
+    pub save_settings: bool,
 }
 
 impl Overlay {
@@ -70,6 +73,7 @@ impl Overlay {
             visible: true,
             frame_ms: VecDeque::with_capacity(HISTORY),
             device,
+            save_settings: false,
         }
     }
 
@@ -107,6 +111,7 @@ impl Overlay {
         }
         let input = self.state.take_egui_input(window);
         let frame_ms: &[f32] = self.frame_ms.make_contiguous();
+        let mut save = false;
         let output = self.ctx.run_pass(input, |ctx| {
             egui::Window::new("grass")
                 .default_pos([12.0, 12.0])
@@ -116,8 +121,14 @@ impl Overlay {
                     counts(ui, readings);
                     tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
                     controls(ui, settings, ball_on);
+                    ui.separator();
+                    save |= ui
+                        .button("save settings (grass-settings.toml)")
+                        .on_hover_text("read back with --config grass-settings.toml")
+                        .clicked();
                 });
         });
+        self.save_settings |= save;
         self.state
             .handle_platform_output(window, output.platform_output);
         let pixels_per_point = output.pixels_per_point;

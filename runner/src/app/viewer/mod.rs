@@ -289,6 +289,14 @@ impl Running {
             &mut self.settings,
             (&mut self.ball_on, &mut self.fly, &mut self.full_distance),
         );
+        if std::mem::take(&mut self.overlay.save_settings) {
+            let path = self.screenshot_dir.join("grass-settings.toml");
+            let text = crate::config::current(&self.common, &self.settings);
+            match std::fs::write(&path, text) {
+                Ok(()) => log::info!("settings saved: {} (--config reads them)", path.display()),
+                Err(e) => log::warn!("settings not saved to {}: {e}", path.display()),
+            }
+        }
         if let (Some(d), Some(tiles)) =
             (self.full_distance, self.gpu.driver.renderer.tiles.as_mut())
         {

@@ -65,8 +65,8 @@ pub struct TilesPass {
 }
 
 impl TilesPass {
-    /// The pipelines for a field laid out by `spec` (made with
-    /// [`TiledSpec::field_blades`]).
+    /// The pipelines for a field laid out by `spec` (the field made with
+    /// `FieldBlades::Tiled`).
     pub fn new(
         ctx: &Arc<Context>,
         module: &ShaderModules,

@@ -11,7 +11,7 @@ pub const MAX_VERTICES: usize = 1 << 22;
 pub const MAX_TRIANGLES: usize = 1 << 22;
 
 /// Why a scene file could not be loaded: the scene and the problem. Each message reads
-/// "scene <path>: <problem>".
+/// `"scene <path>: <problem>"`.
 #[derive(Debug, thiserror::Error)]
 #[error("scene {scene}: {kind}")]
 pub struct SceneError {
@@ -32,7 +32,7 @@ impl SceneError {
 }
 
 /// What is wrong with a scene file (the part of a [`SceneError`]'s message after
-/// "scene <path>: ").
+/// `"scene <path>: "`).
 #[derive(Debug, thiserror::Error)]
 pub enum SceneErrorKind {
     /// Nothing at that path.

@@ -161,14 +161,17 @@ fn out_of_range_options_are_refused_by_the_parser() {
 
 /// Options whose value is free text, checked when it is used (the scene file when it is
 /// read, the output before any work: see `unwritable_outputs_are_refused_before_any_work`;
-/// the painted maps when they are loaded: `paint::tests`).
-const FREE_TEXT: [&str; 6] = [
+/// the painted maps when they are loaded: `paint::tests`; the settings file when it is
+/// read: `config::tests`; the screenshots' folder when one is written).
+const FREE_TEXT: [&str; 8] = [
     "scene",
     "out",
     "density-map",
     "height-map",
     "colour-map",
     "type-map",
+    "config",
+    "screenshot-dir",
 ];
 
 /// Every option of every command that takes a value refuses what no option should

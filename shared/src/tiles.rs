@@ -68,8 +68,11 @@ pub struct TileParams {
     /// stiffnesses over it (`mesh::scatter_scaled`'s rule: the same bend under the same
     /// forces).
     pub blade_scale: f32,
-    /// Padding to 48 bytes.
-    pub pad: [u32; 3],
+    /// Padding to 48 bytes (no arrays in push constants: the reflection tests read
+    /// scalars and vectors).
+    pub pad0: u32,
+    /// Padding.
+    pub pad: UVec2,
 }
 
 /// Blades on the plane y = 0, up +Y.
@@ -94,7 +97,8 @@ impl Default for TileParams {
             half_extent: 1000.0,
             centre: Vec2::ZERO,
             blade_scale: 1.0,
-            pad: [0; 3],
+            pad0: 0,
+            pad: UVec2::ZERO,
         }
     }
 }

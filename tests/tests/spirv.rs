@@ -459,6 +459,8 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(Environment, strength_decay),
                 offset_of!(Environment, stiffness_scale),
                 offset_of!(Environment, colliders),
+                offset_of!(Environment, time),
+                offset_of!(Environment, far_sway),
                 offset_of!(Environment, padding),
             ],
         ),

@@ -223,7 +223,7 @@ pub fn tiled_spec(scene: &Scene, ctx: &Context, scale: f32) -> TiledSpec {
         half_extent,
         centre,
         blade_scale: scale,
-        pad: [0; 3],
+        ..TileParams::default()
     };
     let area = if terrain == TERRAIN_MESH {
         f64::from(scene.surface.area())

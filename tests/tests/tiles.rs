@@ -275,8 +275,9 @@ fn textured_world() -> (Scene, runner::tiles::TiledSpec) {
     (scene, spec)
 }
 
-/// The built-in hills (16 units wide) tiled over their triangles: tiles of 2 with
-/// room for 16² blades, every blade kept to 3 units, 4 pool tiles.
+/// The built-in hills (16 units wide) tiled over their triangles: [`small_world`]'s
+/// layout with tiles of 2 (room for 16² blades), every blade kept to 3 units, 4 pool
+/// tiles for those within 1 unit.
 fn mesh_world() -> (Scene, runner::tiles::TiledSpec) {
     let mut scene = Scene::build(
         &SceneKind::Hills,
@@ -286,23 +287,13 @@ fn mesh_world() -> (Scene, runner::tiles::TiledSpec) {
         |_| Ok(()),
     )
     .unwrap();
-    let spec = runner::tiles::TiledSpec {
-        params: TileParams {
-            size: 2.0,
-            per_side: 16,
-            seed: 3,
-            full_distance: 3.0,
-            terrain: shared::tiles::TERRAIN_MESH,
-            half_extent: 8.0,
-            ..TileParams::default()
-        },
-        pool_tiles: 4,
-        pool_radius: 1.0,
-        far_blades: 1 << 15,
-        reach: 40.0,
-        ground: scene.ground_range(),
-        area: f64::from(scene.surface.area()),
-    };
+    let (_, mut spec) = small_world(4, 8.0);
+    spec.params.size = 2.0;
+    spec.params.full_distance = 3.0;
+    spec.params.terrain = shared::tiles::TERRAIN_MESH;
+    spec.pool_radius = 1.0;
+    spec.ground = scene.ground_range();
+    spec.area = f64::from(scene.surface.area());
     scene.make_tiled(spec);
     (scene, spec)
 }

@@ -2,12 +2,10 @@
 //! camera's path and the ball's, into a GIF (the `gif` crate), an MP4 (`ffmpeg`, when
 //! it is installed) or a folder of numbered PNGs.
 
-use super::driver::{Frame, FrameDriver};
-use super::headless::{FORMAT, Offscreen};
+use super::driver::Frame;
 use super::progress::Progress;
-use super::render::{ball_at, camera_path};
+use super::render::{Headless, ball_at};
 use crate::cli::{Common, RecordArgs};
-use crate::renderer::Renderer;
 use anyhow::{Context as _, Result, bail};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -145,14 +143,17 @@ impl Sink {
 /// Records the clip `args` asks for; returns how many frames it holds.
 pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
     let clip = Clip::of(&args.out)?;
-    let (file, ctx) = super::open_headless(common)?;
-    let (scene, settings) = super::prepare(common, &ctx, file)?;
+    let Headless {
+        ctx,
+        scene,
+        settings,
+        // The target before the driver: bindings drop in reverse, the driver first.
+        mut offscreen,
+        mut driver,
+        eye_at,
+    } = Headless::open(common, (args.width, args.height), &args.camera)?;
     let count = scene.blade_count();
-    // Made before the driver, so it is dropped after it (see `render::render`).
-    let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
-    let mut driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
     let size = offscreen.size();
-    let eye_at = camera_path(&scene, &args.camera, size)?;
     let mut sink = Sink::open(&clip, size, args.fps)?;
     let step = 1.0 / f64::from(args.fps);
     let total = args.settle + args.frames;

@@ -128,17 +128,60 @@ pub fn ball_at(common: &Common, scene: &crate::scene::Scene, time: f32) -> Vec<g
     ball.iter().map(Ball::sphere).collect()
 }
 
+/// A headless run made ready: the scene and its settings, the frame driver, the
+/// offscreen target and the camera's path (what `render` and `record` start from).
+pub struct Headless {
+    /// The device.
+    pub ctx: std::sync::Arc<crate::vulkan::Context>,
+    /// The scene asked for.
+    pub scene: crate::scene::Scene,
+    /// Its settings, as the command line and the device make them.
+    pub settings: shared::settings::Settings,
+    /// Declared before the target, so it is dropped first: its drop waits for the GPU,
+    /// which may still be drawing into the target when a frame fails.
+    pub driver: FrameDriver,
+    /// The offscreen colour image and its capture buffer.
+    pub offscreen: Offscreen,
+    /// The camera at a simulated time.
+    pub eye_at: Box<dyn Fn(f32) -> shared::settings::Viewpoint>,
+}
+
+impl Headless {
+    /// Opens the device, builds the scene and a target of `width` x `height`, and the
+    /// camera's path from `camera`.
+    pub fn open(
+        common: &Common,
+        (width, height): (u32, u32),
+        camera: &crate::cli::CameraArgs,
+    ) -> Result<Self> {
+        let (file, ctx) = super::open_headless(common)?;
+        let (scene, settings) = super::prepare(common, &ctx, file)?;
+        let offscreen = Offscreen::new(&ctx, width, height)?;
+        let driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
+        let eye_at = Box::new(camera_path(&scene, camera, offscreen.size())?);
+        Ok(Self {
+            ctx,
+            scene,
+            settings,
+            driver,
+            offscreen,
+            eye_at,
+        })
+    }
+}
+
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
-    let (file, ctx) = super::open_headless(common)?;
-    let (scene, settings) = super::prepare(common, &ctx, file)?;
+    let Headless {
+        ctx,
+        scene,
+        settings,
+        // The target before the driver: bindings drop in reverse, the driver first.
+        mut offscreen,
+        mut driver,
+        eye_at,
+    } = Headless::open(common, (args.width, args.height), &args.camera)?;
     let count = scene.blade_count();
-    // Made before the driver, so it is dropped after it: the driver's drop waits for
-    // the GPU, which may still be drawing into it when a frame fails.
-    let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
-    let mut driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
-    let size = offscreen.size();
-    let eye_at = camera_path(&scene, &args.camera, size)?;
     let still = eye_at(0.0);
     // The last frame's eye, for the report.
     let last_eye = std::cell::Cell::new(still);

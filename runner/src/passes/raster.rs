@@ -183,7 +183,7 @@ impl RasterPass {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         );
         let written = (S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE);
-        let read = (S::COMPUTE_SHADER, A::SHADER_SAMPLED_READ);
+        let read = (S::COMPUTE_SHADER, A::SHADER_READ);
         rec.image_barrier(depth.image, aspect, (attachment, sampled), written, read);
         if samples > 1 {
             rec.bind_pipeline(compute, multi.pipeline, layout, set);

@@ -40,8 +40,9 @@ pub struct ShadowPass {
 }
 
 impl ShadowPass {
-    /// The map (left ready to be sampled, its contents undefined until the first
-    /// shadow pass) and its pipelines; points the field's binding 8 at it.
+    /// The map (cleared to the far plane, so everything reads lit until the first
+    /// shadow pass, and left ready to be sampled) and its pipelines; points the
+    /// field's binding 8 at it.
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
@@ -64,19 +65,26 @@ impl ShadowPass {
             "shadow map",
             extent,
             DEPTH_FORMAT,
-            U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED,
+            U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST,
             vk::ImageAspectFlags::DEPTH,
         )?;
         pool.one_shot(|rec| {
+            let depth = vk::ImageAspectFlags::DEPTH;
+            let cleared = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
             rec.image_barrier(
                 map.image,
-                vk::ImageAspectFlags::DEPTH,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                ),
+                depth,
+                (vk::ImageLayout::UNDEFINED, cleared),
                 (S::NONE, A::NONE),
-                (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+                (S::CLEAR, A::TRANSFER_WRITE),
+            );
+            rec.clear_depth_image(map.image, 1.0);
+            rec.image_barrier(
+                map.image,
+                depth,
+                (cleared, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL),
+                (S::CLEAR, A::TRANSFER_WRITE),
+                (S::FRAGMENT_SHADER, A::SHADER_READ),
             )
         })?;
         let sampler = Sampler::shadow_compare(ctx, DEPTH_FORMAT)?;
@@ -146,7 +154,7 @@ impl ShadowPass {
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             ),
             (S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
-            (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+            (S::FRAGMENT_SHADER, A::SHADER_READ),
         );
     }
 }

@@ -594,7 +594,7 @@ impl Renderer {
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             ),
             (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
-            (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+            (S::FRAGMENT_SHADER, A::SHADER_READ),
         );
         rec.image_barrier(
             target.image,

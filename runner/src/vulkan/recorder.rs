@@ -89,6 +89,27 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Clears the whole depth `image` (in `TRANSFER_DST_OPTIMAL`) to `depth`.
+    pub fn clear_depth_image(&self, image: vk::Image, depth: f32) {
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::DEPTH,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let value = vk::ClearDepthStencilValue { depth, stencil: 0 };
+        unsafe {
+            self.device.cmd_clear_depth_stencil_image(
+                self.cmd,
+                image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &value,
+                &[range],
+            )
+        };
+    }
+
     /// Copies `size` bytes from the start of `src` to the start of `dst`.
     pub fn copy_buffer(&self, src: vk::Buffer, dst: vk::Buffer, size: u64) {
         let region = vk::BufferCopy {

@@ -66,6 +66,19 @@ impl Xvfb {
     }
 }
 
+impl Xvfb {
+    /// [`Xvfb::start`] for a test: where it is not installed, the test is skipped
+    /// (`None`), or fails when a GPU is required (CI installs it).
+    fn for_test(slot: u32) -> Option<Self> {
+        let x = Self::start(slot);
+        if x.is_none() {
+            assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
+            eprintln!("skipped: no Xvfb");
+        }
+        x
+    }
+}
+
 impl Drop for Xvfb {
     /// Ends the server with SIGTERM, so it removes its lock file and socket (SIGKILL
     /// leaves them, and a later run on the same display number would find them).
@@ -119,9 +132,7 @@ fn run_viewer(
 
 #[test]
 fn the_viewer_draws_through_a_resize_storm() {
-    let Some(x) = Xvfb::start(0) else {
-        assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
-        eprintln!("skipped: no Xvfb");
+    let Some(x) = Xvfb::for_test(0) else {
         return;
     };
     // The natural look with shadows and 4x MSAA: every image of the frame is made
@@ -176,9 +187,7 @@ fn the_viewer_draws_through_a_resize_storm() {
 
 #[test]
 fn a_lost_device_is_made_again_and_the_viewer_carries_on() {
-    let Some(x) = Xvfb::start(1) else {
-        assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
-        eprintln!("skipped: no Xvfb");
+    let Some(x) = Xvfb::for_test(1) else {
         return;
     };
     let args = ["--frames", "80", "--validation", "--blades", "256"];
@@ -205,9 +214,7 @@ fn a_lost_device_is_made_again_and_the_viewer_carries_on() {
 /// came out blue: 0 orange pixels).
 #[test]
 fn a_screenshot_is_the_window_s_frame() {
-    let Some(x) = Xvfb::start(2) else {
-        assert!(!gpu_required(), "Xvfb is required (apt-get install xvfb)");
-        eprintln!("skipped: no Xvfb");
+    let Some(x) = Xvfb::for_test(2) else {
         return;
     };
     let dir = scratch("screenshot");

@@ -235,9 +235,20 @@ pub fn blade_map_point(
 ) -> Vec2 {
     if params.terrain == TERRAIN_MESH && crate::surface::has_uvs(map) {
         let surface = crate::surface::tile(map, tile);
-        uv_map_point(mesh_root(tile, index, params, map, &surface).uv, params)
+        spot_map_point(&mesh_root(tile, index, params, map, &surface), params, map)
     } else {
         map_point(root, params)
+    }
+}
+
+/// Where a blade rooted at `spot` reads the painted maps: at its texture coordinates
+/// on a loaded scene that has them ([`uv_map_point`]), else over the world's square
+/// ([`map_point`]).
+fn spot_map_point(spot: &crate::surface::Spot, params: &TileParams, map: &[u32]) -> Vec2 {
+    if params.terrain == TERRAIN_MESH && crate::surface::has_uvs(map) {
+        uv_map_point(spot.uv, params)
+    } else {
+        map_point(spot.position, params)
     }
 }
 
@@ -355,11 +366,7 @@ pub fn tile_blade(
         }
     }
     let (root, up) = (spot.position, spot.normal);
-    let root2 = if params.terrain == TERRAIN_MESH && crate::surface::has_uvs(map) {
-        uv_map_point(spot.uv, params)
-    } else {
-        map_point(root, params)
-    };
+    let root2 = spot_map_point(&spot, params, map);
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
     let dandelion =

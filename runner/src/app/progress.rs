@@ -37,9 +37,4 @@ impl Progress {
     pub fn seconds(&self) -> f64 {
         self.bar.elapsed().as_secs_f64()
     }
-
-    /// Prints `line` above the bar (a log line would be overdrawn by it).
-    pub fn println(&self, line: impl AsRef<str>) {
-        self.bar.println(line);
-    }
 }

@@ -2,9 +2,8 @@
 //! camera's path and the ball's, into a GIF (the `gif` crate), an MP4 (`ffmpeg`, when
 //! it is installed) or a folder of numbered PNGs.
 
-use super::driver::Frame;
 use super::progress::Progress;
-use super::render::{Headless, ball_at};
+use super::render::Headless;
 use crate::cli::{Common, RecordArgs};
 use anyhow::{Context as _, Result, bail};
 use std::io::Write as _;
@@ -143,29 +142,18 @@ impl Sink {
 /// Records the clip `args` asks for; returns how many frames it holds.
 pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
     let clip = Clip::of(&args.out)?;
-    let Headless {
-        ctx,
-        scene,
-        settings,
-        // The target before the driver: bindings drop in reverse, the driver first.
-        mut offscreen,
-        mut driver,
-        eye_at,
-    } = Headless::open(common, (args.width, args.height), &args.camera)?;
-    let count = scene.blade_count();
-    let size = offscreen.size();
+    let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
+    let size = run.offscreen.size();
     let mut sink = Sink::open(&clip, size, args.fps)?;
     let step = 1.0 / f64::from(args.fps);
     let total = args.settle + args.frames;
     let progress = Progress::new(total as usize);
     for frame in 0..total {
         let recorded = frame >= args.settle;
-        let uniforms =
-            |f: &Frame| settings.uniforms(&eye_at(f.time), count, &ball_at(common, &scene, f.time));
-        driver.run(&mut offscreen, step, uniforms, recorded)?;
+        run.frame(common, step, recorded)?;
         if recorded {
-            driver.finish()?;
-            let mut pixels = offscreen.pixels()?;
+            run.driver.finish()?;
+            let mut pixels = run.offscreen.pixels()?;
             sink.add(frame - args.settle, &mut pixels, size, args.fps)?;
         }
         progress.show(
@@ -175,11 +163,9 @@ pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
     }
     sink.finish()?;
     progress.done(total as usize);
-    if ctx.validation_errors() > 0 {
-        bail!(
-            "{} validation errors (see the log above)",
-            ctx.validation_errors()
-        );
+    let errors = run.ctx.validation_errors();
+    if errors > 0 {
+        bail!("{errors} validation errors (see the log above)");
     }
     log::info!(
         "wrote {} ({} frames of {}x{} at {} fps)",

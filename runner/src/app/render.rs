@@ -168,47 +168,49 @@ impl Headless {
             eye_at,
         })
     }
+
+    /// Runs one frame of `seconds`, the camera and the ball where they are at its
+    /// simulated time (`common`'s collider path), captured if `capture`; returns where
+    /// the camera was.
+    pub fn frame(
+        &mut self,
+        common: &Common,
+        seconds: f64,
+        capture: bool,
+    ) -> Result<shared::settings::Viewpoint> {
+        let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
+        let count = scene.blade_count();
+        let eye = std::cell::Cell::new(eye_at(0.0));
+        let uniforms = |f: &Frame| {
+            eye.set(eye_at(f.time));
+            settings.uniforms(&eye.get(), count, &ball_at(common, scene, f.time))
+        };
+        self.driver
+            .run(&mut self.offscreen, seconds, uniforms, capture)?;
+        Ok(eye.get())
+    }
 }
 
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
-    let Headless {
-        ctx,
-        scene,
-        settings,
-        // The target before the driver: bindings drop in reverse, the driver first.
-        mut offscreen,
-        mut driver,
-        eye_at,
-    } = Headless::open(common, (args.width, args.height), &args.camera)?;
-    let count = scene.blade_count();
-    let still = eye_at(0.0);
-    // The last frame's eye, for the report.
-    let last_eye = std::cell::Cell::new(still);
+    let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
+    let mut last_eye = (run.eye_at)(0.0);
     let progress_every = (args.frames / 10).max(1);
     for frame in 0..args.frames {
-        let last = frame + 1 == args.frames;
-        let uniforms = |f: &Frame| {
-            // The ball's place at this frame's time along its path.
-            let balls = ball_at(common, &scene, f.time);
-            let eye = eye_at(f.time);
-            last_eye.set(eye);
-            settings.uniforms(&eye, count, &balls)
-        };
-        driver.run(&mut offscreen, 1.0 / 60.0, uniforms, last)?;
+        last_eye = run.frame(common, 1.0 / 60.0, frame + 1 == args.frames)?;
         if args.frames >= 100 && (frame + 1) % progress_every == 0 {
             log::info!("frame {}/{}", frame + 1, args.frames);
         }
     }
-    driver.finish()?;
-    let readback = driver.readback;
+    run.driver.finish()?;
+    let readback = &run.driver.readback;
     Ok(RenderReport {
-        pixels: offscreen.pixels()?,
+        pixels: run.offscreen.pixels()?,
         visible: readback.visible().unwrap_or(0),
         counts: readback.counts.unwrap_or_default(),
         times: readback.times,
-        blades: count,
-        validation_errors: ctx.validation_errors(),
-        view_proj: last_eye.get().view_proj,
+        blades: run.scene.blade_count(),
+        validation_errors: run.ctx.validation_errors(),
+        view_proj: last_eye.view_proj,
     })
 }

@@ -6,7 +6,7 @@
 //! frame driver (`app::driver`: slots, submission, presentation or capture, the
 //! simulation clock, read-back) and the shells that use it (window viewer, `render`,
 //! `bench`, `soak`); [`tiles`] the tiled field's host side (issue 19) and [`paint`]
-//! its painted maps.
+//! its painted maps; [`embed`] the field in someone else's frame.
 //! The settings are typed (`shared::settings`) and become the
 //! shaders' numbers in one place, `Settings::uniforms`.
 //!
@@ -51,14 +51,81 @@
 //! # }
 //! ```
 //!
-//! Drawing this grass into a frame of your own device and targets is not offered yet
-//! (issue 20).
+//! # Grass in your own renderer
+//!
+//! [`embed::GrassField`] puts the grass into a frame of your own ash program: your
+//! instance, device, queue, gpu-allocator, command buffer and colour and depth
+//! images. The field says what it needs before anything is made, and what is
+//! missing; [`embed`] has the whole contract, `runner/examples/embed.rs` a whole
+//! program (a spinning cube of its own and the grass, in a window or headless).
+//!
+//! ```no_run
+//! use ash::vk;
+//! use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+//! use runner::embed::{self, FieldDesc, Frame, GrassField, Ground, Targets};
+//! use std::sync::{Arc, Mutex};
+//!
+//! # fn your_renderer(
+//! #     entry: ash::Entry,
+//! #     instance: ash::Instance,
+//! #     physical: vk::PhysicalDevice,
+//! #     queue_family: u32,
+//! #     (cmd, color, depth, extent): (vk::CommandBuffer, vk::ImageView, vk::ImageView, vk::Extent2D),
+//! #     (view, proj): (glam::Mat4, glam::Mat4),
+//! # ) -> anyhow::Result<()> {
+//! let format = vk::Format::B8G8R8A8_SRGB; // your colour images'
+//! // 1. What the grass needs of this device, asked before anything is made: the
+//! //    features to enable, or an error naming everything it lacks.
+//! let mut features = embed::requirements(&instance, physical, format)?;
+//!
+//! // 2. Your device, made with them (add your own features and extensions).
+//! let priorities = [1.0];
+//! let queues = [vk::DeviceQueueCreateInfo::default()
+//!     .queue_family_index(queue_family)
+//!     .queue_priorities(&priorities)];
+//! let extensions: Vec<_> = features.extensions().iter().map(|e| e.as_ptr()).collect();
+//! let info = vk::DeviceCreateInfo::default()
+//!     .queue_create_infos(&queues)
+//!     .enabled_extension_names(&extensions);
+//! let device = unsafe { instance.create_device(physical, &features.enable(info), None)? };
+//! let allocator = Arc::new(Mutex::new(Allocator::new(&AllocatorCreateDesc {
+//!     instance: instance.clone(),
+//!     device: device.clone(),
+//!     physical_device: physical,
+//!     debug_settings: Default::default(),
+//!     buffer_device_address: false,
+//!     allocation_sizes: Default::default(),
+//! })?));
+//!
+//! // 3. The field: 100,000 blades on the built-in hills (or `Ground::Mesh(yours)`).
+//! let device = embed::Device { entry, instance, physical, device, queue_family, allocator };
+//! let desc = FieldDesc {
+//!     ground: Ground::Hills,
+//!     blades: 100_000,
+//!     seed: 1,
+//!     color_format: format,
+//!     draw_ground: true,
+//! };
+//! let mut field = GrassField::new(device, &features, desc)?;
+//!
+//! // 4. Each frame, after your own drawing into `color` and `depth` (D32_SFLOAT),
+//! //    outside a rendering scope: simulate, cull and draw the blades over it.
+//! field.record(cmd, &Frame {
+//!     targets: Targets { color, depth, extent },
+//!     camera: embed::viewpoint(view, proj, extent.height),
+//!     seconds: 1.0 / 60.0,
+//!     colliders: &[glam::Vec4::new(0.0, 1.0, 0.0, 1.5)], // a ball: centre, radius
+//! })?;
+//! # Ok(())
+//! # }
+//! ```
 
 pub mod app;
 pub mod camera;
 pub mod cli;
 pub mod collider;
 pub mod config;
+pub mod embed;
 pub mod field;
 pub mod paint;
 pub mod parse;

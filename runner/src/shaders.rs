@@ -90,6 +90,10 @@ pub const GRASS_SHADOW_TES: &str = "grass::shadow_tes";
 pub const TONEMAP_VS: &str = "tonemap::tonemap_vs";
 /// Sky and tone map.
 pub const TONEMAP_FS: &str = "tonemap::tonemap_fs";
+/// The embedding example's cube, vertex stage (`shared::cube`).
+pub const CUBE_VS: &str = "example::cube_vs";
+/// The embedding example's cube, fragment stage.
+pub const CUBE_FS: &str = "example::cube_fs";
 /// The surfaces from the sun (shadow map): vertex stage.
 pub const SHADOW_SURFACE_VS: &str = "ground::shadow_surface_vs";
 /// Ground vertex stage.

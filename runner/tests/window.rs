@@ -6,6 +6,7 @@
 mod common;
 
 use common::{gpu_required, scratch};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -102,31 +103,48 @@ fn run_viewer(
     env: &[(&str, &str)],
     limit: Duration,
 ) -> (bool, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_grass"))
+    let grass = Path::new(env!("CARGO_BIN_EXE_grass"));
+    run_program(grass, display, args, env, limit)
+}
+
+/// Runs `program` with `args` and `env` on `display`; fails the test if it has not
+/// quit by `limit`. Its log is standard error and output together.
+fn run_program(
+    program: &Path,
+    display: &str,
+    args: &[&str],
+    env: &[(&str, &str)],
+    limit: Duration,
+) -> (bool, String) {
+    let name = program.display();
+    let mut child = Command::new(program)
         .args(args)
         .env("DISPLAY", display)
         .env("RUST_LOG", "info")
         .envs(env.iter().copied())
-        .stdout(Stdio::null())
+        .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("run grass");
+        .unwrap_or_else(|e| panic!("run {name}: {e}"));
     let stderr = child.stderr.take().expect("stderr");
+    let stdout = child.stdout.take().expect("stdout");
     let reader = std::thread::spawn(move || std::io::read_to_string(stderr).unwrap_or_default());
+    let out_reader =
+        std::thread::spawn(move || std::io::read_to_string(stdout).unwrap_or_default());
     let start = Instant::now();
     let status = loop {
-        if let Some(status) = child.try_wait().expect("wait for grass") {
+        if let Some(status) = child.try_wait().expect("wait for the program") {
             break status;
         }
         if start.elapsed() > limit {
             let _ = child.kill();
             let log = reader.join().unwrap_or_default();
-            panic!("grass {args:?} hung for {limit:?}: {log}");
+            panic!("{name} {args:?} hung for {limit:?}: {log}");
         }
         std::thread::sleep(Duration::from_millis(50));
     };
-    let log = reader.join().unwrap_or_default();
-    assert!(!log.contains("panicked"), "grass {args:?} panicked: {log}");
+    let log = reader.join().unwrap_or_default() + &out_reader.join().unwrap_or_default();
+    assert!(!log.contains("panicked"), "{name} {args:?} panicked: {log}");
     (status.success(), log)
 }
 
@@ -262,4 +280,30 @@ fn a_screenshot_is_the_window_s_frame() {
         "green {green}, orange {orange}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The embedding example (`runner/examples/embed.rs`) in a window: its own swapchain,
+/// cube and the grass of `runner::embed`, 60 frames with the validation layer
+/// (core and synchronization) silent. `cargo test` builds the example beside `grass`.
+#[test]
+fn the_embed_example_runs_in_a_window() {
+    let Some(x) = Xvfb::for_test(3) else {
+        return;
+    };
+    let grass = Path::new(env!("CARGO_BIN_EXE_grass"));
+    let example = grass.with_file_name("examples").join("embed");
+    if !example.exists() {
+        assert!(!gpu_required(), "{} not built", example.display());
+        eprintln!("skipped: the example is not built (cargo test --examples builds it)");
+        return;
+    }
+    let args = ["--frames", "60", "--validation"];
+    let (ok, log) = run_program(&example, &x.display, &args, &[], Duration::from_secs(300));
+    if !ok && !gpu_required() && log.contains("device") {
+        eprintln!("skipped, no device: {log}");
+        return;
+    }
+    assert!(ok, "{log}");
+    assert!(log.contains("drew 60 frames, 0 validation errors"), "{log}");
+    assert!(!log.contains("validation:"), "validation messages: {log}");
 }

@@ -7,6 +7,7 @@
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 pub mod compute;
+pub mod example;
 pub mod grass;
 pub mod ground;
 pub mod mesh;

@@ -7,6 +7,7 @@
 
 pub mod blade;
 pub mod collide;
+pub mod cube;
 pub mod cull;
 pub mod forces;
 #[cfg(not(target_arch = "spirv"))]

@@ -243,6 +243,11 @@ fn runner_layout(name: &str) -> (&'static [BindingSpec], (vk::ShaderStageFlags, 
         (&overlay::BINDINGS, (vk::ShaderStageFlags::VERTEX, push))
     } else if name == shaders::TONEMAP_VS || name == shaders::TONEMAP_FS {
         (&tonemap::BINDINGS, tonemap::PUSH_CONSTANTS)
+    } else if name == shaders::CUBE_VS || name == shaders::CUBE_FS {
+        // The embedding example's own pipeline: no descriptors, one push range.
+        let push = size_of::<shared::cube::CubePush>() as u32;
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        (&[], (stages, push))
     } else {
         (&BINDINGS, PUSH_CONSTANTS)
     }
@@ -332,6 +337,9 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             }
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
+                            n if n == shaders::CUBE_VS || n == shaders::CUBE_FS => {
+                                size_of::<shared::cube::CubePush>()
+                            }
                             n if n == shaders::THROUGHPUT_VS || n == shaders::THROUGHPUT_MESH => {
                                 size_of::<layout::ThroughputPush>()
                             }

@@ -4,6 +4,7 @@
 //! renderer records a frame; the frame driver (`app::driver`) owns the slots,
 //! submits and reads each slot's counters and timestamps back.
 
+pub mod external;
 mod hooks;
 pub mod readback;
 mod references;

@@ -1,5 +1,6 @@
 //! Entry, instance, validation messenger, physical device, device, queue, allocator.
 
+use super::features::DeviceFeatures;
 use anyhow::{Context as _, Result, bail};
 use ash::{ext, khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -104,9 +105,28 @@ pub struct Context {
     /// Surface functions.
     pub surface_fn: khr::surface::Instance,
     /// Memory allocator; dropped before the device.
-    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     debug: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     validation: Box<ValidationCounts>,
+    /// The device and instance are this context's to destroy (not a caller's).
+    owned: bool,
+}
+
+/// A made device and what the renderer needs of it, by value: ash's instance and
+/// device are tables of function pointers, cloned freely.
+pub struct DeviceParts {
+    /// Loaded Vulkan entry points.
+    pub entry: ash::Entry,
+    /// The instance.
+    pub instance: ash::Instance,
+    /// The physical device.
+    pub physical: vk::PhysicalDevice,
+    /// The logical device.
+    pub device: ash::Device,
+    /// A queue family with graphics and compute; its queue 0 is used.
+    pub queue_family: u32,
+    /// The memory allocator on this device.
+    pub allocator: Arc<Mutex<Allocator>>,
 }
 
 /// What the validation layer has said: errors, and every message (warnings too).
@@ -193,28 +213,14 @@ impl Context {
         };
 
         let (physical, queue_family) = pick_device(&instance, &surface_fn, surface)?;
-        let properties = unsafe { instance.get_physical_device_properties(physical) };
-        let pipeline_statistics = unsafe { instance.get_physical_device_features(physical) }
-            .pipeline_statistics_query
-            == vk::TRUE;
-        let mesh_support = mesh_shader_support(&instance, physical);
-        let int64_atomics = int64_atomics_support(&instance, physical);
+        let mut features = DeviceFeatures::query(&instance, physical)?;
         let device = create_device(
             &instance,
             physical,
             queue_family,
             surface.is_some(),
-            pipeline_statistics,
-            mesh_support.is_ok(),
-            int64_atomics.is_ok(),
+            &mut features,
         )?;
-        let mesh_shader = mesh_support.map(|()| ext::mesh_shader::Device::new(&instance, &device));
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let timestamp_bits = unsafe {
-            instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
-                .timestamp_valid_bits
-        };
-
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
             device: device.clone(),
@@ -224,7 +230,49 @@ impl Context {
             allocation_sizes: Default::default(),
         })
         .context("create memory allocator")?;
+        let device = DeviceParts {
+            entry,
+            instance,
+            physical,
+            device,
+            queue_family,
+            allocator: Arc::new(Mutex::new(allocator)),
+        };
+        let mut ctx = Self::assemble(device, &features, true);
+        ctx.surface = surface;
+        ctx.debug = debug;
+        ctx.validation = validation;
+        Ok(Arc::new(ctx))
+    }
 
+    /// A context on a device someone else made and keeps (the embedding API): it
+    /// destroys nothing of theirs, and allocates through their allocator. `features`
+    /// are what the device was made with ([`DeviceFeatures::enable`]).
+    pub fn from_external(device: DeviceParts, features: &DeviceFeatures) -> Arc<Self> {
+        Arc::new(Self::assemble(device, features, false))
+    }
+
+    /// The context of a made device: its queue, properties and optional paths.
+    fn assemble(parts: DeviceParts, features: &DeviceFeatures, owned: bool) -> Self {
+        let DeviceParts {
+            entry,
+            instance,
+            physical,
+            device,
+            queue_family,
+            allocator,
+        } = parts;
+        let properties = unsafe { instance.get_physical_device_properties(physical) };
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let timestamp_bits = unsafe {
+            instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
+                .timestamp_valid_bits
+        };
+        let mesh_shader = features
+            .mesh_shader
+            .clone()
+            .map(|()| ext::mesh_shader::Device::new(&instance, &device));
+        let surface_fn = khr::surface::Instance::new(&entry, &instance);
         let ctx = Self {
             entry,
             instance,
@@ -234,14 +282,15 @@ impl Context {
             queue,
             queue_family,
             timestamp_bits,
-            pipeline_statistics,
+            pipeline_statistics: features.pipeline_statistics(),
             mesh_shader,
-            int64_atomics,
-            surface,
+            int64_atomics: features.int64_atomics.clone(),
+            surface: None,
             surface_fn,
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
-            debug,
-            validation,
+            allocator: ManuallyDrop::new(allocator),
+            debug: None,
+            validation: Box::default(),
+            owned,
         };
         log::info!(
             "device: {} ({:?}), Vulkan {}.{}.{}",
@@ -251,7 +300,7 @@ impl Context {
             vk::api_version_minor(ctx.properties.api_version),
             vk::api_version_patch(ctx.properties.api_version),
         );
-        Ok(Arc::new(ctx))
+        ctx
     }
 
     /// The device's name as the driver reports it.
@@ -346,6 +395,9 @@ impl Drop for Context {
         unsafe {
             let _ = self.device.device_wait_idle();
             ManuallyDrop::drop(&mut self.allocator);
+            if !self.owned {
+                return;
+            }
             self.device.destroy_device(None);
             if let Some(surface) = self.surface {
                 self.surface_fn.destroy_surface(surface, None);
@@ -370,33 +422,6 @@ fn create_surface(
         .context("create window surface")
 }
 
-/// Features the renderer cannot run without, by name, as (name, present) pairs.
-fn missing_features(instance: &ash::Instance, physical: vk::PhysicalDevice) -> Vec<&'static str> {
-    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut features = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut v12)
-        .push_next(&mut v13);
-    unsafe { instance.get_physical_device_features2(physical, &mut features) };
-    let core = features.features;
-    [
-        ("tessellationShader", core.tessellation_shader),
-        ("multiDrawIndirect", core.multi_draw_indirect),
-        ("fillModeNonSolid", core.fill_mode_non_solid),
-        ("vulkanMemoryModel", v12.vulkan_memory_model),
-        (
-            "vulkanMemoryModelDeviceScope",
-            v12.vulkan_memory_model_device_scope,
-        ),
-        ("dynamicRendering", v13.dynamic_rendering),
-        ("synchronization2", v13.synchronization2),
-    ]
-    .into_iter()
-    .filter(|(name, have)| *have == vk::FALSE || super::fault::feature_removed(name))
-    .map(|(name, _)| name)
-    .collect()
-}
-
 /// The first discrete GPU, else the first other device, that has Vulkan 1.3, every
 /// feature and a graphics + compute queue (able to present, with a surface).
 fn pick_device(
@@ -416,13 +441,8 @@ fn pick_device(
             .device_name_as_c_str()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        if props.api_version < vk::API_VERSION_1_3 {
-            reasons.push(format!("{name}: Vulkan 1.3 is required"));
-            continue;
-        }
-        let missing = missing_features(instance, physical);
-        if !missing.is_empty() {
-            reasons.push(format!("{name}: missing feature {}", missing.join(", ")));
+        if let Err(missing) = DeviceFeatures::query(instance, physical) {
+            reasons.push(format!("{name}: missing {}", missing.missing.join(", ")));
             continue;
         }
         let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
@@ -454,139 +474,25 @@ fn pick_device(
     }
 }
 
-/// `Ok` when `physical` has `VK_EXT_mesh_shader` with mesh stages, `shaderDrawParameters`
-/// and the limits the mesh path's stages declare (`shared::meshlet`); else what is
-/// missing.
-fn mesh_shader_support(
-    instance: &ash::Instance,
-    physical: vk::PhysicalDevice,
-) -> Result<(), String> {
-    use shared::meshlet::{MESH_GRID_WIDTH, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES};
-    let name = ext::mesh_shader::NAME;
-    let extensions =
-        unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
-    let listed = extensions
-        .iter()
-        .any(|e| e.extension_name_as_c_str() == Ok(name));
-    if !listed || super::fault::feature_removed("meshShader") {
-        return Err(format!("the device has no {}", name.to_string_lossy()));
-    }
-    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
-    let mut v11 = vk::PhysicalDeviceVulkan11Features::default();
-    let mut features = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut mesh)
-        .push_next(&mut v11);
-    unsafe { instance.get_physical_device_features2(physical, &mut features) };
-    if mesh.mesh_shader == vk::FALSE {
-        return Err("VK_EXT_mesh_shader without mesh stages".into());
-    }
-    // The mesh stages tell their draws apart by `DrawIndex`.
-    if v11.shader_draw_parameters == vk::FALSE {
-        return Err("no shaderDrawParameters (the mesh stages read DrawIndex)".into());
-    }
-    let mut limits = vk::PhysicalDeviceMeshShaderPropertiesEXT::default();
-    let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut limits);
-    unsafe { instance.get_physical_device_properties2(physical, &mut props) };
-    let needs = [
-        (
-            "maxMeshOutputVertices",
-            limits.max_mesh_output_vertices,
-            MESHLET_VERTICES,
-        ),
-        (
-            "maxMeshOutputPrimitives",
-            limits.max_mesh_output_primitives,
-            MESHLET_TRIANGLES,
-        ),
-        (
-            "maxMeshWorkGroupInvocations",
-            limits.max_mesh_work_group_invocations,
-            MESH_THREADS,
-        ),
-        (
-            "maxMeshWorkGroupCount[0]",
-            limits.max_mesh_work_group_count[0],
-            MESH_GRID_WIDTH,
-        ),
-    ];
-    match needs.iter().find(|(_, has, need)| has < need) {
-        Some((limit, has, need)) => {
-            Err(format!("mesh shader limit {limit} is {has}, {need} needed"))
-        }
-        None => Ok(()),
-    }
-}
-
-/// `Ok` when `physical` has `shaderInt64` and `shaderBufferInt64Atomics` (the compute
-/// rasterizer's visibility buffer, `shared::raster`); else what is missing. Fault
-/// injection can take either away (`GRASS_FAULT=missing-feature:shaderBufferInt64Atomics`).
-fn int64_atomics_support(
-    instance: &ash::Instance,
-    physical: vk::PhysicalDevice,
-) -> Result<(), String> {
-    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
-    unsafe { instance.get_physical_device_features2(physical, &mut features) };
-    let needs = [
-        ("shaderInt64", features.features.shader_int64),
-        ("shaderBufferInt64Atomics", v12.shader_buffer_int64_atomics),
-    ];
-    match needs
-        .iter()
-        .find(|(name, has)| *has == vk::FALSE || super::fault::feature_removed(name))
-    {
-        Some((name, _)) => Err(format!("the device has no {name}")),
-        None => Ok(()),
-    }
-}
-
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
     queue_family: u32,
     present: bool,
-    pipeline_statistics: bool,
-    mesh_shader: bool,
-    int64_atomics: bool,
+    features: &mut DeviceFeatures,
 ) -> Result<ash::Device> {
     let priorities = [1.0];
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(queue_family)
         .queue_priorities(&priorities)];
-    let core = vk::PhysicalDeviceFeatures::default()
-        .tessellation_shader(true)
-        .multi_draw_indirect(true)
-        .fill_mode_non_solid(true)
-        .pipeline_statistics_query(pipeline_statistics)
-        .shader_int64(int64_atomics);
-    let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
-        .shader_buffer_int64_atomics(int64_atomics)
-        .vulkan_memory_model(true)
-        .vulkan_memory_model_device_scope(true);
-    // maintenance4 (every Vulkan 1.3 device has it): a fragment stage may leave some
-    // of the outputs before it unread (the views' fragment stages read fewer).
-    let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
-        .maintenance4(true)
-        .dynamic_rendering(true)
-        .synchronization2(true);
-    let mut extensions = Vec::new();
+    let mut extensions: Vec<_> = features.extensions().iter().map(|e| e.as_ptr()).collect();
     if present {
         extensions.push(khr::swapchain::NAME.as_ptr());
     }
-    if mesh_shader {
-        extensions.push(ext::mesh_shader::NAME.as_ptr());
-    }
-    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default().mesh_shader(true);
-    let mut v11 = vk::PhysicalDeviceVulkan11Features::default().shader_draw_parameters(true);
-    let mut info = vk::DeviceCreateInfo::default()
+    let info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
-        .enabled_features(&core)
-        .enabled_extension_names(&extensions)
-        .push_next(&mut v12)
-        .push_next(&mut v13);
-    if mesh_shader {
-        info = info.push_next(&mut mesh).push_next(&mut v11);
-    }
+        .enabled_extension_names(&extensions);
+    let info = features.enable(info);
     unsafe { instance.create_device(physical, &info, None) }.context("create Vulkan device")
 }
 

@@ -6,6 +6,7 @@ pub mod commands;
 pub mod context;
 pub mod descriptors;
 pub mod fault;
+pub mod features;
 pub mod image;
 pub mod pipeline;
 pub mod query;
@@ -14,7 +15,8 @@ pub mod sampler;
 pub mod swapchain;
 
 pub use buffer::Buffer;
-pub use context::{Context, ContextOptions, ValidationChecks};
+pub use context::{Context, ContextOptions, DeviceParts, ValidationChecks};
+pub use features::{DeviceFeatures, Missing};
 pub use image::Image;
 pub use recorder::{Attachments, Recorder};
 

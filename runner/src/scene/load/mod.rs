@@ -92,6 +92,24 @@ pub fn load_gltf_slice(bytes: &[u8], name: &str) -> Result<LoadedMesh, SceneErro
     gltf::load_gltf(bytes, name, None)
 }
 
+/// Checks a caller's own triangle mesh (the embedding API) by the rules files are
+/// checked by: finite positions, indices in range, the size limits, degenerate
+/// triangles skipped, normals (or face normals where it has none) and winding. All of
+/// it grows grass; `name` names it in messages.
+pub fn from_mesh(mesh: &SurfaceMesh, name: &str) -> Result<LoadedMesh, SceneError> {
+    let mut builder = mesh::Builder::new(name);
+    let per_vertex = |n: usize| n == mesh.positions.len();
+    builder.add(mesh::Part {
+        label: "the mesh".into(),
+        positions: mesh.positions.clone(),
+        normals: per_vertex(mesh.normals.len()).then(|| mesh.normals.clone()),
+        uvs: per_vertex(mesh.uvs.len()).then(|| mesh.uvs.clone()),
+        triangles: mesh.triangles.clone(),
+        bare: false,
+    })?;
+    builder.finish()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,296 @@
+//! Grass in your own Vulkan renderer: a [`GrassField`] made on your ash instance,
+//! device and gpu-allocator, recording its passes into your command buffer and
+//! drawing into your colour and depth images.
+//!
+//! 1. Before making the device, ask [`requirements`] what the field needs of the
+//!    physical device (Vulkan 1.3, features, extensions, formats). It answers with the
+//!    [`DeviceFeatures`] to enable, or [`Missing`], naming everything the device lacks.
+//! 2. Make the device with them ([`DeviceFeatures::enable`] on your
+//!    `vk::DeviceCreateInfo`, [`DeviceFeatures::extensions`] among its extensions), a
+//!    queue family with graphics and compute, and a `gpu_allocator` allocator.
+//! 3. [`GrassField::new`] uploads the blades of its ground ([`Ground`]: the built-in
+//!    hills or plane, or your triangle mesh, checked like a scene file) and builds its
+//!    pipelines for your colour format. Your depth image must be [`DEPTH_FORMAT`],
+//!    with depth 0 near and 1 far (the field tests `LESS_OR_EQUAL`).
+//! 4. Each frame, after drawing your scene into your colour and depth images (left in
+//!    `COLOR_ATTACHMENT_OPTIMAL` and `DEPTH_ATTACHMENT_OPTIMAL`) and outside any
+//!    rendering scope, call [`GrassField::record`] with your command buffer, camera
+//!    ([`viewpoint`] from view and projection matrices), frame time and colliders
+//!    (spheres that push the blades down). It simulates, culls and draws the blades
+//!    over your picture, depth-tested against it, and leaves the images in the same
+//!    layouts; synchronise your later use of them as after your own drawing.
+//!
+//! Your device, queue, images and command buffers stay yours; the field destroys only
+//! what it made, after waiting for the device to be idle. Submit every frame that
+//! records the field to the same queue (its buffers are ordered from frame to frame by
+//! barriers, not by fences). The field draws the paper look (`Look::Paper`): the
+//! natural look's tone map and sky would cover your picture.
+//!
+//! `runner/examples/embed.rs` is a whole program: its own spinning cube and this grass
+//! in one frame, in a window or headless (`--out frame.png`).
+
+use crate::renderer::external::ExternalFrame;
+use crate::renderer::{FrameQueries, Meshes, Renderer};
+use crate::scene::{BladeCount, Scene, SceneFile, SceneKind};
+use crate::vulkan::features::{device_name, format_has};
+use crate::vulkan::{Context, Recorder};
+use anyhow::{Context as _, Result, bail};
+use ash::vk;
+use glam::{Mat4, Vec3, Vec4};
+use shared::collide::MAX_COLLIDERS;
+use shared::mesh::SurfaceMesh;
+use shared::mesh::bvh::IndexedMesh;
+use shared::settings::Look;
+use shared::simulate::SimClock;
+use std::sync::Arc;
+
+pub use crate::passes::DEPTH_FORMAT;
+pub use crate::renderer::CullCounts;
+pub use crate::renderer::external::ExternalTargets as Targets;
+pub use crate::vulkan::{DeviceFeatures, DeviceParts as Device, Missing};
+pub use shared::settings::{Settings, Viewpoint};
+
+/// What the field needs of `physical` to draw into colour images of `color_format`:
+/// the features (and extensions) to enable on the device, or everything it lacks.
+/// Makes nothing.
+pub fn requirements(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    color_format: vk::Format,
+) -> Result<DeviceFeatures, Missing> {
+    let features = DeviceFeatures::query(instance, physical);
+    use vk::FormatFeatureFlags as F;
+    let formats = [
+        (
+            color_format,
+            F::COLOR_ATTACHMENT,
+            "as a colour attachment (your colour target)",
+        ),
+        (
+            DEPTH_FORMAT,
+            F::DEPTH_STENCIL_ATTACHMENT | F::SAMPLED_IMAGE,
+            "as a sampled depth attachment (your depth target, the field's own)",
+        ),
+    ];
+    let formats: Vec<String> = formats
+        .into_iter()
+        .filter(|&(format, needed, _)| !format_has(instance, physical, format, needed))
+        .map(|(format, _, what)| format!("format {format:?} {what}"))
+        .collect();
+    match features {
+        Ok(features) if formats.is_empty() => Ok(features),
+        Ok(_) => Err(Missing {
+            device: device_name(instance, physical),
+            missing: formats,
+        }),
+        Err(mut missing) => {
+            missing.missing.extend(formats);
+            Err(missing)
+        }
+    }
+}
+
+/// The ground a field grows on.
+pub enum Ground {
+    /// Rolling hills around the origin, sized for the blade count (about 4 blades a
+    /// square unit).
+    Hills,
+    /// A flat square around the origin, sized for the blade count.
+    Plane,
+    /// Your triangle mesh (counter-clockwise seen from its normals' side, normals
+    /// optional): checked as a scene file's mesh is, grass everywhere on it.
+    Mesh(SurfaceMesh),
+}
+
+/// What [`GrassField::new`] makes.
+pub struct FieldDesc {
+    /// The ground.
+    pub ground: Ground,
+    /// Blades on it, scattered by area.
+    pub blades: u32,
+    /// Seed of the blades' places and shapes.
+    pub seed: u64,
+    /// Format of the colour images the field draws into.
+    pub color_format: vk::Format,
+    /// Draw the ground too (else only the blades: your scene has its ground).
+    pub draw_ground: bool,
+}
+
+/// One frame of the field.
+pub struct Frame<'a> {
+    /// Your colour and depth images (see the module docs for their layouts).
+    pub targets: Targets,
+    /// Where it is seen from ([`viewpoint`]).
+    pub camera: Viewpoint,
+    /// Time since the last frame, seconds: the simulation runs in fixed steps of
+    /// `shared::simulate::STEP_SECONDS` to catch up with it.
+    pub seconds: f64,
+    /// Spheres (centre xyz, radius w) that push the blades down; at most
+    /// [`MAX_COLLIDERS`].
+    pub colliders: &'a [Vec4],
+}
+
+/// A grass field drawn by your renderer.
+pub struct GrassField {
+    /// The settings each frame is drawn with (wind, gravity, culling, LOD, blade
+    /// shape, the light); change them between frames. The look stays the paper's.
+    pub settings: Settings,
+    renderer: Renderer,
+    queries: FrameQueries,
+    clock: SimClock,
+    bounds: (Vec3, f32),
+    solid: IndexedMesh,
+    blades: u32,
+    draw_ground: bool,
+    ctx: Arc<Context>,
+}
+
+impl GrassField {
+    /// Checks `device` against [`requirements`], then uploads the blades of `desc` and
+    /// builds the pipelines. `features` are those the device was made with.
+    pub fn new(device: Device, features: &DeviceFeatures, desc: FieldDesc) -> Result<Self> {
+        requirements(&device.instance, device.physical, desc.color_format)?;
+        if desc.blades == 0 {
+            bail!("a field of 0 blades");
+        }
+        let (kind, file) = match desc.ground {
+            Ground::Hills => (SceneKind::Hills, None),
+            Ground::Plane => (SceneKind::Plane, None),
+            Ground::Mesh(mesh) => {
+                let name = "your mesh";
+                let mesh = crate::scene::load::from_mesh(&mesh, name)?;
+                let file = SceneFile {
+                    name: name.into(),
+                    mesh,
+                };
+                (SceneKind::File(name.into()), Some(file))
+            }
+        };
+        let count = BladeCount::Total(desc.blades);
+        let scene = Scene::build(&kind, file, count, desc.seed, |_| Ok(()))?;
+        let ctx = Context::from_external(device, features);
+        let meshes = Meshes {
+            has_occluders: false,
+            ..scene.meshes()
+        };
+        let renderer = Renderer::new(&ctx, &meshes, desc.color_format)?;
+        let mut settings = scene.settings();
+        settings.look.style = Look::Paper;
+        Ok(Self {
+            settings,
+            renderer,
+            queries: FrameQueries::new(&ctx)?,
+            clock: SimClock::default(),
+            bounds: scene.bounds,
+            blades: scene.blade_count(),
+            solid: scene.solid,
+            draw_ground: desc.draw_ground,
+            ctx,
+        })
+    }
+
+    /// Records the field's frame into `cmd` (recording, outside any rendering scope):
+    /// simulation steps for `frame.seconds`, culling, then the blades (and the ground,
+    /// if asked) drawn into `frame.targets`.
+    pub fn record(&mut self, cmd: vk::CommandBuffer, frame: &Frame) -> Result<()> {
+        if frame.colliders.len() > MAX_COLLIDERS {
+            bail!(
+                "{} colliders, the field takes at most {MAX_COLLIDERS}",
+                frame.colliders.len()
+            );
+        }
+        if self.settings.look.style != Look::Paper {
+            bail!("an embedded field draws the paper look only (settings.look.style)");
+        }
+        let (first_step, steps) = self.clock.advance(frame.seconds);
+        let uniforms = self
+            .settings
+            .uniforms(&frame.camera, self.blades, frame.colliders);
+        let push = shared::layout::SimulatePush {
+            first_step,
+            steps,
+            ..Default::default()
+        };
+        let external = ExternalFrame {
+            targets: frame.targets,
+            uniforms,
+            push,
+            ground: self.draw_ground,
+        };
+        let rec = Recorder::new(&self.ctx.device, cmd);
+        self.renderer
+            .record_external(&rec, &self.queries, &external)
+            .context("record the grass")
+    }
+
+    /// What the culling tests did in the newest frame that finished (wait for it
+    /// first, e.g. on its fence).
+    pub fn counts(&self) -> Result<CullCounts> {
+        self.queries.read()?.counts.context("no counts")
+    }
+
+    /// The blades of the field.
+    pub fn blade_count(&self) -> u32 {
+        self.blades
+    }
+
+    /// A sphere (centre, radius) holding the ground and the blades standing on it:
+    /// what a camera frames.
+    pub fn bounds(&self) -> (Vec3, f32) {
+        self.bounds
+    }
+
+    /// The highest point of the ground straight under (or over) `x`, `z`, if the
+    /// ground reaches there: where to stand things on it.
+    pub fn ground_at(&self, x: f32, z: f32) -> Option<Vec3> {
+        let (centre, radius) = self.bounds;
+        let above = Vec3::new(x, centre.y + 2.0 * radius + 1.0, z);
+        self.solid.ray_hit(above, -Vec3::Y).map(|hit| hit.position)
+    }
+
+    /// Simulated time so far, seconds.
+    pub fn time(&self) -> f32 {
+        self.clock.time()
+    }
+}
+
+/// The camera as the field needs it, from your `view` (world to eye, right-handed,
+/// looking down -z) and `proj` (eye to Vulkan clip space: y down, depth 0 near to 1
+/// far) matrices and your target's `height` in pixels.
+pub fn viewpoint(view: Mat4, proj: Mat4, height: u32) -> Viewpoint {
+    let eye_to_world = view.inverse();
+    // proj's y scale is 1 / tan(fov_y / 2) (negative when it flips y).
+    let fov_y = 2.0 * (1.0 / proj.y_axis.y.abs().max(1e-6)).atan();
+    Viewpoint {
+        view_proj: proj * view,
+        position: eye_to_world.w_axis.truncate(),
+        fov_y,
+        height,
+        forward: -eye_to_world.z_axis.truncate().normalize_or_zero(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The viewpoint of the same camera as the viewer's orbit camera builds it.
+    #[test]
+    fn viewpoint_matches_the_orbit_camera() {
+        let camera = crate::camera::OrbitCamera::framing(20.0);
+        let (w, h) = (640, 360);
+        use glam::camera::rh;
+        let view = rh::view::look_at_mat4(camera.eye(), camera.target, Vec3::Y);
+        let proj = rh::proj::vulkan::perspective(camera.fov_y, w as f32 / h as f32, 0.1, 200.0);
+        let ours = viewpoint(view, proj, h);
+        let theirs = camera.viewpoint((w, h));
+        assert!(
+            (ours.fov_y - theirs.fov_y).abs() < 1e-5,
+            "{ours:?} {theirs:?}"
+        );
+        assert!(ours.position.distance(theirs.position) < 1e-3);
+        assert!(ours.forward.distance(theirs.forward) < 1e-5);
+        assert!(ours.view_proj.abs_diff_eq(theirs.view_proj, 1e-4));
+        assert_eq!(ours.height, h);
+    }
+}

@@ -1,0 +1,258 @@
+//! What the renderer asks of a device: Vulkan 1.3, the features it cannot run
+//! without, the optional ones it uses where the device has them, and the device
+//! extensions those need. One list, read when the renderer makes its own device
+//! ([`super::Context::new`]) and when a caller makes one for an embedded field
+//! (`crate::embed`). `GRASS_FAULT=missing-feature:<name>` takes any of them away
+//! ([`super::fault`]).
+
+use super::fault::feature_removed;
+use ash::{ext, vk};
+use std::ffi::CStr;
+
+/// What a device lacks of what the renderer needs, by Vulkan name.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{device} lacks what the grass renderer needs: {}", missing.join(", "))]
+pub struct Missing {
+    /// The device's name.
+    pub device: String,
+    /// Each thing missing: "Vulkan 1.3 (the device has 1.2)", "feature
+    /// tessellationShader", "format D32_SFLOAT as a depth attachment", ...
+    pub missing: Vec<String>,
+}
+
+/// The features to enable on a device for the renderer: every required one, and the
+/// optional ones the device has. Callers making their own device may add theirs to
+/// the public structs before [`DeviceFeatures::enable`].
+pub struct DeviceFeatures {
+    /// Vulkan 1.0 features: tessellationShader, multiDrawIndirect, fillModeNonSolid;
+    /// pipelineStatisticsQuery and shaderInt64 where the device has them.
+    pub core: vk::PhysicalDeviceFeatures,
+    /// Vulkan 1.1 features: shaderDrawParameters with mesh shaders.
+    pub v11: vk::PhysicalDeviceVulkan11Features<'static>,
+    /// Vulkan 1.2 features: vulkanMemoryModel (and its device scope);
+    /// shaderBufferInt64Atomics where the device has it.
+    pub v12: vk::PhysicalDeviceVulkan12Features<'static>,
+    /// Vulkan 1.3 features: dynamicRendering, synchronization2, maintenance4.
+    pub v13: vk::PhysicalDeviceVulkan13Features<'static>,
+    /// `VK_EXT_mesh_shader`'s meshShader, when [`Self::mesh_shader`] is `Ok`.
+    pub mesh: vk::PhysicalDeviceMeshShaderFeaturesEXT<'static>,
+    /// `Ok` when the mesh path is enabled (`VK_EXT_mesh_shader` with mesh stages,
+    /// shaderDrawParameters and the limits `shared::meshlet` declares); else why not.
+    pub mesh_shader: Result<(), String>,
+    /// `Ok` when 64-bit integers and 64-bit storage-buffer atomics are enabled (the
+    /// compute rasterizer's visibility buffer, `shared::raster`); else what is missing.
+    pub int64_atomics: Result<(), String>,
+}
+
+/// The features the renderer cannot run without, as (name, present) pairs.
+fn required(
+    core: &vk::PhysicalDeviceFeatures,
+    v12: &vk::PhysicalDeviceVulkan12Features,
+    v13: &vk::PhysicalDeviceVulkan13Features,
+) -> [(&'static str, vk::Bool32); 8] {
+    [
+        ("tessellationShader", core.tessellation_shader),
+        ("multiDrawIndirect", core.multi_draw_indirect),
+        ("fillModeNonSolid", core.fill_mode_non_solid),
+        ("vulkanMemoryModel", v12.vulkan_memory_model),
+        (
+            "vulkanMemoryModelDeviceScope",
+            v12.vulkan_memory_model_device_scope,
+        ),
+        ("dynamicRendering", v13.dynamic_rendering),
+        ("synchronization2", v13.synchronization2),
+        // A fragment stage may leave some of the outputs before it unread (the views'
+        // fragment stages read fewer). Every Vulkan 1.3 device has it.
+        ("maintenance4", v13.maintenance4),
+    ]
+}
+
+/// The device's name as its driver reports it.
+pub fn device_name(instance: &ash::Instance, physical: vk::PhysicalDevice) -> String {
+    let props = unsafe { instance.get_physical_device_properties(physical) };
+    props
+        .device_name_as_c_str()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+impl DeviceFeatures {
+    /// What to enable on `physical`, or everything it lacks of the required list.
+    pub fn query(instance: &ash::Instance, physical: vk::PhysicalDevice) -> Result<Self, Missing> {
+        let props = unsafe { instance.get_physical_device_properties(physical) };
+        let mut missing = Vec::new();
+        if props.api_version < vk::API_VERSION_1_3 {
+            missing.push(format!(
+                "Vulkan 1.3 (the device has {}.{})",
+                vk::api_version_major(props.api_version),
+                vk::api_version_minor(props.api_version)
+            ));
+        }
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut has = vk::PhysicalDeviceFeatures2::default()
+            .push_next(&mut v12)
+            .push_next(&mut v13);
+        unsafe { instance.get_physical_device_features2(physical, &mut has) };
+        let core = has.features;
+        missing.extend(
+            required(&core, &v12, &v13)
+                .into_iter()
+                .filter(|(name, have)| *have == vk::FALSE || feature_removed(name))
+                .map(|(name, _)| format!("feature {name}")),
+        );
+        if !missing.is_empty() {
+            let device = device_name(instance, physical);
+            return Err(Missing { device, missing });
+        }
+        let mesh_shader = mesh_shader_support(instance, physical);
+        let int64_atomics = int64_atomics_support(instance, physical);
+        let statistics = core.pipeline_statistics_query == vk::TRUE;
+        Ok(Self {
+            core: vk::PhysicalDeviceFeatures::default()
+                .tessellation_shader(true)
+                .multi_draw_indirect(true)
+                .fill_mode_non_solid(true)
+                .pipeline_statistics_query(statistics)
+                .shader_int64(int64_atomics.is_ok()),
+            v11: vk::PhysicalDeviceVulkan11Features::default()
+                .shader_draw_parameters(mesh_shader.is_ok()),
+            v12: vk::PhysicalDeviceVulkan12Features::default()
+                .shader_buffer_int64_atomics(int64_atomics.is_ok())
+                .vulkan_memory_model(true)
+                .vulkan_memory_model_device_scope(true),
+            v13: vk::PhysicalDeviceVulkan13Features::default()
+                .maintenance4(true)
+                .dynamic_rendering(true)
+                .synchronization2(true),
+            mesh: vk::PhysicalDeviceMeshShaderFeaturesEXT::default()
+                .mesh_shader(mesh_shader.is_ok()),
+            mesh_shader,
+            int64_atomics,
+        })
+    }
+
+    /// The device extensions to enable: `VK_EXT_mesh_shader` with the mesh path.
+    pub fn extensions(&self) -> Vec<&'static CStr> {
+        match self.mesh_shader {
+            Ok(()) => vec![ext::mesh_shader::NAME],
+            Err(_) => Vec::new(),
+        }
+    }
+
+    /// Pipeline statistics queries are enabled (the grass draw's triangle count).
+    pub fn pipeline_statistics(&self) -> bool {
+        self.core.pipeline_statistics_query == vk::TRUE
+    }
+
+    /// `info` with these features enabled (its `pEnabledFeatures` and feature
+    /// structs in its chain; add [`Self::extensions`] to its extension names).
+    pub fn enable<'a>(&'a mut self, info: vk::DeviceCreateInfo<'a>) -> vk::DeviceCreateInfo<'a> {
+        let info = info
+            .enabled_features(&self.core)
+            .push_next(&mut self.v11)
+            .push_next(&mut self.v12)
+            .push_next(&mut self.v13);
+        match self.mesh_shader {
+            Ok(()) => info.push_next(&mut self.mesh),
+            Err(_) => info,
+        }
+    }
+}
+
+/// `Ok` when `physical` has `VK_EXT_mesh_shader` with mesh stages,
+/// `shaderDrawParameters` and the limits the mesh path's stages declare
+/// (`shared::meshlet`); else what is missing.
+fn mesh_shader_support(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> Result<(), String> {
+    use shared::meshlet::{MESH_GRID_WIDTH, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES};
+    let name = ext::mesh_shader::NAME;
+    let extensions =
+        unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
+    let listed = extensions
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(name));
+    if !listed || feature_removed("meshShader") {
+        return Err(format!("the device has no {}", name.to_string_lossy()));
+    }
+    let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();
+    let mut v11 = vk::PhysicalDeviceVulkan11Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut mesh)
+        .push_next(&mut v11);
+    unsafe { instance.get_physical_device_features2(physical, &mut features) };
+    if mesh.mesh_shader == vk::FALSE {
+        return Err("VK_EXT_mesh_shader without mesh stages".into());
+    }
+    // The mesh stages tell their draws apart by `DrawIndex`.
+    if v11.shader_draw_parameters == vk::FALSE {
+        return Err("no shaderDrawParameters (the mesh stages read DrawIndex)".into());
+    }
+    let mut limits = vk::PhysicalDeviceMeshShaderPropertiesEXT::default();
+    let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut limits);
+    unsafe { instance.get_physical_device_properties2(physical, &mut props) };
+    let needs = [
+        (
+            "maxMeshOutputVertices",
+            limits.max_mesh_output_vertices,
+            MESHLET_VERTICES,
+        ),
+        (
+            "maxMeshOutputPrimitives",
+            limits.max_mesh_output_primitives,
+            MESHLET_TRIANGLES,
+        ),
+        (
+            "maxMeshWorkGroupInvocations",
+            limits.max_mesh_work_group_invocations,
+            MESH_THREADS,
+        ),
+        (
+            "maxMeshWorkGroupCount[0]",
+            limits.max_mesh_work_group_count[0],
+            MESH_GRID_WIDTH,
+        ),
+    ];
+    match needs.iter().find(|(_, has, need)| has < need) {
+        Some((limit, has, need)) => {
+            Err(format!("mesh shader limit {limit} is {has}, {need} needed"))
+        }
+        None => Ok(()),
+    }
+}
+
+/// `Ok` when `physical` has `shaderInt64` and `shaderBufferInt64Atomics` (the compute
+/// rasterizer's visibility buffer, `shared::raster`); else what is missing. Fault
+/// injection can take either away (`GRASS_FAULT=missing-feature:shaderBufferInt64Atomics`).
+fn int64_atomics_support(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> Result<(), String> {
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
+    unsafe { instance.get_physical_device_features2(physical, &mut features) };
+    let needs = [
+        ("shaderInt64", features.features.shader_int64),
+        ("shaderBufferInt64Atomics", v12.shader_buffer_int64_atomics),
+    ];
+    match needs
+        .iter()
+        .find(|(name, has)| *has == vk::FALSE || feature_removed(name))
+    {
+        Some((name, _)) => Err(format!("the device has no {name}")),
+        None => Ok(()),
+    }
+}
+
+/// `format`'s optimal-tiling features on `physical` contain `needed`.
+pub fn format_has(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    format: vk::Format,
+    needed: vk::FormatFeatureFlags,
+) -> bool {
+    let props = unsafe { instance.get_physical_device_format_properties(physical, format) };
+    props.optimal_tiling_features.contains(needed)
+}

@@ -1,0 +1,174 @@
+//! The embedding example (`runner/examples/embed.rs`) run headless, in this process:
+//! its own device and cube, and the grass of `runner::embed` in the same frame, with
+//! the validation layer (core and synchronization) silent where it is installed (CI).
+//!
+//! Checked by content: the host projects the cube's corners with the matrices the
+//! example gave the GPU; inside that silhouette the cube's magenta must show (grass in
+//! front of it hides some), outside it the grass's green must cover much of the
+//! picture, and magenta must not show outside it.
+
+#[path = "../examples/embed.rs"]
+#[allow(dead_code)]
+mod example;
+
+use glam::Vec2;
+use runner::vulkan::gpu_required;
+use std::sync::atomic::Ordering;
+
+/// Magenta, as the cube's faces are lit (sRGB bytes): red and blue far above green.
+fn is_cube(p: [u8; 3]) -> bool {
+    let [r, g, b] = p.map(f32::from);
+    r > 1.6 * g + 20.0 && b > 1.3 * g + 10.0
+}
+
+/// The grass's green: green above red and blue.
+fn is_grass(p: [u8; 3]) -> bool {
+    let [r, g, b] = p.map(i32::from);
+    g > r + 8 && g > b + 8
+}
+
+/// The convex hull of `points`, counter-clockwise in a y-down frame seen as y-up
+/// (Andrew's monotone chain).
+fn hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
+    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    let cross = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp_dot(b - o);
+    let mut lower: Vec<Vec2> = Vec::new();
+    for &p in &points {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(p);
+    }
+    let mut upper: Vec<Vec2> = Vec::new();
+    for &p in points.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) <= 0.0 {
+            upper.pop();
+        }
+        upper.push(p);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
+/// Signed distance of `p` inside the convex polygon `hull` (negative outside),
+/// pixels.
+fn inside_by(hull: &[Vec2], p: Vec2) -> f32 {
+    (0..hull.len())
+        .map(|i| {
+            let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+            (b - a).perp_dot(p - a) / (b - a).length()
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
+#[test]
+fn the_example_draws_its_cube_and_the_grass_in_one_frame() {
+    let validation = gpu_required();
+    let shot = match example::render_headless((320, 180), 30, validation) {
+        Ok(shot) => shot,
+        Err(e) if !gpu_required() => {
+            eprintln!("skipped, no usable Vulkan device: {e:#}");
+            return;
+        }
+        Err(e) => panic!("embed example: {e:#}"),
+    };
+    let errors = example::VALIDATION_ERRORS.load(Ordering::SeqCst);
+    assert_eq!(errors, 0, "validation errors in the embed example");
+    let (w, h) = shot.size;
+    assert_eq!(shot.rgba.len(), (w * h * 4) as usize);
+    let silhouette = hull(shot.cube_corners.clone());
+    let (mut inside, mut cube_inside, mut outside, mut grass_outside, mut cube_outside) =
+        (0, 0, 0, 0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let i = ((y * w + x) * 4) as usize;
+            let p = [shot.rgba[i], shot.rgba[i + 1], shot.rgba[i + 2]];
+            let depth = inside_by(&silhouette, Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+            // A pixel's width of slack at the edge, for the rasterizer's coverage rule.
+            if depth > 1.0 {
+                inside += 1;
+                cube_inside += usize::from(is_cube(p));
+            } else if depth < -1.0 {
+                outside += 1;
+                grass_outside += usize::from(is_grass(p));
+                cube_outside += usize::from(is_cube(p));
+            }
+        }
+    }
+    let cube_share = cube_inside as f32 / inside as f32;
+    let grass_share = grass_outside as f32 / outside as f32;
+    eprintln!(
+        "cube: {inside} px inside its silhouette, {:.1} % magenta; outside: {:.1} % grass, \
+         {cube_outside} magenta px; {} blades drawn",
+        100.0 * cube_share,
+        100.0 * grass_share,
+        shot.drawn
+    );
+    assert!(inside > 400, "the cube covers {inside} px");
+    assert!(
+        cube_share > 0.8,
+        "the cube shows in {:.1} % of its silhouette",
+        100.0 * cube_share
+    );
+    assert!(
+        grass_share > 0.4,
+        "grass covers {:.1} % outside the cube",
+        100.0 * grass_share
+    );
+    assert!(
+        cube_outside < 20,
+        "{cube_outside} magenta px outside the cube"
+    );
+    assert!(shot.drawn > 1000, "{} blades drawn", shot.drawn);
+}
+
+/// What the field needs is asked before anything is made, and what a device lacks is
+/// named: a compressed colour format (never a colour attachment), and a feature taken
+/// away by fault injection (in a child process: the fault is read once a process).
+#[test]
+fn requirements_name_what_is_missing() {
+    let Ok(entry) = (unsafe { ash::Entry::load() }) else {
+        assert!(!gpu_required(), "no Vulkan loader");
+        return;
+    };
+    let app = ash::vk::ApplicationInfo::default().api_version(ash::vk::API_VERSION_1_3);
+    let info = ash::vk::InstanceCreateInfo::default().application_info(&app);
+    let instance = unsafe { entry.create_instance(&info, None) }.expect("instance");
+    let devices = unsafe { instance.enumerate_physical_devices() }.unwrap_or_default();
+    for &physical in &devices {
+        let format = ash::vk::Format::BC1_RGB_UNORM_BLOCK;
+        let missing = runner::embed::requirements(&instance, physical, format)
+            .err()
+            .expect("BC1 is no colour attachment");
+        let text = missing.to_string();
+        assert!(
+            text.contains("format BC1_RGB_UNORM_BLOCK as a colour attachment"),
+            "{text}"
+        );
+    }
+    unsafe { instance.destroy_instance(None) };
+    assert!(!devices.is_empty() || !gpu_required(), "no Vulkan device");
+
+    let grass = std::path::Path::new(env!("CARGO_BIN_EXE_grass"));
+    let example = grass.with_file_name("examples").join("embed");
+    if !example.exists() {
+        assert!(!gpu_required(), "{} not built", example.display());
+        return;
+    }
+    let out = std::env::temp_dir().join(format!("grass-embed-{}.png", std::process::id()));
+    let run = std::process::Command::new(&example)
+        .args(["--out", out.to_str().expect("utf-8"), "--frames", "1"])
+        .env("GRASS_FAULT", "missing-feature:tessellationShader")
+        .output()
+        .expect("run the example");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "ran without tessellation: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains("lacks what the grass renderer needs: feature tessellationShader"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "an image was written");
+}

@@ -131,7 +131,7 @@ pub struct Gpu {
 
 impl Gpu {
     /// The instance, with `extensions` (a window system's) and, if asked, validation.
-    fn instance(
+    pub fn instance(
         extensions: &[*const c_char],
         validation: bool,
     ) -> Result<(ash::Entry, ash::Instance)> {
@@ -166,7 +166,7 @@ impl Gpu {
     /// gives a colour format for (the one its images will have) and that has what the
     /// grass needs for that format (`embed::requirements`, asked before anything is
     /// made): a device with those features and `extensions`, and its allocator.
-    fn new(
+    pub fn new(
         (entry, instance): (ash::Entry, ash::Instance),
         validation: bool,
         format_for: impl Fn(vk::PhysicalDevice, u32) -> Option<vk::Format>,
@@ -239,19 +239,20 @@ impl Gpu {
         Ok((gpu, format))
     }
 
-    /// The grass on the built-in hills, drawing into `format` images.
-    fn grass(&self, format: vk::Format) -> Result<GrassField> {
+    /// The grass: `blades` on `ground`, drawing into `format` images.
+    pub fn grass(&self, ground: Ground, blades: u32, format: vk::Format) -> Result<GrassField> {
         let device = embed::Device {
             entry: self.entry.clone(),
             instance: self.instance.clone(),
             physical: self.physical,
             device: self.device.clone(),
             queue_family: self.queue_family,
+            queue: self.queue,
             allocator: Arc::clone(&self.allocator),
         };
         let desc = FieldDesc {
-            ground: Ground::Hills,
-            blades: BLADES,
+            ground,
+            blades,
             seed: 1,
             color_format: format,
             draw_ground: true,
@@ -733,7 +734,7 @@ pub fn render_headless(size: (u32, u32), frames: u32, validation: bool) -> Resul
             .bind_buffer_memory(buffer, memory.memory(), memory.offset())?
     };
     let cube = Cube::new(&gpu.device, format)?;
-    let mut field = gpu.grass(format)?;
+    let mut field = gpu.grass(Ground::Hills, BLADES, format)?;
     let stage = Stage::new(&field);
     let (pool, cmd) = gpu.commands()?;
     let fence = unsafe {
@@ -950,7 +951,7 @@ mod window {
             let (gpu, format) =
                 Gpu::new((entry, instance), validation, format_for, &swapchain_ext)?;
             let cube = Cube::new(&gpu.device, format)?;
-            let field = gpu.grass(format)?;
+            let field = gpu.grass(Ground::Hills, BLADES, format)?;
             let stage = Stage::new(&field);
             let (pool, cmd) = gpu.commands()?;
             let device = &gpu.device;

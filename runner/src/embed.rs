@@ -21,7 +21,10 @@
 //!    layouts; synchronise your later use of them as after your own drawing.
 //!
 //! Your device, queue, images and command buffers stay yours; the field destroys only
-//! what it made, after waiting for the device to be idle. Submit every frame that
+//! what it made, after waiting for the device to be idle. [`GrassField::new`] submits
+//! its uploads to your queue (from the calling thread) and waits for them;
+//! [`GrassField::record`] only records. A change of the targets' size between frames
+//! waits for the device to be idle and makes the field's own images again. Submit every frame that
 //! records the field to the same queue (its buffers are ordered from frame to frame by
 //! barriers, not by fences). The field draws the paper look (`Look::Paper`): the
 //! natural look's tone map and sky would cover your picture.

@@ -98,7 +98,8 @@
 //! })?));
 //!
 //! // 3. The field: 100,000 blades on the built-in hills (or `Ground::Mesh(yours)`).
-//! let device = embed::Device { entry, instance, physical, device, queue_family, allocator };
+//! let queue = unsafe { device.get_device_queue(queue_family, 0) };
+//! let device = embed::Device { entry, instance, physical, device, queue_family, queue, allocator };
 //! let desc = FieldDesc {
 //!     ground: Ground::Hills,
 //!     blades: 100_000,
@@ -119,6 +120,8 @@
 //! # Ok(())
 //! # }
 //! ```
+
+#![warn(missing_docs)]
 
 pub mod app;
 pub mod camera;

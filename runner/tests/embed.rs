@@ -172,3 +172,86 @@ fn requirements_name_what_is_missing() {
     );
     assert!(!out.exists(), "an image was written");
 }
+
+/// A field on the caller's own triangles (`Ground::Mesh`): a bad mesh is refused with
+/// the problem named, a good one grows its blades where the mesh is; a frame that
+/// asks for what an embedded field cannot do is refused before anything is recorded.
+#[test]
+fn a_field_on_your_own_mesh() {
+    use glam::{Vec3, Vec4};
+    use runner::embed::Ground;
+    use shared::mesh::SurfaceMesh;
+    let made = example::Gpu::instance(&[], false).and_then(|instance| {
+        example::Gpu::new(instance, false, |_, _| Some(example::HEADLESS_FORMAT), &[])
+    });
+    let (gpu, format) = match made {
+        Ok(made) => made,
+        Err(e) if !gpu_required() => {
+            eprintln!("skipped, no usable Vulkan device: {e:#}");
+            return;
+        }
+        Err(e) => panic!("{e:#}"),
+    };
+    // A 10 x 10 square at height 3, around (20, 3, -5).
+    let square = |y: f32| SurfaceMesh {
+        positions: vec![
+            Vec3::new(15.0, 3.0, -10.0),
+            Vec3::new(15.0, y, 0.0),
+            Vec3::new(25.0, 3.0, 0.0),
+            Vec3::new(25.0, 3.0, -10.0),
+        ],
+        normals: Vec::new(),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        uvs: Vec::new(),
+    };
+    let error = gpu
+        .grass(Ground::Mesh(square(f32::NAN)), 1000, format)
+        .err()
+        .expect("a NaN position is refused");
+    let text = format!("{error:#}");
+    assert!(
+        text.contains("your mesh") && text.contains("vertex 1"),
+        "{text}"
+    );
+
+    let mut field = gpu
+        .grass(Ground::Mesh(square(3.0)), 1000, format)
+        .expect("a field on a square");
+    assert_eq!(field.blade_count(), 1000);
+    let (centre, _) = field.bounds();
+    assert!(
+        centre.distance(Vec3::new(20.0, 3.0, -5.0)) < 2.0,
+        "{centre}"
+    );
+    let ground = field
+        .ground_at(20.0, -5.0)
+        .expect("ground under the middle");
+    assert!((ground.y - 3.0).abs() < 1e-4, "{ground}");
+    assert!(
+        field.ground_at(40.0, -5.0).is_none(),
+        "ground beyond the square"
+    );
+
+    // Refused before recording: the null command buffer is never touched.
+    let frame = |colliders| runner::embed::Frame {
+        targets: runner::embed::Targets {
+            color: ash::vk::ImageView::null(),
+            depth: ash::vk::ImageView::null(),
+            extent: ash::vk::Extent2D::default(),
+        },
+        camera: runner::embed::viewpoint(glam::Mat4::IDENTITY, glam::Mat4::IDENTITY, 1),
+        seconds: 0.0,
+        colliders,
+    };
+    let many = [Vec4::ONE; shared::collide::MAX_COLLIDERS + 1];
+    let error = field
+        .record(ash::vk::CommandBuffer::null(), &frame(&many))
+        .expect_err("too many colliders");
+    assert!(error.to_string().contains("colliders"), "{error}");
+    field.settings.look.style = shared::settings::Look::Natural;
+    let error = field
+        .record(ash::vk::CommandBuffer::null(), &frame(&[]))
+        .expect_err("the natural look");
+    assert!(error.to_string().contains("paper look"), "{error}");
+    drop(field);
+}

@@ -123,8 +123,11 @@ pub struct DeviceParts {
     pub physical: vk::PhysicalDevice,
     /// The logical device.
     pub device: ash::Device,
-    /// A queue family with graphics and compute; its queue 0 is used.
+    /// A queue family with graphics and compute.
     pub queue_family: u32,
+    /// A queue of that family: where the renderer submits its uploads (and, in its own
+    /// program, its frames).
+    pub queue: vk::Queue,
     /// The memory allocator on this device.
     pub allocator: Arc<Mutex<Allocator>>,
 }
@@ -230,12 +233,14 @@ impl Context {
             allocation_sizes: Default::default(),
         })
         .context("create memory allocator")?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let device = DeviceParts {
             entry,
             instance,
             physical,
             device,
             queue_family,
+            queue,
             allocator: Arc::new(Mutex::new(allocator)),
         };
         let mut ctx = Self::assemble(device, &features, true);
@@ -260,10 +265,10 @@ impl Context {
             physical,
             device,
             queue_family,
+            queue,
             allocator,
         } = parts;
         let properties = unsafe { instance.get_physical_device_properties(physical) };
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let timestamp_bits = unsafe {
             instance.get_physical_device_queue_family_properties(physical)[queue_family as usize]
                 .timestamp_valid_bits

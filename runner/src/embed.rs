@@ -166,6 +166,7 @@ impl GrassField {
                     name: name.into(),
                     mesh,
                 };
+                // A scene of a file's kind: its triangles came in as a file's do.
                 (SceneKind::File(name.into()), Some(file))
             }
         };

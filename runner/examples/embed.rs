@@ -7,8 +7,12 @@
 //! ```text
 //! cargo run --release --example embed                       # a window
 //! cargo run --release --example embed -- --out frame.png    # headless, one PNG
-//!     [--frames N] [--size 640x360] [--validation]
+//!     [--frames N] [--size 640x360] [--look paper|natural] [--validation]
 //! ```
+//!
+//! `--look natural` (headless) draws the natural look into a linear HDR image
+//! (`R16G16B16A16_SFLOAT`), as an engine with its own tone map would, and tone-maps
+//! it on the host (`shared::look::tone_map`) for the PNG.
 //!
 //! Headless, `--frames` (90 by default) are simulated and the last one written; in a
 //! window, `--frames` closes it after that many (else it runs until closed).
@@ -26,6 +30,7 @@ use gpu_allocator::vulkan::{
 };
 use runner::embed::{self, FieldDesc, Frame, GrassField, Ground, Targets};
 use shared::cube::{CUBE_VERTICES, CubePush};
+use shared::settings::Look;
 use std::ffi::{CStr, c_char, c_void};
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -37,6 +42,8 @@ use vk::PipelineStageFlags2 as S;
 
 /// Format of the headless colour image (written to PNG as is).
 pub const HEADLESS_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+/// Format of the headless HDR image of the natural look (tone-mapped on the host).
+pub const HDR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// Colour the frame is cleared to: the sky (linear).
 const SKY: [f32; 4] = [0.42, 0.62, 0.86, 1.0];
 /// The cube's colour (linear): a magenta nothing else in the frame has.
@@ -55,10 +62,13 @@ fn main() -> Result<()> {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let args = Args::parse(std::env::args().skip(1))?;
     let Some(out) = &args.out else {
+        if args.look != Look::Paper {
+            bail!("the window draws the paper look; --look natural needs --out (headless)");
+        }
         return window::run(args.validation, args.frames);
     };
     let frames = args.frames.unwrap_or(90);
-    let shot = render_headless(args.size, frames, args.validation)?;
+    let shot = render_headless(args.size, frames, args.look, args.validation)?;
     let (w, h) = shot.size;
     image::save_buffer(out, &shot.rgba, w, h, image::ColorType::Rgba8)
         .with_context(|| format!("write {out}"))?;
@@ -78,6 +88,7 @@ struct Args {
     out: Option<String>,
     frames: Option<u32>,
     size: (u32, u32),
+    look: Look,
     validation: bool,
 }
 
@@ -88,6 +99,7 @@ impl Args {
             out: None,
             frames: None,
             size: (640, 360),
+            look: Look::Paper,
             validation: false,
         };
         while let Some(arg) = args.next() {
@@ -100,10 +112,17 @@ impl Args {
                     let (w, h) = v.split_once('x').context("--size WIDTHxHEIGHT")?;
                     parsed.size = (w.parse().context("--size")?, h.parse().context("--size")?);
                 }
+                "--look" => {
+                    parsed.look = match value()?.as_str() {
+                        "paper" => Look::Paper,
+                        "natural" => Look::Natural,
+                        other => bail!("--look {other}: paper or natural"),
+                    }
+                }
                 "--validation" => parsed.validation = true,
                 _ => bail!(
                     "unknown argument {arg}; use [--out frame.png] [--frames N] \
-                     [--size WxH] [--validation]"
+                     [--size WxH] [--look paper|natural] [--validation]"
                 ),
             }
         }
@@ -701,12 +720,22 @@ pub struct Shot {
     pub cube_corners: Vec<Vec2>,
 }
 
-/// `frames` frames of `size` into an offscreen image, the last one read back.
-pub fn render_headless(size: (u32, u32), frames: u32, validation: bool) -> Result<Shot> {
+/// `frames` frames of `size` in `look` into an offscreen image, the last one read
+/// back (the natural look's HDR image tone-mapped on the host).
+pub fn render_headless(
+    size: (u32, u32),
+    frames: u32,
+    look: Look,
+    validation: bool,
+) -> Result<Shot> {
+    let format = match look {
+        Look::Paper => HEADLESS_FORMAT,
+        Look::Natural => HDR_FORMAT,
+    };
     let (gpu, format) = Gpu::new(
         Gpu::instance(&[], validation)?,
         validation,
-        |_, _| Some(HEADLESS_FORMAT),
+        |_, _| Some(format),
         &[],
     )?;
     let extent = vk::Extent2D {
@@ -716,7 +745,8 @@ pub fn render_headless(size: (u32, u32), frames: u32, validation: bool) -> Resul
     use vk::ImageUsageFlags as U;
     let color = gpu.image(extent, format, U::COLOR_ATTACHMENT | U::TRANSFER_SRC)?;
     let depth = gpu.image(extent, embed::DEPTH_FORMAT, U::DEPTH_STENCIL_ATTACHMENT)?;
-    let bytes = u64::from(size.0) * u64::from(size.1) * 4;
+    let texel = if format == HDR_FORMAT { 8 } else { 4 };
+    let bytes = u64::from(size.0) * u64::from(size.1) * texel;
     let info = vk::BufferCreateInfo::default()
         .size(bytes)
         .usage(vk::BufferUsageFlags::TRANSFER_DST);
@@ -735,6 +765,7 @@ pub fn render_headless(size: (u32, u32), frames: u32, validation: bool) -> Resul
     };
     let cube = Cube::new(&gpu.device, format)?;
     let mut field = gpu.grass(Ground::Hills, BLADES, format)?;
+    field.settings.look.style = look;
     let stage = Stage::new(&field);
     let (pool, cmd) = gpu.commands()?;
     let fence = unsafe {
@@ -786,8 +817,13 @@ pub fn render_headless(size: (u32, u32), frames: u32, validation: bool) -> Resul
         }
     }
     let mapped = memory.mapped_slice().context("readback not mapped")?;
+    let exposure = field.settings.look.exposure;
+    let rgba = match look {
+        Look::Paper => mapped[..bytes as usize].to_vec(),
+        Look::Natural => tone_map_on_host(&mapped[..bytes as usize], exposure),
+    };
     let shot = Shot {
-        rgba: mapped[..bytes as usize].to_vec(),
+        rgba,
         size,
         drawn: field.counts()?.drawn,
         cube_corners: stage.cube_corners_px(field.time(), size),
@@ -803,6 +839,22 @@ pub fn render_headless(size: (u32, u32), frames: u32, validation: bool) -> Resul
     gpu.destroy_image(color);
     gpu.destroy_image(depth);
     Ok(shot)
+}
+
+/// RGBA16F linear radiance to RGBA8 sRGB: `shared::look::tone_map` (ACES, with the
+/// field's exposure), as the program's own tone-map pass does it.
+fn tone_map_on_host(hdr: &[u8], exposure: f32) -> Vec<u8> {
+    hdr.as_chunks::<8>()
+        .0
+        .iter()
+        .flat_map(|texel| {
+            let channel = |i: usize| half::f16::from_le_bytes([texel[2 * i], texel[2 * i + 1]]);
+            let radiance = Vec3::new(channel(0).into(), channel(1).into(), channel(2).into());
+            let display = shared::look::tone_map(radiance, exposure);
+            let byte = |c: f32| (shared::shade::linear_to_srgb(c) * 255.0).round() as u8;
+            [byte(display.x), byte(display.y), byte(display.z), 255]
+        })
+        .collect()
 }
 
 /// The window: a swapchain, the same frame into each of its images.

@@ -26,8 +26,15 @@
 //! [`GrassField::record`] only records. A change of the targets' size between frames
 //! waits for the device to be idle and makes the field's own images again. Submit every frame that
 //! records the field to the same queue (its buffers are ordered from frame to frame by
-//! barriers, not by fences). The field draws the paper look (`Look::Paper`): the
-//! natural look's tone map and sky would cover your picture.
+//! barriers, not by fences).
+//!
+//! The field draws the paper's look by default. `settings.look.style =
+//! Look::Natural` draws the natural look (clumps and colour, rounded normals,
+//! translucency, sun shadows, fog) as linear radiance, before exposure and tone
+//! mapping: give it a linear HDR colour target (e.g. `R16G16B16A16_SFLOAT`) and tone
+//! map it with the rest of your frame (`shared::look::tone_map` is this program's,
+//! with `settings.look.exposure`). The program's own sky and tone-map pass are not
+//! drawn: they would cover your picture.
 //!
 //! `runner/examples/embed.rs` is a whole program: its own spinning cube and this grass
 //! in one frame, in a window or headless (`--out frame.png`).
@@ -136,7 +143,7 @@ pub struct Frame<'a> {
 /// A grass field drawn by your renderer.
 pub struct GrassField {
     /// The settings each frame is drawn with (wind, gravity, culling, LOD, blade
-    /// shape, the light); change them between frames. The look stays the paper's.
+    /// shape, the light, the look); change them between frames.
     pub settings: Settings,
     renderer: Renderer,
     queries: FrameQueries,
@@ -203,8 +210,9 @@ impl GrassField {
                 frame.colliders.len()
             );
         }
-        if self.settings.look.style != Look::Paper {
-            bail!("an embedded field draws the paper look only (settings.look.style)");
+        let extent = frame.targets.extent;
+        if extent.width == 0 || extent.height == 0 {
+            bail!("targets of {}x{} pixels", extent.width, extent.height);
         }
         let (first_step, steps) = self.clock.advance(frame.seconds);
         let uniforms = self

@@ -13,6 +13,7 @@ mod example;
 
 use glam::Vec2;
 use runner::vulkan::gpu_required;
+use shared::settings::Look;
 use std::sync::atomic::Ordering;
 
 /// Magenta, as the cube's faces are lit (sRGB bytes): red and blue far above green.
@@ -65,8 +66,20 @@ fn inside_by(hull: &[Vec2], p: Vec2) -> f32 {
 
 #[test]
 fn the_example_draws_its_cube_and_the_grass_in_one_frame() {
+    check_the_frame(Look::Paper);
+}
+
+/// The same with the natural look, drawn into the example's HDR image and tone-mapped
+/// on the host.
+#[test]
+fn the_natural_look_into_your_hdr_image() {
+    check_the_frame(Look::Natural);
+}
+
+/// Renders the example's frame in `look` and checks it by content (module docs).
+fn check_the_frame(look: Look) {
     let validation = gpu_required();
-    let shot = match example::render_headless((320, 180), 30, validation) {
+    let shot = match example::render_headless((320, 180), 30, look, validation) {
         Ok(shot) => shot,
         Err(e) if !gpu_required() => {
             eprintln!("skipped, no usable Vulkan device: {e:#}");
@@ -100,7 +113,7 @@ fn the_example_draws_its_cube_and_the_grass_in_one_frame() {
     let cube_share = cube_inside as f32 / inside as f32;
     let grass_share = grass_outside as f32 / outside as f32;
     eprintln!(
-        "cube: {inside} px inside its silhouette, {:.1} % magenta; outside: {:.1} % grass, \
+        "{look:?}: cube: {inside} px inside its silhouette, {:.1} % magenta; outside: {:.1} % grass, \
          {cube_outside} magenta px; {} blades drawn",
         100.0 * cube_share,
         100.0 * grass_share,
@@ -174,8 +187,9 @@ fn requirements_name_what_is_missing() {
 }
 
 /// A field on the caller's own triangles (`Ground::Mesh`): a bad mesh is refused with
-/// the problem named, a good one grows its blades where the mesh is; a frame that
-/// asks for what an embedded field cannot do is refused before anything is recorded.
+/// the problem named, a good one grows its blades where the mesh is; a frame the
+/// field cannot draw (too many colliders, targets of no size) is refused before
+/// anything is recorded.
 #[test]
 fn a_field_on_your_own_mesh() {
     use glam::{Vec3, Vec4};
@@ -248,10 +262,9 @@ fn a_field_on_your_own_mesh() {
         .record(ash::vk::CommandBuffer::null(), &frame(&many))
         .expect_err("too many colliders");
     assert!(error.to_string().contains("colliders"), "{error}");
-    field.settings.look.style = shared::settings::Look::Natural;
     let error = field
         .record(ash::vk::CommandBuffer::null(), &frame(&[]))
-        .expect_err("the natural look");
-    assert!(error.to_string().contains("paper look"), "{error}");
+        .expect_err("targets of no size");
+    assert!(error.to_string().contains("0x0"), "{error}");
     drop(field);
 }

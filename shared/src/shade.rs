@@ -91,6 +91,16 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
+/// Linear value to sRGB-encoded (what an sRGB image stores; IEC 61966-2-1), the
+/// inverse of [`srgb_to_linear`]: the embedding example encodes its host tone map so.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 fn hash(x: u32, y: u32) -> f32 {
     let mut h = x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841);
     h ^= h >> 15;
@@ -195,6 +205,12 @@ mod tests {
         assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
         // sRGB 0.5 is linear 0.214.
         assert!((srgb_to_linear(0.5) - 0.214).abs() < 1e-3);
+        assert!((linear_to_srgb(0.214) - 0.5).abs() < 1e-3);
+        assert_eq!(linear_to_srgb(0.0), 0.0);
+        // Each the other's inverse, on both sides of the linear toe.
+        for c in [0.001, 0.003, 0.01, 0.2, 0.7, 1.0] {
+            assert!((srgb_to_linear(linear_to_srgb(c)) - c).abs() < 1e-5, "{c}");
+        }
     }
 
     #[test]

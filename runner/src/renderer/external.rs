@@ -1,14 +1,15 @@
 //! A frame drawn into someone else's targets (the embedding API, `crate::embed`):
 //! simulate, cull and compact as in [`Renderer::record`], then the grass (and the
 //! ground, if asked) drawn over the colour and depth the caller already rendered,
-//! loaded and stored in their layouts. The paper look only: the natural look's HDR
-//! image, tone map and sky would draw over the caller's picture. No occlusion
-//! pre-pass, compute rasterizer, shadows or MSAA: the caller's depth test hides what
-//! its scene hides.
+//! loaded and stored in their layouts. The natural look draws linear radiance (its
+//! clumps, colours, translucency, sun shadows and fog) for the caller's own exposure
+//! and tone map: the renderer's HDR image, tone map and sky would draw over the
+//! caller's picture. No occlusion pre-pass, compute rasterizer or MSAA: the caller's
+//! depth test hides what its scene hides.
 
 use super::{FrameQueries, Renderer};
 use crate::vulkan::{Attachments, Recorder};
-use anyhow::{Result, bail};
+use anyhow::Result;
 use ash::vk;
 use shared::cull::OCCLUSION;
 use shared::layout::{FrameUniforms, SimulatePush};
@@ -30,7 +31,7 @@ pub struct ExternalTargets {
 pub struct ExternalFrame {
     /// Where it draws.
     pub targets: ExternalTargets,
-    /// The frame's uniform block (paper look).
+    /// The frame's uniform block.
     pub uniforms: FrameUniforms,
     /// The simulation steps to run.
     pub push: SimulatePush,
@@ -48,12 +49,7 @@ impl Renderer {
         frame: &ExternalFrame,
     ) -> Result<()> {
         let mut uniforms = frame.uniforms;
-        if uniforms.look.style == LOOK_NATURAL {
-            bail!(
-                "an embedded field draws the paper look (the natural look's tone map and \
-                 sky would cover the caller's picture)"
-            );
-        }
+        let natural = uniforms.look.style == LOOK_NATURAL;
         let extent = frame.targets.extent;
         // The renderer's own depth image stays the compute passes' bound (unread)
         // depth: the descriptor set must hold one.
@@ -61,7 +57,7 @@ impl Renderer {
         uniforms.cull.enabled &= !OCCLUSION;
         uniforms.hiz = Default::default();
         uniforms.look.samples = 1;
-        uniforms.look.shadows = 0;
+        uniforms.look.shadow_size = self.shadow.size();
         uniforms.raster.below = 0.0;
         uniforms.raster.width = extent.width;
         uniforms.raster.height = extent.height;
@@ -76,8 +72,17 @@ impl Renderer {
             let seconds = frame.push.steps as f32 * shared::simulate::STEP_SECONDS;
             tiles.record(rec, &self.field, &uniforms, seconds)?;
         }
+        let clumps = (uniforms.look.seed, uniforms.look.clump_size);
+        if natural && self.clumped != Some(clumps) {
+            self.simulate.record_clumps(rec, &self.field);
+            self.clumped = Some(clumps);
+        }
         let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
-        self.record_compute(rec, self.simulate_push(frame.push), false, mesh);
+        self.record_compute(rec, self.simulate_push(frame.push), natural, mesh);
+        if natural && uniforms.look.shadows != 0 {
+            let (field, ground, grass) = (&self.field, &self.ground, &self.grass);
+            self.shadow.record(rec, field, ground, grass, &[]);
+        }
         let loaded = Attachments {
             color: Some((frame.targets.color, None)),
             color_resolve: None,

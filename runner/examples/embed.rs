@@ -7,12 +7,13 @@
 //! ```text
 //! cargo run --release --example embed                       # a window
 //! cargo run --release --example embed -- --out frame.png    # headless, one PNG
-//!     [--frames N] [--size 640x360] [--look paper|natural] [--validation]
+//!     [--frames N] [--size 640x360] [--look paper|natural] [--tiled] [--validation]
 //! ```
 //!
 //! `--look natural` (headless) draws the natural look into a linear HDR image
 //! (`R16G16B16A16_SFLOAT`), as an engine with its own tone map would, and tone-maps
-//! it on the host (`shared::look::tone_map`) for the PNG.
+//! it on the host (`shared::look::tone_map`) for the PNG. `--tiled` makes the field a
+//! tiled one, generated tile by tile around the camera out to the horizon.
 //!
 //! Headless, `--frames` (90 by default) are simulated and the last one written; in a
 //! window, `--frames` closes it after that many (else it runs until closed).
@@ -65,16 +66,15 @@ fn main() -> Result<()> {
         if args.look != Look::Paper {
             bail!("the window draws the paper look; --look natural needs --out (headless)");
         }
-        return window::run(args.validation, args.frames);
+        return window::run(&args);
     };
-    let frames = args.frames.unwrap_or(90);
-    let shot = render_headless(args.size, frames, args.look, args.validation)?;
+    let shot = render_headless(&args)?;
     let (w, h) = shot.size;
     image::save_buffer(out, &shot.rgba, w, h, image::ColorType::Rgba8)
         .with_context(|| format!("write {out}"))?;
     let errors = VALIDATION_ERRORS.load(Ordering::SeqCst);
     println!(
-        "wrote {out}: {} of {BLADES} blades drawn, {errors} validation errors",
+        "wrote {out}: {} blades drawn, {errors} validation errors",
         shot.drawn
     );
     if errors > 0 {
@@ -83,25 +83,40 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// The command line.
-struct Args {
-    out: Option<String>,
-    frames: Option<u32>,
-    size: (u32, u32),
-    look: Look,
-    validation: bool,
+/// The command line: what to draw, and where.
+pub struct Args {
+    /// The PNG to write (headless); `None` opens a window.
+    pub out: Option<String>,
+    /// Frames to draw: headless, the last is written (90 when `None`); in a window,
+    /// it closes after them (runs until closed when `None`).
+    pub frames: Option<u32>,
+    /// Headless image size.
+    pub size: (u32, u32),
+    /// The field's look (the natural one headless only).
+    pub look: Look,
+    /// A tiled field.
+    pub tiled: bool,
+    /// The validation layer on, its errors counted.
+    pub validation: bool,
+}
+
+impl Default for Args {
+    fn default() -> Self {
+        Self {
+            out: None,
+            frames: None,
+            size: (640, 360),
+            look: Look::Paper,
+            tiled: false,
+            validation: false,
+        }
+    }
 }
 
 impl Args {
     #[allow(dead_code)]
     fn parse(mut args: impl Iterator<Item = String>) -> Result<Self> {
-        let mut parsed = Args {
-            out: None,
-            frames: None,
-            size: (640, 360),
-            look: Look::Paper,
-            validation: false,
-        };
+        let mut parsed = Args::default();
         while let Some(arg) = args.next() {
             let mut value = || args.next().with_context(|| format!("{arg} needs a value"));
             match arg.as_str() {
@@ -119,10 +134,11 @@ impl Args {
                         other => bail!("--look {other}: paper or natural"),
                     }
                 }
+                "--tiled" => parsed.tiled = true,
                 "--validation" => parsed.validation = true,
                 _ => bail!(
                     "unknown argument {arg}; use [--out frame.png] [--frames N] \
-                     [--size WxH] [--look paper|natural] [--validation]"
+                     [--size WxH] [--look paper|natural] [--tiled] [--validation]"
                 ),
             }
         }
@@ -258,8 +274,15 @@ impl Gpu {
         Ok((gpu, format))
     }
 
-    /// The grass: `blades` on `ground`, drawing into `format` images.
-    pub fn grass(&self, ground: Ground, blades: u32, format: vk::Format) -> Result<GrassField> {
+    /// The grass: `blades` on `ground` (or a tiled field), drawing into `format`
+    /// images.
+    pub fn grass(
+        &self,
+        ground: Ground,
+        blades: u32,
+        tiled: bool,
+        format: vk::Format,
+    ) -> Result<GrassField> {
         let device = embed::Device {
             entry: self.entry.clone(),
             instance: self.instance.clone(),
@@ -275,6 +298,7 @@ impl Gpu {
             seed: 1,
             color_format: format,
             draw_ground: true,
+            tiled,
         };
         GrassField::new(device, &self.features, desc)
     }
@@ -720,14 +744,15 @@ pub struct Shot {
     pub cube_corners: Vec<Vec2>,
 }
 
-/// `frames` frames of `size` in `look` into an offscreen image, the last one read
-/// back (the natural look's HDR image tone-mapped on the host).
-pub fn render_headless(
-    size: (u32, u32),
-    frames: u32,
-    look: Look,
-    validation: bool,
-) -> Result<Shot> {
+/// `args.frames` frames of `args.size` in `args.look` into an offscreen image, the
+/// last one read back (the natural look's HDR image tone-mapped on the host).
+pub fn render_headless(args: &Args) -> Result<Shot> {
+    let (size, frames, look, validation) = (
+        args.size,
+        args.frames.unwrap_or(90),
+        args.look,
+        args.validation,
+    );
     let format = match look {
         Look::Paper => HEADLESS_FORMAT,
         Look::Natural => HDR_FORMAT,
@@ -764,7 +789,7 @@ pub fn render_headless(
             .bind_buffer_memory(buffer, memory.memory(), memory.offset())?
     };
     let cube = Cube::new(&gpu.device, format)?;
-    let mut field = gpu.grass(Ground::Hills, BLADES, format)?;
+    let mut field = gpu.grass(Ground::Hills, BLADES, args.tiled, format)?;
     field.settings.look.style = look;
     let stage = Stage::new(&field);
     let (pool, cmd) = gpu.commands()?;
@@ -868,10 +893,12 @@ mod window {
     use winit::window::{Window, WindowId};
 
     /// Opens the window and draws until it is closed.
-    pub fn run(validation: bool, frames: Option<u32>) -> Result<()> {
+    pub fn run(args: &Args) -> Result<()> {
+        let (validation, frames, tiled) = (args.validation, args.frames, args.tiled);
         let event_loop = EventLoop::new().context("event loop (is there a display?)")?;
         let mut app = App {
             validation,
+            tiled,
             frames,
             drawn: 0,
             state: None,
@@ -894,6 +921,7 @@ mod window {
 
     struct App {
         validation: bool,
+        tiled: bool,
         /// Close after this many frames.
         frames: Option<u32>,
         drawn: u32,
@@ -931,7 +959,7 @@ mod window {
     impl ApplicationHandler for App {
         fn resumed(&mut self, event_loop: &ActiveEventLoop) {
             if self.state.is_none() {
-                match State::new(event_loop, self.validation) {
+                match State::new(event_loop, self.validation, self.tiled) {
                     Ok(state) => self.state = Some(state),
                     Err(e) => {
                         self.error = Some(e);
@@ -970,7 +998,7 @@ mod window {
     }
 
     impl State {
-        fn new(event_loop: &ActiveEventLoop, validation: bool) -> Result<Self> {
+        fn new(event_loop: &ActiveEventLoop, validation: bool, tiled: bool) -> Result<Self> {
             let attributes = Window::default_attributes()
                 .with_title("grass in your own renderer (runner::embed)")
                 .with_inner_size(winit::dpi::LogicalSize::new(960, 540));
@@ -1003,7 +1031,7 @@ mod window {
             let (gpu, format) =
                 Gpu::new((entry, instance), validation, format_for, &swapchain_ext)?;
             let cube = Cube::new(&gpu.device, format)?;
-            let field = gpu.grass(Ground::Hills, BLADES, format)?;
+            let field = gpu.grass(Ground::Hills, BLADES, tiled, format)?;
             let stage = Stage::new(&field);
             let (pool, cmd) = gpu.commands()?;
             let device = &gpu.device;

@@ -116,8 +116,13 @@ pub enum Ground {
 pub struct FieldDesc {
     /// The ground.
     pub ground: Ground,
-    /// Blades on it, scattered by area.
+    /// Blades on it, scattered by area (a stored field; a tiled one has its own
+    /// density).
     pub blades: u32,
+    /// A tiled field (`runner::tiles`): blades generated tile by tile around the
+    /// camera, simulated near it and drawn at rest far out, to the horizon and in
+    /// bounded memory, instead of `blades` stored and simulated everywhere.
+    pub tiled: bool,
     /// Seed of the blades' places and shapes.
     pub seed: u64,
     /// Format of the colour images the field draws into.
@@ -178,8 +183,11 @@ impl GrassField {
             }
         };
         let count = BladeCount::Total(desc.blades);
-        let scene = Scene::build(&kind, file, count, desc.seed, |_| Ok(()))?;
+        let mut scene = Scene::build(&kind, file, count, desc.seed, |_| Ok(()))?;
         let ctx = Context::from_external(device, features);
+        if desc.tiled {
+            scene.make_tiled(crate::app::tiled_spec(&scene, &ctx, 1.0));
+        }
         let meshes = Meshes {
             has_occluders: false,
             ..scene.meshes()

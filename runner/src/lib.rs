@@ -106,6 +106,7 @@
 //!     seed: 1,
 //!     color_format: format,
 //!     draw_ground: true,
+//!     tiled: false, // true: generated tile by tile around the camera, to the horizon
 //! };
 //! let mut field = GrassField::new(device, &features, desc)?;
 //!

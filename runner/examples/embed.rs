@@ -7,7 +7,8 @@
 //! ```text
 //! cargo run --release --example embed                       # a window
 //! cargo run --release --example embed -- --out frame.png    # headless, one PNG
-//!     [--frames N] [--size 640x360] [--look paper|natural] [--tiled] [--validation]
+//!     [--frames N] [--size 640x360] [--look paper|natural] [--tiled]
+//!     [--resize-through WxH,WxH,...] [--validation]
 //! ```
 //!
 //! `--look natural` (headless) draws the natural look into a linear HDR image
@@ -96,6 +97,9 @@ pub struct Args {
     pub look: Look,
     /// A tiled field.
     pub tiled: bool,
+    /// Headless: sizes drawn at first, a frame each, before `size` (as a window's
+    /// resizes would: the field follows its targets' size).
+    pub resize_through: Vec<(u32, u32)>,
     /// The validation layer on, its errors counted.
     pub validation: bool,
 }
@@ -108,6 +112,7 @@ impl Default for Args {
             size: (640, 360),
             look: Look::Paper,
             tiled: false,
+            resize_through: Vec::new(),
             validation: false,
         }
     }
@@ -122,10 +127,11 @@ impl Args {
             match arg.as_str() {
                 "--out" => parsed.out = Some(value()?),
                 "--frames" => parsed.frames = Some(value()?.parse().context("--frames")?),
-                "--size" => {
-                    let v = value()?;
-                    let (w, h) = v.split_once('x').context("--size WIDTHxHEIGHT")?;
-                    parsed.size = (w.parse().context("--size")?, h.parse().context("--size")?);
+                "--size" => parsed.size = size(&value()?)?,
+                "--resize-through" => {
+                    let sizes = value()?;
+                    let sizes = sizes.split(',').map(size);
+                    parsed.resize_through = sizes.collect::<Result<_>>()?;
                 }
                 "--look" => {
                     parsed.look = match value()?.as_str() {
@@ -138,14 +144,26 @@ impl Args {
                 "--validation" => parsed.validation = true,
                 _ => bail!(
                     "unknown argument {arg}; use [--out frame.png] [--frames N] \
-                     [--size WxH] [--look paper|natural] [--tiled] [--validation]"
+                     [--size WxH] [--look paper|natural] [--tiled] \
+                     [--resize-through WxH,...] [--validation]"
                 ),
             }
         }
-        if parsed.frames == Some(0) || parsed.size.0 == 0 || parsed.size.1 == 0 {
-            bail!("--frames and --size must be positive");
+        if parsed.frames == Some(0) {
+            bail!("--frames must be positive");
         }
         Ok(parsed)
+    }
+}
+
+/// `WIDTHxHEIGHT`, both positive.
+fn size(text: &str) -> Result<(u32, u32)> {
+    let parsed = text
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)));
+    match parsed {
+        Some((w, h)) if w > 0 && h > 0 => Ok((w, h)),
+        _ => bail!("{text} is no size: WIDTHxHEIGHT, both positive"),
     }
 }
 
@@ -798,15 +816,16 @@ pub fn render_headless(args: &Args) -> Result<Shot> {
             .create_fence(&vk::FenceCreateInfo::default(), None)?
     };
     let device = &gpu.device;
-    for frame in 0..frames {
+    // One frame into `color` and `depth` of `extent`, copied to the buffer if `copy`.
+    let mut frame_into = |color: &OwnedImage, depth: &OwnedImage, extent, copy| -> Result<()> {
         unsafe {
             let begin = vk::CommandBufferBeginInfo::default()
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device.begin_command_buffer(cmd, &begin)?;
         }
         let target = (color.image, color.view);
-        record_frame(&gpu, &cube, &mut field, &stage, cmd, target, &depth, extent)?;
-        if frame + 1 == frames {
+        record_frame(&gpu, &cube, &mut field, &stage, cmd, target, depth, extent)?;
+        if copy {
             transition(
                 device,
                 cmd,
@@ -840,6 +859,19 @@ pub fn render_headless(args: &Args) -> Result<Shot> {
             device.wait_for_fences(&[fence], true, u64::MAX)?;
             device.reset_fences(&[fence])?;
         }
+        Ok(())
+    };
+    // A window's resizes: a frame at each size first, into images of that size.
+    for &(width, height) in &args.resize_through {
+        let extent = vk::Extent2D { width, height };
+        let color = gpu.image(extent, format, U::COLOR_ATTACHMENT | U::TRANSFER_SRC)?;
+        let depth = gpu.image(extent, embed::DEPTH_FORMAT, U::DEPTH_STENCIL_ATTACHMENT)?;
+        frame_into(&color, &depth, extent, false)?;
+        gpu.destroy_image(color);
+        gpu.destroy_image(depth);
+    }
+    for frame in 0..frames {
+        frame_into(&color, &depth, extent, frame + 1 == frames)?;
     }
     let mapped = memory.mapped_slice().context("readback not mapped")?;
     let exposure = field.settings.look.exposure;

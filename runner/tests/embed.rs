@@ -69,6 +69,16 @@ fn the_example_draws_its_cube_and_the_grass_in_one_frame() {
     check_the_frame(Look::Paper, false);
 }
 
+/// The same after the targets changed size: tall, one pixel, wide, then the asked
+/// size (the field makes its own images again each time).
+#[test]
+fn the_field_follows_its_targets_size() {
+    check_frame(&example::Args {
+        resize_through: vec![(97, 203), (1, 1), (400, 100)],
+        ..frame_args(Look::Paper, false)
+    });
+}
+
 /// The same with a tiled field: generated tile by tile around the camera.
 #[test]
 fn a_tiled_field_in_your_frame() {
@@ -82,18 +92,28 @@ fn the_natural_look_into_your_hdr_image() {
     check_the_frame(Look::Natural, false);
 }
 
-/// Renders the example's frame in `look` and checks it by content (module docs).
-fn check_the_frame(look: Look, tiled: bool) {
-    let validation = gpu_required();
-    let args = example::Args {
+/// The example's frame in `look`, tiled or not, with the validation layer where CI
+/// has it.
+fn frame_args(look: Look, tiled: bool) -> example::Args {
+    example::Args {
         size: (320, 180),
         frames: Some(30),
         look,
         tiled,
-        validation,
+        validation: gpu_required(),
         ..Default::default()
-    };
-    let shot = match example::render_headless(&args) {
+    }
+}
+
+/// Renders the example's frame in `look` and checks it by content (module docs).
+fn check_the_frame(look: Look, tiled: bool) {
+    check_frame(&frame_args(look, tiled));
+}
+
+/// Renders the example's frame as `args` ask and checks it by content (module docs).
+fn check_frame(args: &example::Args) {
+    let (look, tiled) = (args.look, args.tiled);
+    let shot = match example::render_headless(args) {
         Ok(shot) => shot,
         Err(e) if !gpu_required() => {
             eprintln!("skipped, no usable Vulkan device: {e:#}");

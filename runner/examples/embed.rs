@@ -7,7 +7,7 @@
 //! ```text
 //! cargo run --release --example embed                       # a window
 //! cargo run --release --example embed -- --out frame.png    # headless, one PNG
-//!     [--frames N] [--size 640x360] [--look paper|natural] [--tiled]
+//!     [--frames N] [--size 640x360] [--look paper|natural] [--blades N] [--tiled]
 //!     [--resize-through WxH,WxH,...] [--validation]
 //! ```
 //!
@@ -78,6 +78,18 @@ fn main() -> Result<()> {
         "wrote {out}: {} blades drawn, {errors} validation errors",
         shot.drawn
     );
+    if let Some(t) = shot.times {
+        let per_blade = 1e6 * t.total / f64::from(shot.drawn.max(1));
+        println!(
+            "the field's GPU time in the last frame: simulate and cull {:.3} ms, shadow map \
+             {:.3}, grass {:.3}, ground {:.3}; {:.3} ms in all, {per_blade:.1} ns a drawn blade",
+            t.depth_pyramid + t.simulate_cull,
+            t.shadow,
+            t.grass,
+            t.ground,
+            t.total
+        );
+    }
     if errors > 0 {
         bail!("validation reported {errors} errors");
     }
@@ -95,6 +107,8 @@ pub struct Args {
     pub size: (u32, u32),
     /// The field's look (the natural one headless only).
     pub look: Look,
+    /// Blades of a stored field.
+    pub blades: u32,
     /// A tiled field.
     pub tiled: bool,
     /// Headless: sizes drawn at first, a frame each, before `size` (as a window's
@@ -111,6 +125,7 @@ impl Default for Args {
             frames: None,
             size: (640, 360),
             look: Look::Paper,
+            blades: BLADES,
             tiled: false,
             resize_through: Vec::new(),
             validation: false,
@@ -141,10 +156,11 @@ impl Args {
                     }
                 }
                 "--tiled" => parsed.tiled = true,
+                "--blades" => parsed.blades = value()?.parse().context("--blades")?,
                 "--validation" => parsed.validation = true,
                 _ => bail!(
                     "unknown argument {arg}; use [--out frame.png] [--frames N] \
-                     [--size WxH] [--look paper|natural] [--tiled] \
+                     [--size WxH] [--look paper|natural] [--blades N] [--tiled] \
                      [--resize-through WxH,...] [--validation]"
                 ),
             }
@@ -760,6 +776,9 @@ pub struct Shot {
     pub drawn: u32,
     /// The cube's corners in pixels, in the last frame.
     pub cube_corners: Vec<Vec2>,
+    /// GPU time of the field's passes in the last frame, where the device has
+    /// timestamps.
+    pub times: Option<embed::PassTimes>,
 }
 
 /// `args.frames` frames of `args.size` in `args.look` into an offscreen image, the
@@ -807,7 +826,7 @@ pub fn render_headless(args: &Args) -> Result<Shot> {
             .bind_buffer_memory(buffer, memory.memory(), memory.offset())?
     };
     let cube = Cube::new(&gpu.device, format)?;
-    let mut field = gpu.grass(Ground::Hills, BLADES, args.tiled, format)?;
+    let mut field = gpu.grass(Ground::Hills, args.blades, args.tiled, format)?;
     field.settings.look.style = look;
     let stage = Stage::new(&field);
     let (pool, cmd) = gpu.commands()?;
@@ -883,6 +902,7 @@ pub fn render_headless(args: &Args) -> Result<Shot> {
         rgba,
         size,
         drawn: field.counts()?.drawn,
+        times: field.times()?,
         cube_corners: stage.cube_corners_px(field.time(), size),
     };
     drop(field);

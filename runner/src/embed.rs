@@ -50,13 +50,13 @@ use glam::{Mat4, Vec3, Vec4};
 use shared::collide::MAX_COLLIDERS;
 use shared::mesh::SurfaceMesh;
 use shared::mesh::bvh::IndexedMesh;
-use shared::settings::Look;
+use shared::settings::{GrassPipeline, Look};
 use shared::simulate::SimClock;
 use std::sync::Arc;
 
 pub use crate::passes::DEPTH_FORMAT;
-pub use crate::renderer::CullCounts;
 pub use crate::renderer::external::ExternalTargets as Targets;
+pub use crate::renderer::{CullCounts, PassTimes};
 pub use crate::vulkan::{DeviceFeatures, DeviceParts as Device, Missing};
 pub use shared::settings::{Settings, Viewpoint};
 
@@ -195,6 +195,11 @@ impl GrassField {
         let renderer = Renderer::new(&ctx, &meshes, desc.color_format)?;
         let mut settings = scene.settings();
         settings.look.style = Look::Paper;
+        // As the program's `--pipeline auto`: the mesh path wherever the device has it
+        // (the faster one on every device measured, README "Mesh shaders").
+        if ctx.mesh_shader.is_ok() {
+            settings.pipeline = GrassPipeline::Mesh;
+        }
         Ok(Self {
             settings,
             renderer,
@@ -247,6 +252,14 @@ impl GrassField {
     /// first, e.g. on its fence).
     pub fn counts(&self) -> Result<CullCounts> {
         self.queries.read()?.counts.context("no counts")
+    }
+
+    /// GPU time of the field's passes in the newest frame that finished, where the
+    /// queue has timestamps and no later frame of the field is in flight: simulate and
+    /// cull (with the uniform upload before), shadow map, grass, ground, and the
+    /// whole (`total`; the passes the field does not run read 0).
+    pub fn times(&self) -> Result<Option<PassTimes>> {
+        Ok(self.queries.read()?.times)
     }
 
     /// The blades of the field.

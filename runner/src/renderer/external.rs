@@ -7,13 +7,15 @@
 //! caller's picture. No occlusion pre-pass, compute rasterizer or MSAA: the caller's
 //! depth test hides what its scene hides.
 
-use super::{FrameQueries, Renderer};
+use super::{FrameQueries, Mark, Renderer};
 use crate::vulkan::{Attachments, Recorder};
 use anyhow::Result;
 use ash::vk;
 use shared::cull::OCCLUSION;
 use shared::layout::{FrameUniforms, SimulatePush};
 use shared::look::LOOK_NATURAL;
+
+use vk::PipelineStageFlags2 as S;
 
 /// Colour and depth images of a caller, in `COLOR_ATTACHMENT_OPTIMAL` and
 /// `DEPTH_ATTACHMENT_OPTIMAL`, single-sampled.
@@ -40,8 +42,8 @@ pub struct ExternalFrame {
 }
 
 impl Renderer {
-    /// Records `frame` into `rec`, outside any rendering scope; its counters go to
-    /// `queries`.
+    /// Records `frame` into `rec`, outside any rendering scope; its counters and
+    /// timestamps go to `queries`.
     pub fn record_external(
         &mut self,
         rec: &Recorder,
@@ -65,6 +67,16 @@ impl Renderer {
         uniforms.forces.time =
             shared::simulate::step_time(frame.push.first_step + frame.push.steps);
         self.ground.follow(uniforms.camera.position);
+        let stamps = queries.timestamps.as_ref().map(|t| t.pool);
+        let stamp = |mark: Mark| {
+            if let Some(pool) = stamps {
+                rec.write_timestamp(pool, mark as u32, S::BOTTOM_OF_PIPE);
+            }
+        };
+        if let Some(pool) = stamps {
+            rec.reset_queries(pool, 0, Mark::COUNT);
+        }
+        stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a
         // global dependency on every stage a frame uses).
         self.begin_compute(rec, &uniforms);
@@ -72,6 +84,7 @@ impl Renderer {
             let seconds = frame.push.steps as f32 * shared::simulate::STEP_SECONDS;
             tiles.record(rec, &self.field, &uniforms, seconds)?;
         }
+        stamp(Mark::Pyramid);
         let clumps = (uniforms.look.seed, uniforms.look.clump_size);
         if natural && self.clumped != Some(clumps) {
             self.simulate.record_clumps(rec, &self.field);
@@ -79,10 +92,12 @@ impl Renderer {
         }
         let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
         self.record_compute(rec, self.simulate_push(frame.push), natural, mesh);
+        stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             let (field, ground, grass) = (&self.field, &self.ground, &self.grass);
             self.shadow.record(rec, field, ground, grass, &[]);
         }
+        stamp(Mark::Shadow);
         let loaded = Attachments {
             color: Some((frame.targets.color, None)),
             color_resolve: None,
@@ -97,11 +112,18 @@ impl Renderer {
             uniforms.look.style,
             grass.pipeline,
         );
+        stamp(Mark::Grass);
         if frame.ground {
             self.ground.record(rec, &self.field, &[]);
         }
+        stamp(Mark::Ground);
         rec.end_rendering();
+        // No compute rasterizer, resolve, tone map or overlay here.
+        for mark in [Mark::Raster, Mark::Resolve, Mark::ToneMap] {
+            stamp(mark);
+        }
         self.copy_counters(rec, queries);
+        stamp(Mark::Overlay);
         Ok(())
     }
 }

@@ -11,6 +11,12 @@
 //!     [--resize-through WxH,WxH,...] [--validation]
 //! ```
 //!
+//! `--resize-through` goes through those sizes first (headless, a frame at each; in
+//! a window, asked of the window 10 frames apart).
+//!
+//! ```text
+//! ```
+//!
 //! `--look natural` (headless) draws the natural look into a linear HDR image
 //! (`R16G16B16A16_SFLOAT`), as an engine with its own tone map would, and tone-maps
 //! it on the host (`shared::look::tone_map`) for the PNG. `--tiled` makes the field a
@@ -111,8 +117,9 @@ pub struct Args {
     pub blades: u32,
     /// A tiled field.
     pub tiled: bool,
-    /// Headless: sizes drawn at first, a frame each, before `size` (as a window's
-    /// resizes would: the field follows its targets' size).
+    /// Sizes to go through first: headless, a frame each before `size`; in a window,
+    /// the window asks for each in turn, 10 frames apart (the field follows its
+    /// targets' size either way).
     pub resize_through: Vec<(u32, u32)>,
     /// The validation layer on, its errors counted.
     pub validation: bool,
@@ -951,6 +958,7 @@ mod window {
         let mut app = App {
             validation,
             tiled,
+            resizes: args.resize_through.iter().rev().copied().collect(),
             frames,
             drawn: 0,
             state: None,
@@ -974,6 +982,8 @@ mod window {
     struct App {
         validation: bool,
         tiled: bool,
+        /// Window sizes still to ask for, the next last.
+        resizes: Vec<(u32, u32)>,
         /// Close after this many frames.
         frames: Option<u32>,
         drawn: u32,
@@ -1036,6 +1046,12 @@ mod window {
                     self.drawn += 1;
                     if self.frames.is_some_and(|n| self.drawn >= n) {
                         event_loop.exit();
+                    }
+                    if self.drawn % 10 == 0
+                        && let Some((w, h)) = self.resizes.pop()
+                    {
+                        let size = winit::dpi::PhysicalSize::new(w, h);
+                        let _ = state.window.request_inner_size(size);
                     }
                     state.window.request_redraw();
                     drawn
@@ -1231,6 +1247,7 @@ mod window {
             };
             self.release(gpu);
             self.extent = extent;
+            println!("swapchain {}x{}", extent.width, extent.height);
             if extent.width == 0 || extent.height == 0 {
                 return Ok(());
             }

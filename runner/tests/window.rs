@@ -284,7 +284,7 @@ fn a_screenshot_is_the_window_s_frame() {
 
 /// The embedding example (`runner/examples/embed.rs`) in a window: its own swapchain,
 /// cube and the grass of `runner::embed`, 60 frames with the validation layer
-/// (core and synchronization) silent. `cargo test` builds the example beside `grass`.
+/// (core and synchronization) silent, through four window sizes (one of 1x1). `cargo test` builds the example beside `grass`.
 #[test]
 fn the_embed_example_runs_in_a_window() {
     let Some(x) = Xvfb::for_test(3) else {
@@ -297,7 +297,8 @@ fn the_embed_example_runs_in_a_window() {
         eprintln!("skipped: the example is not built (cargo test --examples builds it)");
         return;
     }
-    let args = ["--frames", "60", "--validation"];
+    let sizes = "300x200,97x203,1x1,500x150";
+    let args = ["--frames", "60", "--validation", "--resize-through", sizes];
     let (ok, log) = run_program(&example, &x.display, &args, &[], Duration::from_secs(300));
     if !ok && !gpu_required() && log.contains("device") {
         eprintln!("skipped, no device: {log}");
@@ -305,5 +306,12 @@ fn the_embed_example_runs_in_a_window() {
     }
     assert!(ok, "{log}");
     assert!(log.contains("drew 60 frames, 0 validation errors"), "{log}");
+    // The window went through each size asked, the swapchain and the field after it.
+    for size in sizes.split(',') {
+        assert!(
+            log.contains(&format!("swapchain {size}")),
+            "no {size}: {log}"
+        );
+    }
     assert!(!log.contains("validation:"), "validation messages: {log}");
 }

@@ -1047,7 +1047,7 @@ mod window {
                     if self.frames.is_some_and(|n| self.drawn >= n) {
                         event_loop.exit();
                     }
-                    if self.drawn % 10 == 0
+                    if self.drawn.is_multiple_of(10)
                         && let Some((w, h)) = self.resizes.pop()
                     {
                         let size = winit::dpi::PhysicalSize::new(w, h);

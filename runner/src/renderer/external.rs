@@ -13,9 +13,6 @@ use anyhow::Result;
 use ash::vk;
 use shared::cull::OCCLUSION;
 use shared::layout::{FrameUniforms, SimulatePush};
-use shared::look::LOOK_NATURAL;
-
-use vk::PipelineStageFlags2 as S;
 
 /// Colour and depth images of a caller, in `COLOR_ATTACHMENT_OPTIMAL` and
 /// `DEPTH_ATTACHMENT_OPTIMAL`, single-sampled.
@@ -51,7 +48,6 @@ impl Renderer {
         frame: &ExternalFrame,
     ) -> Result<()> {
         let mut uniforms = frame.uniforms;
-        let natural = uniforms.look.style == LOOK_NATURAL;
         let extent = frame.targets.extent;
         // The renderer's own depth image stays the compute passes' bound (unread)
         // depth: the descriptor set must hold one.
@@ -67,15 +63,7 @@ impl Renderer {
         uniforms.forces.time =
             shared::simulate::step_time(frame.push.first_step + frame.push.steps);
         self.ground.follow(uniforms.camera.position);
-        let stamps = queries.timestamps.as_ref().map(|t| t.pool);
-        let stamp = |mark: Mark| {
-            if let Some(pool) = stamps {
-                rec.write_timestamp(pool, mark as u32, S::BOTTOM_OF_PIPE);
-            }
-        };
-        if let Some(pool) = stamps {
-            rec.reset_queries(pool, 0, Mark::COUNT);
-        }
+        let stamp = super::stamper(rec, queries);
         stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a
         // global dependency on every stage a frame uses).
@@ -85,19 +73,8 @@ impl Renderer {
             tiles.record(rec, &self.field, &uniforms, seconds)?;
         }
         stamp(Mark::Pyramid);
-        let clumps = (uniforms.look.seed, uniforms.look.clump_size);
-        if natural && self.clumped != Some(clumps) {
-            self.simulate.record_clumps(rec, &self.field);
-            self.clumped = Some(clumps);
-        }
-        let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
-        self.record_compute(rec, self.simulate_push(frame.push), natural, mesh);
-        stamp(Mark::SimulateCull);
-        if natural && uniforms.look.shadows != 0 {
-            let (field, ground, grass) = (&self.field, &self.ground, &self.grass);
-            self.shadow.record(rec, field, ground, grass, &[]);
-        }
-        stamp(Mark::Shadow);
+        // The caller draws its own colliders: none in the shadow map.
+        self.record_simulation(rec, &uniforms, frame.push, &[], &stamp);
         let loaded = Attachments {
             color: Some((frame.targets.color, None)),
             color_resolve: None,

@@ -318,24 +318,15 @@ impl Renderer {
         if !self.raster.supported() {
             uniforms.raster.below = 0.0;
         }
-        let stamps = queries.timestamps.as_ref().map(|t| t.pool);
-        let stamp = |mark: Mark| {
-            if let Some(pool) = stamps {
-                // Once everything recorded before it is done.
-                rec.write_timestamp(pool, mark as u32, S::BOTTOM_OF_PIPE);
-            }
-        };
-        if let Some(pool) = stamps {
-            rec.reset_queries(pool, 0, Mark::COUNT);
-        }
+        let stamp = stamper(rec, queries);
         let triangles = queries.triangles.as_ref().map(|t| t.pool);
         if let Some(pool) = triangles {
             rec.reset_queries(pool, 0, 1);
         }
         stamp(Mark::Start);
         self.begin_compute(rec, &uniforms);
-        let targets = self.targets.as_ref().context("draw targets")?;
         if occlusion {
+            let targets = self.targets.as_ref().context("draw targets")?;
             self.occlusion
                 .record(rec, &self.field, &self.ground, &targets.depth);
         }
@@ -345,20 +336,9 @@ impl Renderer {
             tiles.record(rec, &self.field, &uniforms, seconds)?;
         }
         stamp(Mark::Pyramid);
-        let clumps = (uniforms.look.seed, uniforms.look.clump_size);
-        if natural && self.clumped != Some(clumps) {
-            self.simulate.record_clumps(rec, &self.field);
-            self.clumped = Some(clumps);
-        }
-        let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
-        self.record_compute(rec, self.simulate_push(input.push), natural, mesh);
-        stamp(Mark::SimulateCull);
-        if natural && uniforms.look.shadows != 0 {
-            let balls = used_balls(&uniforms);
-            self.shadow
-                .record(rec, &self.field, &self.ground, &self.grass, balls);
-        }
-        stamp(Mark::Shadow);
+        let balls = used_balls(&uniforms);
+        self.record_simulation(rec, &uniforms, input.push, balls, &stamp);
+        let targets = self.targets.as_ref().context("draw targets")?;
         self.record_draw(rec, targets, &target, &uniforms, &stamp, triangles);
         stamp(Mark::Resolve);
         self.copy_counters(rec, queries);
@@ -403,6 +383,33 @@ impl Renderer {
             None => self.finish_target(rec, &target),
         }
         Ok(())
+    }
+
+    /// Simulate, cull and compact (the clumps first when the natural look's changed),
+    /// then the natural look's shadow map with `balls`: [`Mark::SimulateCull`] and
+    /// [`Mark::Shadow`] after each.
+    fn record_simulation(
+        &mut self,
+        rec: &Recorder,
+        uniforms: &FrameUniforms,
+        push: SimulatePush,
+        balls: &[glam::Vec4],
+        stamp: &dyn Fn(Mark),
+    ) {
+        let natural = uniforms.look.style == LOOK_NATURAL;
+        let clumps = (uniforms.look.seed, uniforms.look.clump_size);
+        if natural && self.clumped != Some(clumps) {
+            self.simulate.record_clumps(rec, &self.field);
+            self.clumped = Some(clumps);
+        }
+        let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
+        self.record_compute(rec, self.simulate_push(push), natural, mesh);
+        stamp(Mark::SimulateCull);
+        if natural && uniforms.look.shadows != 0 {
+            self.shadow
+                .record(rec, &self.field, &self.ground, &self.grass, balls);
+        }
+        stamp(Mark::Shadow);
     }
 
     /// After the frame of `input` was submitted: frees the overlay textures it
@@ -636,6 +643,20 @@ impl Renderer {
             color_out,
             (dst, dst_access),
         );
+    }
+}
+
+/// Resets `queries`' timestamps (where the device has them) and returns what writes
+/// each [`Mark`], once everything recorded before it is done.
+fn stamper<'r>(rec: &'r Recorder, queries: &FrameQueries) -> impl Fn(Mark) + 'r {
+    let stamps = queries.timestamps.as_ref().map(|t| t.pool);
+    if let Some(pool) = stamps {
+        rec.reset_queries(pool, 0, Mark::COUNT);
+    }
+    move |mark: Mark| {
+        if let Some(pool) = stamps {
+            rec.write_timestamp(pool, mark as u32, S::BOTTOM_OF_PIPE);
+        }
     }
 }
 

@@ -84,7 +84,9 @@ fn main() -> Result<()> {
         "wrote {out}: {} blades drawn, {errors} validation errors",
         shot.drawn
     );
-    if let Some(t) = shot.times {
+    if shot.software {
+        println!("(a software device: its timestamps do not time passes, none is printed)");
+    } else if let Some(t) = shot.times {
         let per_blade = 1e6 * t.total / f64::from(shot.drawn.max(1));
         println!(
             "the field's GPU time in the last frame: simulate and cull {:.3} ms, shadow map \
@@ -786,6 +788,9 @@ pub struct Shot {
     /// GPU time of the field's passes in the last frame, where the device has
     /// timestamps.
     pub times: Option<embed::PassTimes>,
+    /// The device is a software rasterizer (lavapipe): its timestamps do not time
+    /// passes (its drawing is deferred).
+    pub software: bool,
 }
 
 /// `args.frames` frames of `args.size` in `args.look` into an offscreen image, the
@@ -910,6 +915,8 @@ pub fn render_headless(args: &Args) -> Result<Shot> {
         size,
         drawn: field.counts()?.drawn,
         times: field.times()?,
+        software: unsafe { gpu.instance.get_physical_device_properties(gpu.physical) }.device_type
+            == vk::PhysicalDeviceType::CPU,
         cube_corners: stage.cube_corners_px(field.time(), size),
     };
     drop(field);

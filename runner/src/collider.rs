@@ -44,10 +44,18 @@ impl Ball {
 /// below, the nearest point of the mesh. Both through the mesh's hierarchy: a few
 /// dozen triangles looked at, not every one.
 pub fn drop_onto(mesh: &IndexedMesh, xz: Vec2) -> Option<SurfacePoint> {
+    point_below(mesh, xz).or_else(|| {
+        let (_, max) = mesh.mesh.bounds()?;
+        mesh.closest_point(Vec3::new(xz.x, max.y + 1.0, xz.y))
+    })
+}
+
+/// The highest point of `mesh` straight under (x, z), if the mesh reaches there: a
+/// ray from above it, through the mesh's hierarchy.
+pub fn point_below(mesh: &IndexedMesh, xz: Vec2) -> Option<SurfacePoint> {
     let (_, max) = mesh.mesh.bounds()?;
     let above = Vec3::new(xz.x, max.y + 1.0, xz.y);
     mesh.ray_hit(above, Vec3::NEG_Y)
-        .or_else(|| mesh.closest_point(above))
 }
 
 /// A polyline in the ground plane (x, z) the ball follows at a constant speed, then

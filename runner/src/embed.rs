@@ -276,9 +276,7 @@ impl GrassField {
     /// The highest point of the ground straight under (or over) `x`, `z`, if the
     /// ground reaches there: where to stand things on it.
     pub fn ground_at(&self, x: f32, z: f32) -> Option<Vec3> {
-        let (centre, radius) = self.bounds;
-        let above = Vec3::new(x, centre.y + 2.0 * radius + 1.0, z);
-        self.solid.ray_hit(above, -Vec3::Y).map(|hit| hit.position)
+        crate::collider::point_below(&self.solid, glam::Vec2::new(x, z)).map(|hit| hit.position)
     }
 
     /// Simulated time so far, seconds.
@@ -291,16 +289,7 @@ impl GrassField {
 /// looking down -z) and `proj` (eye to Vulkan clip space: y down, depth 0 near to 1
 /// far) matrices and your target's `height` in pixels.
 pub fn viewpoint(view: Mat4, proj: Mat4, height: u32) -> Viewpoint {
-    let eye_to_world = view.inverse();
-    // proj's y scale is 1 / tan(fov_y / 2) (negative when it flips y).
-    let fov_y = 2.0 * (1.0 / proj.y_axis.y.abs().max(1e-6)).atan();
-    Viewpoint {
-        view_proj: proj * view,
-        position: eye_to_world.w_axis.truncate(),
-        fov_y,
-        height,
-        forward: -eye_to_world.z_axis.truncate().normalize_or_zero(),
-    }
+    Viewpoint::from_matrices(view, proj, height)
 }
 
 #[cfg(test)]

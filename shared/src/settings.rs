@@ -446,6 +446,24 @@ pub struct Viewpoint {
     pub forward: Vec3,
 }
 
+impl Viewpoint {
+    /// The viewpoint of a camera given as matrices: `view` (world to eye,
+    /// right-handed, looking down -z), `proj` (eye to Vulkan clip space: y down,
+    /// depth 0 near to 1 far, its y scale 1 / tan(fov_y / 2), negative when it flips
+    /// y) and the target's `height` in pixels.
+    pub fn from_matrices(view: Mat4, proj: Mat4, height: u32) -> Self {
+        let eye_to_world = view.inverse();
+        let fov_y = 2.0 * (1.0 / proj.y_axis.y.abs().max(1e-6)).atan();
+        Self {
+            view_proj: proj * view,
+            position: eye_to_world.w_axis.truncate(),
+            fov_y,
+            height,
+            forward: -eye_to_world.z_axis.truncate().normalize_or_zero(),
+        }
+    }
+}
+
 impl Settings {
     /// The forces' environment with `colliders` spheres in use: gravity as the paper's
     /// D (straight down) and C (the centre), both at the one acceleration.

@@ -151,7 +151,7 @@ pub fn prepare(
         common.colour_map.as_deref(),
         common.type_map.as_deref(),
     )?;
-    if tiled(common, &scene.kind)? {
+    if tiled(common, &scene.kind) {
         let spec = tiled_spec(&scene, ctx, scene.scale_for(common.look));
         log::info!(
             "scene {}: tiled field, {:.2} M blades in the world, a pool of {} tiles \
@@ -183,11 +183,11 @@ pub fn prepare(
 /// Whether the field is tiled: `--field`, else on the valley only. Every scene can
 /// be tiled: the plane and the valley from their formulas, the others (built-in
 /// meshes and loaded files) over their triangles (`shared::surface`).
-pub fn tiled(common: &Common, kind: &SceneKind) -> Result<bool> {
-    Ok(match common.field {
+pub fn tiled(common: &Common, kind: &SceneKind) -> bool {
+    match common.field {
         Some(choice) => choice == FieldChoice::Tiles,
         None => *kind == SceneKind::Valley,
-    })
+    }
 }
 
 /// The tiled field's layout on `scene` for `ctx`: on a GPU, tiles of 64² blades at

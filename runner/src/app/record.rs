@@ -27,7 +27,7 @@ impl Clip {
         let shown = out.display();
         let extension = out.extension().and_then(|e| e.to_str()).unwrap_or("");
         let file = |clip: fn(PathBuf) -> Clip| -> Result<Clip> {
-            super::check_output(out, &[extension])?;
+            super::check_output(out, &["gif", "mp4"])?;
             Ok(clip(out.to_path_buf()))
         };
         match extension.to_ascii_lowercase().as_str() {
@@ -145,6 +145,16 @@ pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
     let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
     let size = run.offscreen.size();
     let mut sink = Sink::open(&clip, size, args.fps)?;
+    // The frames are encoded on their own thread (a GIF's palettes are slow), while
+    // the next ones render; one waits at most, in order.
+    let fps = args.fps;
+    let (frames, taken) = std::sync::mpsc::sync_channel::<(u32, Vec<u8>)>(1);
+    let encoder = std::thread::spawn(move || -> Result<()> {
+        for (index, mut pixels) in taken {
+            sink.add(index, &mut pixels, size, fps)?;
+        }
+        sink.finish()
+    });
     let step = 1.0 / f64::from(args.fps);
     let total = args.settle + args.frames;
     let progress = Progress::new(total as usize);
@@ -153,15 +163,21 @@ pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
         run.frame(common, step, recorded)?;
         if recorded {
             run.driver.finish()?;
-            let mut pixels = run.offscreen.pixels()?;
-            sink.add(frame - args.settle, &mut pixels, size, args.fps)?;
+            let pixels = run.offscreen.pixels()?;
+            if frames.send((frame - args.settle, pixels)).is_err() {
+                // The encoder stopped: its error is the one to report.
+                break;
+            }
         }
         progress.show(
             frame as usize + 1,
             if recorded { "recording" } else { "settling" },
         );
     }
-    sink.finish()?;
+    drop(frames);
+    encoder
+        .join()
+        .map_err(|_| anyhow::anyhow!("the clip's encoder panicked"))??;
     progress.done(total as usize);
     let errors = run.ctx.validation_errors();
     if errors > 0 {

@@ -170,34 +170,23 @@ impl Headless {
     }
 
     /// Runs one frame of `seconds`, the camera and the ball where they are at its
-    /// simulated time (`common`'s collider path), captured if `capture`; returns where
-    /// the camera was.
-    pub fn frame(
-        &mut self,
-        common: &Common,
-        seconds: f64,
-        capture: bool,
-    ) -> Result<shared::settings::Viewpoint> {
+    /// simulated time (`common`'s collider path), captured if `capture`.
+    pub fn frame(&mut self, common: &Common, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
         let count = scene.blade_count();
-        let eye = std::cell::Cell::new(eye_at(0.0));
-        let uniforms = |f: &Frame| {
-            eye.set(eye_at(f.time));
-            settings.uniforms(&eye.get(), count, &ball_at(common, scene, f.time))
-        };
+        let uniforms =
+            |f: &Frame| settings.uniforms(&eye_at(f.time), count, &ball_at(common, scene, f.time));
         self.driver
-            .run(&mut self.offscreen, seconds, uniforms, capture)?;
-        Ok(eye.get())
+            .run(&mut self.offscreen, seconds, uniforms, capture)
     }
 }
 
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
-    let mut last_eye = (run.eye_at)(0.0);
     let progress_every = (args.frames / 10).max(1);
     for frame in 0..args.frames {
-        last_eye = run.frame(common, 1.0 / 60.0, frame + 1 == args.frames)?;
+        run.frame(common, 1.0 / 60.0, frame + 1 == args.frames)?;
         if args.frames >= 100 && (frame + 1) % progress_every == 0 {
             log::info!("frame {}/{}", frame + 1, args.frames);
         }
@@ -211,6 +200,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
         times: readback.times,
         blades: run.scene.blade_count(),
         validation_errors: run.ctx.validation_errors(),
-        view_proj: last_eye.view_proj,
+        // Where the camera was at the last frame's simulated time.
+        view_proj: (run.eye_at)(run.driver.clock.time()).view_proj,
     })
 }

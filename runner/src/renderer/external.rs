@@ -55,23 +55,14 @@ impl Renderer {
         uniforms.cull.enabled &= !OCCLUSION;
         uniforms.hiz = Default::default();
         uniforms.look.samples = 1;
-        uniforms.look.shadow_size = self.shadow.size();
         uniforms.raster.below = 0.0;
-        uniforms.raster.width = extent.width;
-        uniforms.raster.height = extent.height;
-        self.tile_uniforms(&mut uniforms);
-        uniforms.forces.time =
-            shared::simulate::step_time(frame.push.first_step + frame.push.steps);
-        self.ground.follow(uniforms.camera.position);
+        self.complete_uniforms(&mut uniforms, frame.push, extent);
         let stamp = super::stamper(rec, queries);
         stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a
         // global dependency on every stage a frame uses).
         self.begin_compute(rec, &uniforms);
-        if let Some(tiles) = self.tiles.as_mut() {
-            let seconds = frame.push.steps as f32 * shared::simulate::STEP_SECONDS;
-            tiles.record(rec, &self.field, &uniforms, seconds)?;
-        }
+        self.record_tiles(rec, &uniforms, frame.push)?;
         stamp(Mark::Pyramid);
         // The caller draws its own colliders: none in the shadow map.
         self.record_simulation(rec, &uniforms, frame.push, &[], &stamp);

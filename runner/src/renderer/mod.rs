@@ -308,13 +308,7 @@ impl Renderer {
         } else {
             Default::default()
         };
-        uniforms.look.shadow_size = self.shadow.size();
-        self.tile_uniforms(&mut uniforms);
-        uniforms.forces.time =
-            shared::simulate::step_time(input.push.first_step + input.push.steps);
-        self.ground.follow(uniforms.camera.position);
-        uniforms.raster.width = target.extent.width;
-        uniforms.raster.height = target.extent.height;
+        self.complete_uniforms(&mut uniforms, input.push, target.extent);
         if !self.raster.supported() {
             uniforms.raster.below = 0.0;
         }
@@ -331,10 +325,7 @@ impl Renderer {
                 .record(rec, &self.field, &self.ground, &targets.depth);
         }
         // After the pyramid: the far tiles are tested against it.
-        if let Some(tiles) = self.tiles.as_mut() {
-            let seconds = input.push.steps as f32 * shared::simulate::STEP_SECONDS;
-            tiles.record(rec, &self.field, &uniforms, seconds)?;
-        }
+        self.record_tiles(rec, &uniforms, input.push)?;
         stamp(Mark::Pyramid);
         let balls = used_balls(&uniforms);
         self.record_simulation(rec, &uniforms, input.push, balls, &stamp);
@@ -383,6 +374,40 @@ impl Renderer {
             None => self.finish_target(rec, &target),
         }
         Ok(())
+    }
+
+    /// What the renderer fills in of every frame's block: the shadow map's size, a
+    /// tiled field's part, the simulated time after `push`'s steps and the target's
+    /// `extent`; the ground's grid follows the camera.
+    fn complete_uniforms(
+        &mut self,
+        uniforms: &mut FrameUniforms,
+        push: SimulatePush,
+        extent: vk::Extent2D,
+    ) {
+        uniforms.look.shadow_size = self.shadow.size();
+        self.tile_uniforms(uniforms);
+        uniforms.forces.time = shared::simulate::step_time(push.first_step + push.steps);
+        self.ground.follow(uniforms.camera.position);
+        uniforms.raster.width = extent.width;
+        uniforms.raster.height = extent.height;
+    }
+
+    /// A tiled field's tiles for the frame of `push`'s steps (nothing for a stored
+    /// field).
+    fn record_tiles(
+        &mut self,
+        rec: &Recorder,
+        uniforms: &FrameUniforms,
+        push: SimulatePush,
+    ) -> Result<()> {
+        match self.tiles.as_mut() {
+            Some(tiles) => {
+                let seconds = push.steps as f32 * shared::simulate::STEP_SECONDS;
+                tiles.record(rec, &self.field, uniforms, seconds)
+            }
+            None => Ok(()),
+        }
     }
 
     /// Simulate, cull and compact (the clumps first when the natural look's changed),

@@ -1,6 +1,6 @@
 //! Entry, instance, validation messenger, physical device, device, queue, allocator.
 
-use super::features::DeviceFeatures;
+use super::features::{DeviceFeatures, name_of};
 use anyhow::{Context as _, Result, bail};
 use ash::{ext, khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -310,10 +310,7 @@ impl Context {
 
     /// The device's name as the driver reports it.
     pub fn device_name(&self) -> String {
-        self.properties
-            .device_name_as_c_str()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default()
+        name_of(&self.properties)
     }
 
     /// True for a software rasteriser such as lavapipe.
@@ -442,10 +439,7 @@ fn pick_device(
     let mut candidates = Vec::new();
     for physical in devices {
         let props = unsafe { instance.get_physical_device_properties(physical) };
-        let name = props
-            .device_name_as_c_str()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name = name_of(&props);
         if let Err(missing) = DeviceFeatures::query(instance, physical) {
             reasons.push(format!("{name}: missing {}", missing.missing.join(", ")));
             continue;

@@ -69,8 +69,12 @@ fn required(
 
 /// The device's name as its driver reports it.
 pub fn device_name(instance: &ash::Instance, physical: vk::PhysicalDevice) -> String {
-    let props = unsafe { instance.get_physical_device_properties(physical) };
-    props
+    name_of(&unsafe { instance.get_physical_device_properties(physical) })
+}
+
+/// The name in a device's `properties`.
+pub fn name_of(properties: &vk::PhysicalDeviceProperties) -> String {
+    properties
         .device_name_as_c_str()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default()

@@ -91,13 +91,7 @@ impl<'a> Recorder<'a> {
 
     /// Clears the whole depth `image` (in `TRANSFER_DST_OPTIMAL`) to `depth`.
     pub fn clear_depth_image(&self, image: vk::Image, depth: f32) {
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::DEPTH,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
+        let range = subresource_range(vk::ImageAspectFlags::DEPTH);
         let value = vk::ClearDepthStencilValue { depth, stencil: 0 };
         unsafe {
             self.device.cmd_clear_depth_stencil_image(

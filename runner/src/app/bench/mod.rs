@@ -71,7 +71,7 @@ fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
     }
     // A tiled field is one world, whatever the count (the stored blades of a count
     // of one are dropped).
-    if super::tiled(common, &common.scene_kind()).unwrap_or(false) {
+    if super::tiled(common, &common.scene_kind()) {
         return vec![1];
     }
     if !args.counts.is_empty() {
@@ -155,7 +155,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             anyhow::bail!("--camera flight flies over the valley: add --scene valley");
         }
         let mut n = n;
-        if super::tiled(common, &scene.kind)? {
+        if super::tiled(common, &scene.kind) {
             let scale = scene.scale_for(common.look);
             scene.make_tiled(super::tiled_spec(&scene, &ctx, scale));
             n = scene.blade_count();

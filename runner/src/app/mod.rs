@@ -137,7 +137,7 @@ pub fn prepare(
     let mut scene = Scene::build(&common.scene_kind(), file, count, common.seed, |n| {
         Field::check_limits(ctx, n)
     })?;
-    scene.rescale(scene.scale_for(common.look));
+    let _ = scene.rescale(scene.scale_for(common.look));
     if scene.degenerate > 0 {
         log::warn!(
             "scene {}: skipped {} degenerate (zero-area) triangles",

@@ -291,13 +291,17 @@ impl Scene {
     }
 
     /// Grows the blades again (same seed, same roots) at `scale` times the course's
-    /// size; nothing happens when they already are.
-    pub fn rescale(&mut self, scale: f32) {
-        if scale != self.blade_scale && self.tiles.is_none() {
-            let count = self.blades.len() as u32;
-            self.blades = scatter_scaled(&self.surface, count, self.seed, scale);
-            self.blade_scale = scale;
+    /// size; true when it did. Nothing happens when they already are that size, or on
+    /// a tiled field (its tiles keep the size they were laid out with: it stores no
+    /// blades to grow).
+    pub fn rescale(&mut self, scale: f32) -> bool {
+        if scale == self.blade_scale || self.tiles.is_some() {
+            return false;
         }
+        let count = self.blades.len() as u32;
+        self.blades = scatter_scaled(&self.surface, count, self.seed, scale);
+        self.blade_scale = scale;
+        true
     }
 
     /// The blade scale `look` asks for on this scene.
@@ -425,5 +429,35 @@ mod tests {
         // A torus of a metre: blades at most 8 % of its radius.
         let torus = natural_blade_scale(1.4);
         assert!((torus * shared::generate::HEIGHT.1 - 0.08 * 1.4).abs() < 1e-6);
+    }
+
+    /// A stored field grows again once per new size; a tiled one stores no blades
+    /// and is never regrown (the viewer replaced its blades by none when the look
+    /// changed on a tiled meadow, and failed).
+    #[test]
+    fn only_stored_fields_grow_again() {
+        let mut scene = Scene::plane(64, 1);
+        assert!(scene.rescale(0.5));
+        assert_eq!(scene.blades.len(), 64);
+        assert!(!scene.rescale(0.5));
+        let spec = TiledSpec {
+            params: shared::tiles::TileParams {
+                size: 4.0,
+                per_side: 16,
+                terrain: shared::tiles::TERRAIN_FLAT,
+                half_extent: 8.0,
+                ..Default::default()
+            },
+            pool_tiles: 4,
+            pool_radius: 3.0,
+            far_blades: 1 << 12,
+            reach: 20.0,
+            ground: (0.0, 0.0),
+            area: 256.0,
+        };
+        scene.make_tiled(spec);
+        assert!(!scene.rescale(1.0));
+        assert!(scene.blades.is_empty());
+        assert_eq!(scene.blade_scale, 0.5);
     }
 }

@@ -174,7 +174,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         };
         for &look in &looks {
             // Each look on its own field, grown at its blade size.
-            scene.rescale(scene.scale_for(look));
+            let _ = scene.rescale(scene.scale_for(look));
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
             let mut driver = FrameDriver::new(&ctx, renderer)?;
             // The paper look as the paper (and every figure before the natural look)

@@ -254,10 +254,10 @@ impl Running {
         if !self.gpu.presenter.prepare((size.width, size.height))? {
             return Ok(());
         }
-        // The look's blade size (loaded scenes are in metres): grow the field again.
+        // The look's blade size (loaded scenes are in metres): grow a stored field
+        // again.
         let scale = self.scene.scale_for(self.settings.look.style);
-        if scale != self.scene.blade_scale {
-            self.scene.rescale(scale);
+        if self.scene.rescale(scale) {
             log::info!("blades grown again at {scale} times the course's size");
             self.gpu
                 .driver

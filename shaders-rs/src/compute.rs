@@ -20,8 +20,8 @@ use shared::layout::{
 use shared::lod::{blade_level, chunk_range};
 use shared::look::{Clump, DressedBlade, LOOK_NATURAL, clump_at, dress, unpack_coverage};
 use shared::meshlet::{
-    BUCKETS, StripBlade, binned_counter, bucket_base, bucket_of, bucket_segments, mesh_grid,
-    near_band, pack_level, strip_counter, strip_segments, top_segments, unpack_level,
+    BUCKETS, StripBlade, binned_counter, bucket_base, bucket_segments, mesh_grid, packed_bucket,
+    strip_counter, top_segments, unpack_level, visible_level,
 };
 use shared::raster::{
     Coverage, EMPTY, RASTER_GRID_WIDTH, in_front, is_far, packed_depth, pixel_index,
@@ -29,14 +29,14 @@ use shared::raster::{
 };
 use shared::simulate::simulate;
 use shared::tiles::{
-    blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, pack_map_point, tile_blade,
-    tile_box, tile_in_view, tile_occluded, unpack_map_point,
+    TileParams, blade_id, drawn_width, fade_to_far, far_blade, far_count, kept, pack_map_point,
+    tile_blade, tile_box, tile_in_view, tile_occluded, unpack_map_point,
 };
 use spirv_std::arch::{
     atomic_i_add, atomic_i_increment, atomic_load, atomic_u_max, atomic_u_min,
     workgroup_memory_barrier_with_group_sync,
 };
-use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec4};
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec3, Vec4};
 use spirv_std::image::ImageWithMethods;
 use spirv_std::image::sample_with::sample_index;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
@@ -317,13 +317,10 @@ fn simulate_and_cull<T: Copy + Default>(
         if outcome == KEPT {
             (prepared, level) = prepare(index, name, &blade, paint, map_at);
             if mesh && !far && level > 0.0 {
-                // Its bucket: its strip length, and near the camera its band.
-                let distance = (blade.root() - frame.camera.position).length();
-                let band = near_band(distance, blade.height());
-                let top = top_segments(frame.lod.most);
-                // Its bucket from the level as the binning pass reads it back.
-                level = pack_level(level, band);
-                let bucket = bucket_of(strip_segments(unpack_level(level).0), band, top);
+                // Its bucket: its strip length, and near the camera its band, from
+                // the level as the binning pass reads it back.
+                level = visible_level(level, &blade, frame.camera.position);
+                let bucket = packed_bucket(level, frame.lod.most);
                 unsafe {
                     atomic_i_increment::<
                         u32,
@@ -397,10 +394,10 @@ pub fn bin_blades(
     let mut level = 0.0;
     let mut place = 0;
     if slot < counters[COUNTER_VISIBLE] {
-        let band;
-        (level, band) = unpack_level(levels[slot as usize]);
+        let packed = levels[slot as usize];
+        level = unpack_level(packed).0;
         if level > 0.0 {
-            bucket = bucket_of(strip_segments(level), band, top_segments(frame.lod.most));
+            bucket = packed_bucket(packed, frame.lod.most);
             place = unsafe {
                 atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
                     &mut tally[bucket as usize],
@@ -705,15 +702,36 @@ pub fn generate_pool_tile(
     if index < params.per_side * params.per_side {
         let slot = (push.slot.x + index) as usize;
         let camera = push.camera.truncate();
-        let blade = far_blade(push.tile, index, camera, params, paint, &frame.forces);
-        blades[slot] = blade;
+        let tile = push.tile;
+        write_tile_blade(
+            slot, tile, index, camera, frame, params, paint, blades, ids, clumps,
+        );
         strengths[slot] = 0.0;
-        ids[IDS_WORDS * slot] = blade_id(push.tile, index);
-        ids[IDS_WORDS * slot + 1] = pack_map_point(push.tile, index, &blade, params, paint);
-        let look = &frame.look;
-        if look.style == LOOK_NATURAL {
-            clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
-        }
+    }
+}
+
+/// Writes blade `k` of `tile`, seen from `camera`, into `slot`: the blade in its far
+/// pose ([`far_blade`]), its name and map point, and in the natural look its clump.
+#[allow(clippy::too_many_arguments)]
+fn write_tile_blade(
+    slot: usize,
+    tile: IVec2,
+    k: u32,
+    camera: Vec3,
+    frame: &FrameUniforms,
+    params: &TileParams,
+    paint: &[u32],
+    blades: &mut [Blade],
+    ids: &mut [u32],
+    clumps: &mut [Vec4],
+) {
+    let blade = far_blade(tile, k, camera, params, paint, &frame.forces);
+    blades[slot] = blade;
+    ids[IDS_WORDS * slot] = blade_id(tile, k);
+    ids[IDS_WORDS * slot + 1] = pack_map_point(tile, k, &blade, params, paint);
+    let look = &frame.look;
+    if look.style == LOOK_NATURAL {
+        clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
     }
 }
 
@@ -825,18 +843,13 @@ pub fn generate_far(
     let tile = IVec2::new(tiles[entry] as i32, tiles[entry + 1] as i32);
     let (first, count) = (tiles[entry + 2], tiles[entry + 3]);
     let camera = push.camera.truncate();
-    let look = &frame.look;
-    let natural = look.style == LOOK_NATURAL;
     let mut k = local;
     while k < count {
         let slot = (first + k) as usize;
-        let blade = far_blade(tile, k, camera, &push.params, paint, &frame.forces);
-        blades[slot] = blade;
-        ids[IDS_WORDS * slot] = blade_id(tile, k);
-        ids[IDS_WORDS * slot + 1] = pack_map_point(tile, k, &blade, &push.params, paint);
-        if natural {
-            clumps[slot] = clump_at(blade.v0.truncate(), look.clump_size, look.seed).pack();
-        }
+        let params = &push.params;
+        write_tile_blade(
+            slot, tile, k, camera, frame, params, paint, blades, ids, clumps,
+        );
         k += GENERATE_WORKGROUP;
     }
 }

@@ -18,9 +18,10 @@
 //! a few of its SMs, the work of a task stage costs most there (performance notes,
 //! attempt 12).
 
+use crate::Blade;
 use crate::layout::{COUNTER_BINNED, COUNTER_STRIPS};
 use crate::lod::{MAX_LEVEL, MAX_SEGMENTS, clamp_unchecked};
-use spirv_std::glam::UVec3;
+use spirv_std::glam::{UVec3, Vec3};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -77,6 +78,21 @@ pub fn pack_level(level: f32, band: u32) -> f32 {
 pub fn unpack_level(packed: f32) -> (f32, u32) {
     let band = (packed / BAND_STRIDE) as u32;
     (packed - BAND_STRIDE * band as f32, band)
+}
+
+/// A visible blade's `level` packed with its band of distance from `camera`
+/// ([`near_band`], [`pack_level`]): what the levels buffer carries.
+pub fn visible_level(level: f32, blade: &Blade, camera: Vec3) -> f32 {
+    let distance = (blade.root() - camera).length();
+    pack_level(level, near_band(distance, blade.height()))
+}
+
+/// The bucket of a `packed` level ([`visible_level`]) at a level cap of `most`: its
+/// strip length and its band ([`bucket_of`]). The counting and the binning both read
+/// it so, from the packed level, so they agree.
+pub fn packed_bucket(packed: f32, most: f32) -> u32 {
+    let (level, band) = unpack_level(packed);
+    bucket_of(strip_segments(level), band, top_segments(most))
 }
 
 /// Segments of the longest strips at a level cap of `most` (`lod.most`).

@@ -103,10 +103,7 @@ pub fn step(
         env.centre_blend,
         blade.tip(),
     );
-    let root = blade.root();
-    let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
-    let centre = env.gravity_centre.truncate();
-    let wi = wind::along_surface(wi, root, centre, env.centre_blend);
+    let wi = wind_at(env, blade.root(), time);
     let pushed = (forces::gravity_from(&blade, g_env) + forces::wind_force(&blade, wi)) * dt;
     let k = forces::recovery_rate(&blade, strength) * env.stiffness_scale * dt;
     let tip = semi_implicit_tip(blade.tip(), forces::rest_tip(&blade), pushed, k);
@@ -114,6 +111,14 @@ pub fn step(
     let (pushed, displacement) = collide::collide(&moved, spheres, env.colliders);
     let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
     (validate::validate(&pushed), strength)
+}
+
+/// The wind w_i at a blade's `root` at `time` (paper eq. 9's field), along the
+/// ground there: what the simulation steps and the settled pose (`sway`) both push
+/// with.
+pub fn wind_at(env: &Environment, root: Vec3, time: f32) -> Vec3 {
+    let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
+    wind::along_surface(wi, root, env.gravity_centre.truncate(), env.centre_blend)
 }
 
 /// Simulated time at the start of step number `index`.

@@ -168,7 +168,6 @@ pub fn per_area(size: f32, room: u32) -> f32 {
 /// each, each growing [`per_area`] blades a square unit of its pieces.
 #[cfg(not(target_arch = "spirv"))]
 pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> {
-    use spirv_std::glam::Vec2;
     let per_area = per_area(size, room);
     let Some((lo, hi)) = mesh.bounds() else {
         return vec![0; HEADER_WORDS];
@@ -180,12 +179,12 @@ pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> 
         (last.y - first.y + 1) as usize,
     );
     // Each tile's pieces.
-    let mut pieces: Vec<Vec<[Corner; 3]>> = vec![Vec::new(); nx * nz];
+    let mut pieces: Vec<Vec<[Spot; 3]>> = vec![Vec::new(); nx * nz];
     for i in 0..mesh.triangles.len() {
         let Some(abc) = mesh.corners(i) else { continue };
         let weights = [Vec3::X, Vec3::Y, Vec3::Z];
-        let corners: Vec<Corner> = (0..3)
-            .map(|k| Corner {
+        let corners: Vec<Spot> = (0..3)
+            .map(|k| Spot {
                 position: abc[k],
                 normal: mesh.normal_at(i, abc, weights[k]),
                 uv: mesh.uv_at(i, weights[k]),
@@ -219,7 +218,7 @@ pub fn build(mesh: &crate::mesh::SurfaceMesh, size: f32, room: u32) -> Vec<u32> 
     // Each tile's pieces in Morton order of their centres, so that a run of the area
     // is a compact patch and every prefix of the blades' strata is spread over it.
     for list in &mut pieces {
-        let centre = |p: &[Corner; 3]| (p[0].position + p[1].position + p[2].position) / 3.0;
+        let centre = |p: &[Spot; 3]| (p[0].position + p[1].position + p[2].position) / 3.0;
         let (lo, hi) = list.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), p| {
             (lo.min(centre(p)), hi.max(centre(p)))
         });
@@ -300,20 +299,11 @@ pub fn in_triangle(f: f32) -> Vec3 {
 /// even a mesh of a few large triangles spreads a tile's blades evenly.
 pub const SPLIT: f32 = 8.0;
 
-/// A corner of a piece as the table is built.
 #[cfg(not(target_arch = "spirv"))]
-#[derive(Copy, Clone, Debug)]
-struct Corner {
-    position: Vec3,
-    normal: Vec3,
-    uv: Vec2,
-}
-
-#[cfg(not(target_arch = "spirv"))]
-impl Corner {
-    /// The corner `t` of the way to `other`.
-    fn lerp(self, other: Corner, t: f32) -> Corner {
-        Corner {
+impl Spot {
+    /// The spot `t` of the way to `other` (a piece's corner as the table is built).
+    fn lerp(self, other: Spot, t: f32) -> Spot {
+        Spot {
             position: self.position.lerp(other.position, t),
             normal: self.normal.lerp(other.normal, t),
             uv: self.uv.lerp(other.uv, t),
@@ -324,7 +314,7 @@ impl Corner {
 /// `piece`, halved across its longest edge until no edge is longer than `longest`,
 /// into `out` (pieces of no area left out).
 #[cfg(not(target_arch = "spirv"))]
-fn split(piece: [Corner; 3], longest: f32, out: &mut Vec<[Corner; 3]>) {
+fn split(piece: [Spot; 3], longest: f32, out: &mut Vec<[Spot; 3]>) {
     let [a, b, c] = piece.map(|k| k.position);
     let area = crate::mesh::triangle_area(a, b, c);
     if area.is_nan() || area <= 0.0 {
@@ -364,7 +354,7 @@ fn morton3(x: u32, y: u32, z: u32) -> u32 {
 /// x and z (Sutherland–Hodgman against its four sides), normals and texture
 /// coordinates interpolated with the positions.
 #[cfg(not(target_arch = "spirv"))]
-fn clip_to_square(corners: &[Corner], lo: Vec2, hi: Vec2) -> Vec<Corner> {
+fn clip_to_square(corners: &[Spot], lo: Vec2, hi: Vec2) -> Vec<Spot> {
     // Each side as (axis: 0 x, 2 z; bound; keep below the bound).
     let sides = [
         (0, lo.x, false),
@@ -374,7 +364,7 @@ fn clip_to_square(corners: &[Corner], lo: Vec2, hi: Vec2) -> Vec<Corner> {
     ];
     let mut polygon = corners.to_vec();
     for (axis, bound, below) in sides {
-        let inside = |p: &Corner| {
+        let inside = |p: &Spot| {
             let d = p.position[axis] - bound;
             if below { d <= 0.0 } else { d >= 0.0 }
         };

@@ -2,8 +2,8 @@
 //! frame's gravity and wind, in closed form, so that blades nobody simulates sway
 //! like their simulated neighbours (issue 19).
 
-use crate::simulate::Environment;
-use crate::{Blade, forces, validate, wind};
+use crate::simulate::{Environment, wind_at};
+use crate::{Blade, forces, validate};
 
 /// Rounds of the balance in [`settled`]. Against blades simulated for 10 s under a
 /// held wind (the tests below): 4 rounds leave tips up to 0.08·h off, 6 0.03·h,
@@ -35,10 +35,10 @@ pub fn settled(blade: &Blade, env: &Environment, time: f32) -> Blade {
         env.centre_blend,
         forces::rest_tip(blade),
     );
-    let stiffness = blade.stiffness() * env.stiffness_scale;
+    // Uncrushed (collision strength 0): the rate is the blade's stiffness.
+    let stiffness = forces::recovery_rate(blade, 0.0) * env.stiffness_scale;
     let pull = forces::gravity_from(blade, g_env) + up * (stiffness * h);
-    let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
-    let wi = wind::along_surface(wi, root, env.gravity_centre.truncate(), env.centre_blend);
+    let wi = wind_at(env, root, time);
     let mut pose = *blade;
     let mut u = up;
     let mut round = 0;

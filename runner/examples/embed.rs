@@ -7,15 +7,11 @@
 //! ```text
 //! cargo run --release --example embed                       # a window
 //! cargo run --release --example embed -- --out frame.png    # headless, one PNG
-//!     [--frames N] [--size 640x360] [--look paper|natural] [--blades N] [--tiled]
-//!     [--resize-through WxH,WxH,...] [--validation]
+//! cargo run --release --example embed -- --help             # every option
 //! ```
 //!
 //! `--resize-through` goes through those sizes first (headless, a frame at each; in
 //! a window, asked of the window 10 frames apart).
-//!
-//! ```text
-//! ```
 //!
 //! `--look natural` (headless) draws the natural look into a linear HDR image
 //! (`R16G16B16A16_SFLOAT`), as an engine with its own tone map would, and tone-maps
@@ -24,9 +20,6 @@
 //!
 //! Headless, `--frames` (90 by default) are simulated and the last one written; in a
 //! window, `--frames` closes it after that many (else it runs until closed).
-//!
-//! ```text
-//! ```
 
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
@@ -66,19 +59,31 @@ const FRAME_SECONDS: f64 = 1.0 / 60.0;
 pub static VALIDATION_ERRORS: AtomicU32 = AtomicU32::new(0);
 
 #[allow(dead_code)] // Also compiled into `runner/tests/embed.rs`, which has its own main.
-fn main() -> Result<()> {
+fn main() -> std::process::ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
-    let args = Args::parse(std::env::args().skip(1))?;
+    // A usage error (or --help) ends here, as clap says it.
+    let args = <Args as clap::Parser>::parse();
+    match run(&args) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Draws as `args` ask: a window, or one PNG headless.
+fn run(args: &Args) -> Result<()> {
     let Some(out) = &args.out else {
         if args.look != Look::Paper {
             bail!("the window draws the paper look; --look natural needs --out (headless)");
         }
-        return window::run(&args);
+        return window::run(args);
     };
-    let shot = render_headless(&args)?;
-    let (w, h) = shot.size;
-    image::save_buffer(out, &shot.rgba, w, h, image::ColorType::Rgba8)
-        .with_context(|| format!("write {out}"))?;
+    runner::files::check_output(out, &["png"])?;
+    let shot = render_headless(args)?;
+    runner::files::save_png(out, &shot.rgba, shot.size, image::ColorType::Rgba8)?;
+    let out = out.display();
     let errors = VALIDATION_ERRORS.load(Ordering::SeqCst);
     println!(
         "wrote {out}: {} blades drawn, {errors} validation errors",
@@ -105,25 +110,38 @@ fn main() -> Result<()> {
 }
 
 /// The command line: what to draw, and where.
+#[derive(clap::Parser, Debug, Clone)]
+#[command(
+    name = "embed",
+    about = "Grass in your own Vulkan program: a cube of its own and runner::embed's field"
+)]
 pub struct Args {
-    /// The PNG to write (headless); `None` opens a window.
-    pub out: Option<String>,
-    /// Frames to draw: headless, the last is written (90 when `None`); in a window,
-    /// it closes after them (runs until closed when `None`).
+    /// The PNG to write (headless); without it, a window opens.
+    #[arg(long)]
+    pub out: Option<std::path::PathBuf>,
+    /// Frames to draw: headless, the last is written [default: 90]; in a window, it
+    /// closes after them [default: when closed].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,
-    /// Headless image size.
+    /// Headless image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x360", value_parser = size)]
     pub size: (u32, u32),
     /// The field's look (the natural one headless only).
+    #[arg(long, value_enum, default_value_t = Look::Paper)]
     pub look: Look,
     /// Blades of a stored field.
+    #[arg(long, default_value_t = BLADES, value_parser = clap::value_parser!(u32).range(1..=(1 << 24)))]
     pub blades: u32,
-    /// A tiled field.
+    /// A tiled field, generated tile by tile around the camera to the horizon.
+    #[arg(long)]
     pub tiled: bool,
-    /// Sizes to go through first: headless, a frame each before `size`; in a window,
-    /// the window asks for each in turn, 10 frames apart (the field follows its
-    /// targets' size either way).
+    /// Sizes to go through first, WxH,WxH,...: headless, a frame each before --size; in
+    /// a window, the window asks for each in turn, 10 frames apart (the field follows
+    /// its targets' size either way).
+    #[arg(long, value_delimiter = ',', value_parser = size)]
     pub resize_through: Vec<(u32, u32)>,
-    /// The validation layer on, its errors counted.
+    /// The validation layer on (core and synchronization), its errors counted.
+    #[arg(long)]
     pub validation: bool,
 }
 
@@ -142,53 +160,14 @@ impl Default for Args {
     }
 }
 
-impl Args {
-    #[allow(dead_code)]
-    fn parse(mut args: impl Iterator<Item = String>) -> Result<Self> {
-        let mut parsed = Args::default();
-        while let Some(arg) = args.next() {
-            let mut value = || args.next().with_context(|| format!("{arg} needs a value"));
-            match arg.as_str() {
-                "--out" => parsed.out = Some(value()?),
-                "--frames" => parsed.frames = Some(value()?.parse().context("--frames")?),
-                "--size" => parsed.size = size(&value()?)?,
-                "--resize-through" => {
-                    let sizes = value()?;
-                    let sizes = sizes.split(',').map(size);
-                    parsed.resize_through = sizes.collect::<Result<_>>()?;
-                }
-                "--look" => {
-                    parsed.look = match value()?.as_str() {
-                        "paper" => Look::Paper,
-                        "natural" => Look::Natural,
-                        other => bail!("--look {other}: paper or natural"),
-                    }
-                }
-                "--tiled" => parsed.tiled = true,
-                "--blades" => parsed.blades = value()?.parse().context("--blades")?,
-                "--validation" => parsed.validation = true,
-                _ => bail!(
-                    "unknown argument {arg}; use [--out frame.png] [--frames N] \
-                     [--size WxH] [--look paper|natural] [--blades N] [--tiled] \
-                     [--resize-through WxH,...] [--validation]"
-                ),
-            }
-        }
-        if parsed.frames == Some(0) {
-            bail!("--frames must be positive");
-        }
-        Ok(parsed)
-    }
-}
-
-/// `WIDTHxHEIGHT`, both positive.
-fn size(text: &str) -> Result<(u32, u32)> {
+/// `WIDTHxHEIGHT`, both from 1 to 8192.
+fn size(text: &str) -> Result<(u32, u32), String> {
     let parsed = text
         .split_once('x')
-        .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)));
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)));
     match parsed {
-        Some((w, h)) if w > 0 && h > 0 => Ok((w, h)),
-        _ => bail!("{text} is no size: WIDTHxHEIGHT, both positive"),
+        Some((w, h)) if (1..=8192).contains(&w) && (1..=8192).contains(&h) => Ok((w, h)),
+        _ => Err(format!("{text:?} is no size: WIDTHxHEIGHT, each 1 to 8192")),
     }
 }
 

@@ -7,7 +7,7 @@ use crate::vulkan::ValidationChecks;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 use shared::cull;
-use shared::settings::{BladeShape, CullTests, Look, View, WindField};
+use shared::settings::{BladeShape, CullTests, Look, LookSettings, View, WindField};
 use std::path::PathBuf;
 
 /// Real-time grass after Jahrmann & Wimmer (I3D 2017): Rust shaders, Vulkan through ash.
@@ -195,9 +195,74 @@ pub enum CameraPreset {
     Flight,
 }
 
+/// Which options were given, by long name: on the command line itself, or by a
+/// settings file (`--config`). An option that does not apply where it is given is
+/// refused when typed, and noted in the log when it comes from a file (a settings file
+/// saved from the viewer serves every command).
+#[derive(Clone, Debug, Default)]
+pub struct Given {
+    /// Given on the command line.
+    pub command_line: std::collections::BTreeSet<String>,
+    /// Set by the settings file.
+    pub file: std::collections::BTreeSet<String>,
+}
+
+impl Given {
+    /// The options `args` (the program's, its name first, before the settings file is
+    /// merged) give on the command line, and the settings file's `file_keys`.
+    pub fn new(args: &[std::ffi::OsString], file_keys: Vec<String>) -> Self {
+        use clap::CommandFactory as _;
+        let mut command = Cli::command();
+        command.build();
+        let mut command_line = std::collections::BTreeSet::new();
+        if let Ok(matches) = command.clone().try_get_matches_from(args) {
+            typed(&matches, &command, &mut command_line);
+        }
+        Self {
+            command_line,
+            file: file_keys.into_iter().collect(),
+        }
+    }
+
+    /// Each of `options` given here does not apply, for the reason `why` ("soak cycles
+    /// it itself"): an error naming the first typed on the command line; those from the
+    /// settings file are noted in the log.
+    pub fn refuse(&self, options: &[&str], why: &str) -> anyhow::Result<()> {
+        if let Some(option) = options.iter().find(|o| self.command_line.contains(**o)) {
+            anyhow::bail!("--{option}: {why}");
+        }
+        for option in options.iter().filter(|o| self.file.contains(**o)) {
+            log::warn!("settings file: `{option}` not used: {why}");
+        }
+        Ok(())
+    }
+}
+
+/// Adds the long names of the options `matches` of `command` took from the command line.
+fn typed(
+    matches: &clap::ArgMatches,
+    command: &clap::Command,
+    out: &mut std::collections::BTreeSet<String>,
+) {
+    for arg in command.get_arguments() {
+        let id = arg.get_id().as_str();
+        if matches.value_source(id) == Some(clap::parser::ValueSource::CommandLine) {
+            out.extend(arg.get_long().map(str::to_owned));
+        }
+    }
+    if let Some((name, sub)) = matches.subcommand()
+        && let Some(command) = command.find_subcommand(name)
+    {
+        typed(sub, command, out);
+    }
+}
+
 /// Options every command takes.
 #[derive(Args, Debug, Clone)]
 pub struct Common {
+    /// Which options were given, and where (filled in after parsing).
+    #[arg(skip)]
+    pub given: Given,
     /// Read settings from this TOML file, keys named like the flags
     /// (`wind-strength = 7.0`; `grass config` prints them all); flags given on the
     /// command line override the file's.
@@ -312,14 +377,29 @@ pub struct Common {
     /// Factor on the light before the tone map (natural look).
     #[arg(long, global = true, default_value_t = 1.0, value_parser = range(0.01, 100.0))]
     pub exposure: f32,
+    /// Aerial perspective: fog density per unit of distance (natural look).
+    #[arg(long, global = true, default_value_t = LookSettings::default().fog_density, value_parser = range(0.0, 1.0))]
+    pub fog_density: f32,
+    /// Size of the clumps blades grow in, scene units (natural look) [default: 1.6
+    /// times the scene's blade size].
+    #[arg(long, global = true, value_parser = range(0.01, 1e4))]
+    pub clump_size: Option<f32>,
+    /// A tiled field's distance every blade is kept within, scene units; beyond, the
+    /// field thins [default: 48 times the scene's blade size on a GPU, 4.5 on a
+    /// software device].
+    #[arg(long, global = true, value_parser = range(0.1, 1e5))]
+    pub full_distance: Option<f32>,
+    /// Start without the ball (the B key brings it back in the viewer).
+    #[arg(long, global = true)]
+    pub no_ball: bool,
     /// Enable VK_LAYER_KHRONOS_validation (also GRASS_VALIDATION=1); `render` then
     /// fails on any validation error.
     #[arg(long, global = true)]
     pub validation: bool,
-    /// The validation layer's checks beside its core ones (implies --validation when
-    /// not the default).
-    #[arg(long, global = true, value_enum, default_value_t = ValidationChecks::Synchronization)]
-    pub validation_checks: ValidationChecks,
+    /// The validation layer's checks beside its core ones; naming any implies
+    /// --validation [default: synchronization].
+    #[arg(long, global = true, value_enum)]
+    pub validation_checks: Option<ValidationChecks>,
 }
 
 /// The culling tests, their thresholds, the level of detail and the grass view.
@@ -399,10 +479,12 @@ pub struct ViewArgs {
     /// Resize, minimise and restore the window by script while drawing (for tests).
     #[arg(long)]
     pub resize_storm: bool,
-    /// Take a screenshot (as the K key does) once this many frames are drawn.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
-    pub screenshot_at: Option<u64>,
-    /// Where screenshots go (`grass-<seconds since 1970>.png`).
+    /// Take a screenshot (as the K key does) once this many frames are drawn; several
+    /// comma-separated.
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u64).range(1..))]
+    pub screenshot_at: Vec<u64>,
+    /// Where screenshots and saved settings go (`grass-<seconds since 1970>.png`, a
+    /// number added when two come in the same second): a folder that exists.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
 }
@@ -414,7 +496,7 @@ impl Default for ViewArgs {
             height: 720,
             frames: None,
             resize_storm: false,
-            screenshot_at: None,
+            screenshot_at: Vec::new(),
             screenshot_dir: PathBuf::from("."),
         }
     }
@@ -533,12 +615,17 @@ impl Common {
         Ok(())
     }
 
-    /// Validation from the flag or from GRASS_VALIDATION=1.
+    /// Validation from the flag, from naming its checks, or from GRASS_VALIDATION=1.
     pub fn validation_requested(&self) -> bool {
         self.validation
-            || self.validation_checks != ValidationChecks::default()
+            || self.validation_checks.is_some()
             || std::env::var("GRASS_VALIDATION")
                 .is_ok_and(|v| matches!(v.trim(), "1" | "true" | "yes" | "on"))
+    }
+
+    /// The validation layer's checks beside its core ones.
+    pub fn checks(&self) -> ValidationChecks {
+        self.validation_checks.unwrap_or_default()
     }
 }
 

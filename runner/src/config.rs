@@ -6,14 +6,14 @@
 //! file and key.
 
 use crate::cli::Cli;
-use anyhow::{Context as _, Result, bail};
+use anyhow::{Result, bail};
 use clap::{ArgAction, CommandFactory as _};
 use std::ffi::OsString;
 use std::path::Path;
 
 /// The options a file may set: the ones every command shares (clap's global
 /// arguments), less `--config` itself.
-fn settable() -> Vec<clap::Arg> {
+pub fn settable() -> Vec<clap::Arg> {
     Cli::command()
         .get_arguments()
         .filter(|a| a.is_global_set() && a.get_long().is_some_and(|l| l != "config"))
@@ -23,12 +23,20 @@ fn settable() -> Vec<clap::Arg> {
 
 /// `args` (the program's, its name first) with the settings of the file `--config`
 /// names placed before the command line's own options (after the command's name,
-/// where the options go); `args` unchanged without `--config`.
-pub fn with_file(args: Vec<OsString>) -> Result<Vec<OsString>> {
+/// where the options go), and the keys the file sets; `args` unchanged without
+/// `--config`.
+pub fn with_file(args: Vec<OsString>) -> Result<(Vec<OsString>, Vec<String>)> {
     let Some(path) = config_path(&args) else {
-        return Ok(args);
+        return Ok((args, Vec::new()));
     };
     let from_file = read(Path::new(&path))?;
+    let keys = from_file
+        .iter()
+        .map(|flag| {
+            let flag = flag.trim_start_matches("--");
+            flag.split_once('=').map_or(flag, |(key, _)| key).to_owned()
+        })
+        .collect();
     let commands: Vec<String> = Cli::command()
         .get_subcommands()
         .map(|c| c.get_name().to_owned())
@@ -41,7 +49,7 @@ pub fn with_file(args: Vec<OsString>) -> Result<Vec<OsString>> {
     let mut merged = args[..at.min(args.len())].to_vec();
     merged.extend(from_file.into_iter().map(OsString::from));
     merged.extend(args.into_iter().skip(at));
-    Ok(merged)
+    Ok((merged, keys))
 }
 
 /// The value of `--config FILE` or `--config=FILE` in `args`, if any.
@@ -62,10 +70,13 @@ fn config_path(args: &[OsString]) -> Option<OsString> {
     None
 }
 
+/// Most bytes a settings file may have: every key with a long value is a few KiB.
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
 /// The flags the file at `path` sets, each checked as the command line checks it.
 pub fn read(path: &Path) -> Result<Vec<String>> {
     let shown = path.display();
-    let text = std::fs::read_to_string(path).with_context(|| format!("config {shown}"))?;
+    let text = crate::files::read_text(path, MAX_FILE_BYTES, "config")?;
     let table: toml::Table =
         toml::from_str(&text).map_err(|e| anyhow::anyhow!("config {shown}: not TOML: {e}"))?;
     let settable = settable();
@@ -169,13 +180,31 @@ fn literal(word: &str) -> String {
     }
 }
 
-/// The running `settings` (as the overlay leaves them) and the command line's other
-/// options (`common`: scene, field, maps, ball) as a settings file that `--config`
-/// reads back to the same settings: what the overlay's "save settings" writes. The
-/// device's own choices (shadows, MSAA, compute rasterizer, pipeline) are written as
-/// they are now, so the file makes them explicit.
-pub fn current(common: &crate::cli::Common, s: &shared::settings::Settings) -> String {
+/// What the viewer holds beside [`shared::settings::Settings`] that a settings file
+/// keeps: the overlay's and the keys' other controls. (The camera and flying are where
+/// you look from, not settings.)
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ViewerState {
+    /// A tiled field's distance every blade is kept within (`--full-distance`);
+    /// `None` on a stored field.
+    pub full_distance: Option<f32>,
+    /// The ball is on (B; `--no-ball` when off).
+    pub ball: bool,
+}
+
+/// The running `settings` and `viewer` state (as the overlay and the keys leave them)
+/// and the command line's other options (`common`: scene, field, maps, ball path) as a
+/// settings file that `--config` reads back to the same settings: what the overlay's
+/// "save settings" writes. The device's own choices (pipeline, samples, shadows,
+/// compute rasterizer) are written as they are now, so the file makes them explicit.
+pub fn current(
+    common: &crate::cli::Common,
+    s: &shared::settings::Settings,
+    viewer: &ViewerState,
+) -> String {
+    use crate::cli::PipelineChoice;
     use clap::ValueEnum;
+    use shared::settings::GrassPipeline;
     let word = |v: Option<clap::builder::PossibleValue>| {
         format!(
             "{:?}",
@@ -185,7 +214,18 @@ pub fn current(common: &crate::cli::Common, s: &shared::settings::Settings) -> S
     let path = |p: &Option<std::path::PathBuf>| {
         p.as_ref().map(|p| format!("{:?}", p.display().to_string()))
     };
-    let mut lines: Vec<(&str, Option<String>)> = vec![
+    let number = |x: f32| Some(x.to_string());
+    let switch = |on: bool| Some(on.to_string());
+    let pipeline = match s.pipeline {
+        GrassPipeline::Tess => PipelineChoice::Tess,
+        GrassPipeline::Mesh => PipelineChoice::Mesh,
+    };
+    let g = &s.gravity;
+    let centre =
+        (g.centre_blend > 0.0).then(|| format!("\"{},{},{}\"", g.centre.x, g.centre.y, g.centre.z));
+    let (cull, lod, look) = (&s.cull, &s.lod, &s.look);
+    let tests = cull.tests;
+    let lines: Vec<(&str, Option<String>)> = vec![
         ("scene", Some(format!("{:?}", common.scene))),
         ("blades", common.blades.map(|n| n.to_string())),
         ("density", common.density.map(|d| d.to_string())),
@@ -195,54 +235,50 @@ pub fn current(common: &crate::cli::Common, s: &shared::settings::Settings) -> S
         ("height-map", path(&common.height_map)),
         ("colour-map", path(&common.colour_map)),
         ("type-map", path(&common.type_map)),
+        ("full-distance", viewer.full_distance.and_then(number)),
         ("wind", Some(word(s.wind.field.to_possible_value()))),
-        ("wind-strength", Some(s.wind.strength.to_string())),
-        ("wind-direction", Some(s.wind.direction.to_string())),
+        ("wind-strength", number(s.wind.strength)),
+        ("wind-direction", number(s.wind.direction)),
+        ("gravity", number(g.acceleration)),
+        ("gravity-centre", centre),
         ("shape", Some(word(s.shape.to_possible_value()))),
-        ("tip-start", Some(s.tip_start.to_string())),
-        ("trample-decay", Some(s.trample_decay.to_string())),
-        ("stiffness", Some(s.stiffness.to_string())),
-        ("gravity", Some(s.gravity.acceleration.to_string())),
-        ("collider-radius", Some(common.collider_radius.to_string())),
-        ("collider-speed", Some(common.collider_speed.to_string())),
-        ("look", Some(word(s.look.style.to_possible_value()))),
-        ("no-shadows", Some((!s.look.shadows).to_string())),
-        ("shadows", Some(s.look.shadows.to_string())),
-        ("msaa", Some(s.look.msaa.to_string())),
-        ("exposure", Some(s.look.exposure.to_string())),
-        ("far-at-rest", Some((!s.far_sway).to_string())),
+        ("tip-start", number(s.tip_start)),
+        ("trample-decay", number(s.trample_decay)),
+        ("stiffness", number(s.stiffness)),
+        ("collider-radius", number(common.collider_radius)),
+        ("collider-speed", number(common.collider_speed)),
+        (
+            "collider-path",
+            common
+                .collider_path
+                .as_ref()
+                .map(|p| format!("{:?}", p.to_string())),
+        ),
+        ("no-ball", switch(!viewer.ball)),
+        ("look", Some(word(look.style.to_possible_value()))),
+        ("no-shadows", switch(!look.shadows)),
+        ("shadows", switch(look.shadows)),
+        ("msaa", Some(look.msaa.to_string())),
+        ("exposure", number(look.exposure)),
+        ("fog-density", number(look.fog_density)),
+        ("clump-size", number(look.clump_size)),
+        ("far-at-rest", switch(!s.far_sway)),
+        ("pipeline", Some(word(pipeline.to_possible_value()))),
         ("view", Some(word(s.view.to_possible_value()))),
-        ("no-lod", Some((!s.lod.on).to_string())),
-        ("lod-most", Some(s.lod.most.to_string())),
-        ("lod-fewest", Some(s.lod.fewest.to_string())),
-        ("lod-pixels", Some(s.lod.pixels_per_segment.to_string())),
-        (
-            "orientation-threshold",
-            Some(s.cull.orientation_threshold.to_string()),
-        ),
-        (
-            "frustum-tolerance",
-            Some(s.cull.frustum_tolerance.to_string()),
-        ),
-        ("max-distance", Some(s.cull.max_distance.to_string())),
-        ("buckets", Some(s.cull.buckets.to_string())),
-        (
-            "compute-raster-below",
-            Some(s.compute_raster_below.to_string()),
-        ),
+        ("no-lod", switch(!lod.on)),
+        ("lod-most", number(lod.most)),
+        ("lod-fewest", number(lod.fewest)),
+        ("lod-pixels", number(lod.pixels_per_segment)),
+        ("compute-raster-below", number(s.compute_raster_below)),
+        ("no-cull-orientation", switch(!tests.orientation)),
+        ("no-cull-frustum", switch(!tests.frustum)),
+        ("no-cull-distance", switch(!tests.distance)),
+        ("no-cull-occlusion", switch(!tests.occlusion)),
+        ("orientation-threshold", number(cull.orientation_threshold)),
+        ("frustum-tolerance", number(cull.frustum_tolerance)),
+        ("max-distance", number(cull.max_distance)),
+        ("buckets", Some(cull.buckets.to_string())),
     ];
-    let tests = s.cull.tests;
-    for (name, on) in [
-        ("no-cull-orientation", tests.orientation),
-        ("no-cull-frustum", tests.frustum),
-        ("no-cull-distance", tests.distance),
-        ("no-cull-occlusion", tests.occlusion),
-    ] {
-        lines.push((name, Some((!on).to_string())));
-    }
-    if let Some(p) = &common.collider_path {
-        lines.push(("collider-path", Some(format!("{:?}", p.to_string()))));
-    }
     let mut out = String::from(
         "# grass settings saved from the viewer: `grass --config FILE` (after the command's\n\
          # name: `grass render --config FILE`); flags on the command line override them.\n",
@@ -272,7 +308,7 @@ mod tests {
         let mut args: Vec<OsString> = ["grass", "render", "--config"].map(OsString::from).into();
         args.push(path.into());
         args.extend(extra.iter().map(OsString::from));
-        Ok(Cli::try_parse_from(with_file(args)?)?)
+        Ok(Cli::try_parse_from(with_file(args)?.0)?)
     }
 
     /// What `grass render` parses to with nothing asked, for comparison (`--config`
@@ -320,55 +356,179 @@ mod tests {
         assert_eq!(cli.common.wind, shared::settings::WindField::Calm);
     }
 
-    /// The overlay's "save settings" file read back gives the same settings, after
-    /// every switch and value was changed from its default. Planted fault: the ball's
-    /// speed left out of the file failed (the default speed read back, not 2.5).
+    /// The leaves of a value's pretty `Debug` (`{:#?}`), as (path, text):
+    /// ("wind.strength", "7.0"), ("gravity.centre.1", "0.0").
+    fn leaves(debug: &str) -> Vec<(String, String)> {
+        let lines: Vec<&str> = debug.lines().collect();
+        let mut path: Vec<String> = Vec::new();
+        let mut elements: Vec<usize> = vec![0];
+        let mut out = Vec::new();
+        // The first and last lines open and close the value itself.
+        for line in &lines[1..lines.len() - 1] {
+            let text = line.trim().trim_end_matches(',');
+            if matches!(text, "}" | ")" | "]") {
+                path.pop();
+                elements.pop();
+                continue;
+            }
+            let (name, value) = match text.split_once(": ") {
+                Some((name, value)) => (name.to_owned(), value),
+                None => {
+                    let n = elements.last_mut().expect("inside a value");
+                    *n += 1;
+                    ((*n - 1).to_string(), text)
+                }
+            };
+            if value.ends_with(['{', '(', '[']) {
+                path.push(name);
+                elements.push(0);
+            } else {
+                let mut full = path.clone();
+                full.push(name);
+                out.push((full.join("."), value.to_owned()));
+            }
+        }
+        out
+    }
+
+    /// What the scene decides, not the user: the paper's light, the sun, where the
+    /// ground and the scene are, how far shadows are cast.
+    const FROM_THE_SCENE: [&str; 5] = [
+        "light.",
+        "look.caster_distance",
+        "look.scene.",
+        "look.ground_level.",
+        "look.sun.",
+    ];
+
+    /// A GPU with every optional path, as the device defaults see it.
+    fn gpu() -> crate::vulkan::probe::Capabilities {
+        crate::vulkan::probe::Capabilities {
+            name: "a GPU".into(),
+            software: false,
+            mesh_shader: Ok(()),
+            int64_atomics: Ok(()),
+        }
+    }
+
+    /// The settings and viewer state `cli` asks for on `scene` and a GPU, as the
+    /// program makes them (`app::settings`, `app::device_defaults`).
+    fn loaded(cli: &Cli, scene: &crate::scene::Scene) -> (shared::settings::Settings, ViewerState) {
+        let mut settings = crate::app::settings(&cli.common, scene);
+        crate::app::device_defaults(&mut settings, &cli.common, &gpu()).unwrap();
+        let viewer = ViewerState {
+            full_distance: cli.common.full_distance,
+            ball: !cli.common.no_ball,
+        };
+        (settings, viewer)
+    }
+
+    /// One list of settings: every setting the overlay and the keys can change is set
+    /// to a value other than its default, saved as the overlay's "save settings" does,
+    /// read back through `--config`, and the whole `Settings` (and the viewer's state)
+    /// compared. A setting added to `Settings` fails here until it is changed below
+    /// (the leaves of its `Debug` are compared with the defaults'), and then until the
+    /// settings file carries it (the read-back differs). Planted faults: the fog
+    /// density left out of the file failed (0.0012 read back, not 0.004); `pipeline`
+    /// left out failed too (the device's mesh path read back).
     #[test]
-    fn saved_settings_read_back_the_same() {
+    fn every_setting_is_saved_and_read_back() {
+        use glam::Vec3;
+        use shared::settings::{BladeShape, CullTests, GrassPipeline, Look, View, WindField};
         let scene = crate::scene::Scene::plane(64, 1);
-        let args = [
+        let plain = Cli::try_parse_from(["grass", "render"]).unwrap();
+        let (defaults, default_viewer) = loaded(&plain, &scene);
+        // The scene's own options, given on the command line.
+        let first = Cli::try_parse_from([
             "grass",
             "render",
-            "--wind",
-            "vortex",
-            "--wind-strength",
-            "3.5",
-            "--shape",
-            "triangle",
-            "--look",
-            "paper",
-            "--no-lod",
-            "--no-cull-frustum",
-            "--buckets",
-            "5",
-            "--far-at-rest",
-            "--msaa",
-            "2",
+            "--seed",
+            "77",
             "--collider-path",
             "0,0;2,1",
             "--collider-speed",
             "2.5",
-            "--exposure",
-            "1.5",
-        ];
-        let first = Cli::try_parse_from(args).unwrap();
-        let mut settings = crate::app::settings(&first.common, &scene);
-        settings.look.shadows = true;
-        settings.compute_raster_below = 12.0;
-        let path = file("saved.toml", &current(&first.common, &settings));
-        let again = parse(&path, &[]).unwrap();
-        let mut read = crate::app::settings(&again.common, &scene);
-        // What the device decides at start, as the file states it.
-        read.look.shadows = again.common.shadows && !again.common.no_shadows;
-        read.compute_raster_below = again.common.cull.compute_raster_below.unwrap_or(0.0);
-        read.look.msaa = again.common.msaa.unwrap_or(1);
-        settings.look.msaa = first.common.msaa.unwrap_or(1);
-        assert_eq!(read, settings);
-        assert_eq!(again.common.collider_speed, 2.5);
-        assert_eq!(
-            again.common.collider_path.map(|p| p.points),
-            first.common.collider_path.map(|p| p.points)
+            "--collider-radius",
+            "0.75",
+            "--field",
+            "tiles",
+        ])
+        .unwrap();
+        let mut s = defaults;
+        s.gravity.acceleration = 3.0;
+        s.gravity.centre = Vec3::new(1.0, -30.0, 2.5);
+        s.gravity.centre_blend = 1.0;
+        s.wind.field = WindField::Vortex;
+        s.wind.strength = 3.5;
+        s.wind.direction = -40.25;
+        s.trample_decay = 0.5;
+        s.stiffness = 2.5;
+        s.cull.tests = CullTests::NONE;
+        s.cull.orientation_threshold = 0.7;
+        s.cull.frustum_tolerance = 1.25;
+        s.cull.max_distance = 123.5;
+        s.cull.buckets = 5;
+        s.lod.on = false;
+        s.lod.pixels_per_segment = 17.5;
+        s.lod.most = 5.0;
+        s.lod.fewest = 2.0;
+        s.view = View::Wireframe;
+        s.shape = BladeShape::TriangleTip;
+        s.tip_start = 0.3;
+        s.look.style = Look::Paper;
+        s.look.shadows = false;
+        s.look.msaa = 2;
+        s.look.exposure = 1.5;
+        s.look.fog_density = 0.004;
+        s.look.clump_size = 3.25;
+        s.look.seed = 77;
+        s.pipeline = GrassPipeline::Tess;
+        s.compute_raster_below = 12.0;
+        s.far_sway = false;
+        let viewer = ViewerState {
+            full_distance: Some(37.5),
+            ball: false,
+        };
+
+        let unchanged: Vec<String> = leaves(&format!("{defaults:#?}"))
+            .into_iter()
+            .zip(leaves(&format!("{s:#?}")))
+            .filter(|((path, a), (_, b))| {
+                a == b && !FROM_THE_SCENE.iter().any(|p| path.starts_with(p))
+            })
+            .map(|((path, _), _)| path)
+            .collect();
+        assert!(
+            unchanged.is_empty(),
+            "settings this test leaves at their defaults: {unchanged:?}; give each a key in \
+             the settings file (config::current, app::settings) and change it here"
         );
+        assert_ne!(viewer.full_distance, default_viewer.full_distance);
+        assert_ne!(viewer.ball, default_viewer.ball);
+
+        let path = file("saved.toml", &current(&first.common, &s, &viewer));
+        let again = parse(&path, &[]).unwrap();
+        let (read, read_viewer) = loaded(&again, &scene);
+        assert_eq!(read, s);
+        assert_eq!(read_viewer, viewer);
+        // The scene's own options come back too.
+        assert_eq!(plain_scene(again), plain_scene(first));
+    }
+
+    /// The options that choose the scene and the ball's path, as text.
+    fn plain_scene(cli: Cli) -> String {
+        let c = cli.common;
+        format!(
+            "{} {:?} {:?} {} {:?} {} {} {:?}",
+            c.scene,
+            c.blades,
+            c.density,
+            c.seed,
+            c.field,
+            c.collider_radius,
+            c.collider_speed,
+            c.collider_path.map(|p| p.points)
+        )
     }
 
     /// Each kind of bad file is refused, naming the file and the key, and the range

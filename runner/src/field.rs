@@ -159,8 +159,14 @@ const fn max(a: usize, b: usize) -> usize {
 /// Where a field's blades come from.
 #[derive(Copy, Clone, Debug)]
 pub enum FieldBlades<'a> {
-    /// These blades, uploaded once and simulated in place.
-    Stored(&'a [Blade]),
+    /// These blades, uploaded once and simulated in place, and the painted maps'
+    /// words (`shared::paint`; empty for none: the colour map is read on the GPU).
+    Stored {
+        /// The blades at rest.
+        blades: &'a [Blade],
+        /// The maps' words.
+        paint: &'a [u32],
+    },
     /// A tiled field (issue 19): room for `simulated` pool blades, simulated in
     /// place, then for `far` blades generated every frame, `tile_words` words of
     /// tile lists (`layout::BINDING_TILES`), and the painted density map's words
@@ -181,7 +187,7 @@ impl FieldBlades<'_> {
     /// Blades the field holds.
     pub fn count(&self) -> u64 {
         match *self {
-            Self::Stored(blades) => blades.len() as u64,
+            Self::Stored { blades, .. } => blades.len() as u64,
             Self::Tiled { simulated, far, .. } => u64::from(simulated) + u64::from(far),
         }
     }
@@ -304,12 +310,16 @@ impl Field {
         let blade_usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
         let no_map = [0u32; shared::paint::HEADER_WORDS];
         let paint_words = match source {
-            FieldBlades::Tiled { paint, .. } if !paint.is_empty() => paint,
+            FieldBlades::Tiled { paint, .. } | FieldBlades::Stored { paint, .. }
+                if !paint.is_empty() =>
+            {
+                paint
+            }
             _ => &no_map[..],
         };
-        let paint = Buffer::upload(ctx, pool, "density map", paint_words, U::STORAGE_BUFFER)?;
+        let paint = Buffer::upload(ctx, pool, "painted maps", paint_words, U::STORAGE_BUFFER)?;
         let (blade_buffer, simulated, tiles, ids) = match source {
-            FieldBlades::Stored(blades) => {
+            FieldBlades::Stored { blades, .. } => {
                 let buffer = Buffer::upload(ctx, pool, "blades", blades, blade_usage)?;
                 (buffer, count, None, None)
             }

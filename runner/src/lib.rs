@@ -131,6 +131,7 @@ pub mod collider;
 pub mod config;
 pub mod embed;
 pub mod field;
+pub mod files;
 pub mod paint;
 pub mod parse;
 pub mod passes;

@@ -1,7 +1,7 @@
-//! Painted maps read from PNG files (issue 19): `--density-map`, `--height-map`,
+//! Painted maps read from PNG files: `--density-map`, `--height-map`,
 //! `--colour-map` and `--type-map` lay an image over the world's square (its top row at −z):
 //! `shared::paint` says what each means. Every way a file can be unusable is an error
-//! naming the map and the file.
+//! naming the map and the file; files are opened through [`crate::files`].
 
 use anyhow::{Context as _, Result, bail};
 use image::codecs::png::PngDecoder;
@@ -10,6 +10,9 @@ use std::path::Path;
 
 /// Largest side of a map (pixels): 4096 × 4096 is 64 MiB of texels on the device.
 pub const MAX_SIDE: u32 = 4096;
+
+/// Most bytes a map's file may have: the largest map's texels, uncompressed, and some.
+pub const MAX_FILE_BYTES: u64 = (MAX_SIDE as u64 * MAX_SIDE as u64 * 4) * 2;
 
 /// One map: which (`shared::paint::DENSITY`, ...), its size and its RGBA texels.
 pub type Map = (usize, u32, u32, Vec<[u8; 4]>);
@@ -55,7 +58,11 @@ pub fn load(path: &Path, which: usize) -> Result<Map> {
 fn load_named(path: &Path, which: usize) -> Result<Map> {
     use std::io::{Read, Seek};
     let shown = path.display();
-    let mut file = std::fs::File::open(path).with_context(|| format!("{shown}: cannot open it"))?;
+    let (file, size) = crate::files::open(path).with_context(|| shown.to_string())?;
+    if size > MAX_FILE_BYTES {
+        bail!("{shown}: {size} bytes, more than the {MAX_FILE_BYTES} a map may have");
+    }
+    let mut file = file;
     // Every PNG starts with these eight bytes (PNG specification, 5.2); read first, so
     // that no other file (a device, a pipe) is read further.
     let mut signature = [0u8; 8];
@@ -141,9 +148,16 @@ mod tests {
         let missing = temp("missing.png");
         let error = format!("{:#}", load(&missing, 0).unwrap_err());
         assert!(
-            error.contains("cannot open") && error.contains("missing.png"),
+            error.contains("file not found") && error.contains("missing.png"),
             "{error}"
         );
+        // A named pipe is refused at once, never waited on for a writer.
+        let pipe = temp("pipe.png");
+        let _ = std::fs::remove_file(&pipe);
+        let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+        assert!(made.expect("run mkfifo").success());
+        let error = format!("{:#}", load(&pipe, 0).unwrap_err());
+        assert!(error.contains("named pipe"), "{error}");
         let text = temp("text.png");
         std::fs::write(&text, "not an image").unwrap();
         let error = format!("{:#}", load(&text, 0).unwrap_err());
@@ -186,7 +200,7 @@ mod tests {
             error.contains("more than 4096") && error.contains("huge.png"),
             "{error}"
         );
-        for p in [text, jpeg, deep, cut, huge] {
+        for p in [pipe, text, jpeg, deep, cut, huge] {
             std::fs::remove_file(p).ok();
         }
     }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{gpu_required, grass_with, scratch, stderr_of};
+use common::{grass_with, runs_here, scratch, stderr_of};
 
 /// A tiny headless render of 8 frames, with `env` set.
 fn render(env: &[(&str, &str)]) -> (Option<i32>, String) {
@@ -20,15 +20,10 @@ fn render(env: &[(&str, &str)]) -> (Option<i32>, String) {
     (o.status.code(), stderr_of(&args, &o))
 }
 
-/// True (and the test should stop) when there is no device and none is required.
-fn no_device_here() -> bool {
-    let (code, stderr) = render(&[]);
-    if code == Some(0) {
-        return false;
-    }
-    assert!(!gpu_required(), "a device is required: {stderr}");
-    eprintln!("skipped, no device: {stderr}");
-    true
+/// True (and the test should stop) where the probe finds no device and none is
+/// required.
+fn no_device_here(test: &str) -> bool {
+    !runs_here(test, &[])
 }
 
 #[test]
@@ -49,7 +44,7 @@ fn no_driver_is_a_clear_error() {
 
 #[test]
 fn a_missing_feature_is_named() {
-    if no_device_here() {
+    if no_device_here("a_missing_feature_is_named") {
         return;
     }
     for feature in [
@@ -69,7 +64,7 @@ fn a_missing_feature_is_named() {
 
 #[test]
 fn a_lost_device_ends_the_run_with_advice() {
-    if no_device_here() {
+    if no_device_here("a_lost_device_ends_the_run_with_advice") {
         return;
     }
     let (code, stderr) = render(&[("GRASS_FAULT", "device-lost:5")]);
@@ -81,7 +76,7 @@ fn a_lost_device_ends_the_run_with_advice() {
 
 #[test]
 fn the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back() {
-    if no_device_here() {
+    if no_device_here("the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back") {
         return;
     }
     let out = scratch("faults").join("mesh.png");
@@ -125,7 +120,8 @@ fn the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back() {
 
 #[test]
 fn the_compute_rasterizer_without_64_bit_atomics_is_named_and_the_default_runs() {
-    if no_device_here() {
+    if no_device_here("the_compute_rasterizer_without_64_bit_atomics_is_named_and_the_default_runs")
+    {
         return;
     }
     let out = scratch("faults").join("raster.png");

@@ -148,17 +148,12 @@ pub fn simulate_cull_natural(
         paint,
     };
     let camera = frame.camera.position;
-    let tiled = frame.grass.tiled != 0;
     let half = push.tiles.half_extent;
     let prepare = |index: u32, id: u32, kept: &Blade, paint: &[u32], at: Vec2| {
         let clump = Clump::unpack(clumps[index as usize]);
         let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
         // The painted colour map (white where there is none).
-        let colour = if tiled {
-            shared::paint::sample(paint, shared::paint::COLOUR, at, half)
-        } else {
-            Vec4::ONE
-        };
+        let colour = shared::paint::sample(paint, shared::paint::COLOUR, at, half);
         let tint = Vec4::new(
             tint.x * colour.x,
             tint.y * colour.y,
@@ -228,7 +223,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut prepared = T::default();
     let mut level = 0.0;
     let mut name = index;
-    // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`).
+    // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`; a
+    // stored one's: its root over the map square).
     let mut map_at = Vec2::ZERO;
     // A pool blade's width as its distance thins it, like a far one's: a blade its
     // rank has left is still simulated (its trail decays as if seen) but not drawn.
@@ -259,6 +255,8 @@ fn simulate_and_cull<T: Copy + Default>(
             }
         } else {
             in_field = kept(&blades[i]);
+            // A stored blade reads the maps at its root, over the map square.
+            map_at = shared::tiles::map_point(blades[i].root(), &push.tiles);
         }
     }
     let mut drawn = in_field;

@@ -1,4 +1,4 @@
-//! Painted maps (issue 19): 8-bit images laid over the world's square, read where a
+//! Painted maps: 8-bit images laid over the world's square, read where a
 //! blade grows: how dense the grass is ([`DENSITY`]), how tall ([`HEIGHT`]), what
 //! colour ([`COLOUR`]) and what grows there ([`TYPE`]: grass, dandelions, nothing). The maps travel in one set of `u32` words: a header of
 //! [`MAPS`] word offsets (0: no such map) and the loaded scene's surface table's
@@ -117,6 +117,35 @@ pub fn kind(set: &[u32], p: Vec2, half: f32) -> u32 {
     }
 }
 
+/// A stored field's `blade` as the maps of `set` have it at its map point `p`: `None`
+/// where the type map leaves the ground bare; else a dandelion's mark where it paints
+/// dandelions (two more turns, `shape::blade_shape`), and its height times the height
+/// map, as `tiles::tile_blade` makes a tile's blade.
+pub fn painted_blade(
+    blade: &crate::blade::Blade,
+    set: &[u32],
+    p: Vec2,
+    half: f32,
+) -> Option<crate::blade::Blade> {
+    let kind = kind(set, p, half);
+    if kind == KIND_BARE {
+        return None;
+    }
+    let turns = if kind == KIND_DANDELION {
+        crate::shape::DANDELION_TURNS
+    } else {
+        0.0
+    };
+    Some(crate::blade::Blade::at_rest(
+        blade.root(),
+        blade.up_dir(),
+        blade.orientation() + turns,
+        blade.height() * height_factor(set, p, half),
+        blade.width(),
+        blade.stiffness(),
+    ))
+}
+
 /// A set of maps, each `(which, width, height, RGBA texels row by row)`, as words.
 #[cfg(not(target_arch = "spirv"))]
 pub fn words(maps: &[(usize, u32, u32, &[[u8; 4]])]) -> Vec<u32> {
@@ -184,5 +213,36 @@ mod tests {
         assert_eq!(kind(&set, Vec2::new(1.1, 0.0), half), KIND_GRASS);
         assert_eq!(kind(&[], Vec2::ZERO, half), KIND_GRASS);
         assert_eq!(density(&[0, 0, 0], Vec2::ZERO, half), 1.0);
+    }
+
+    /// A stored blade under a type and a height map: gone on bare ground, two turns
+    /// more among dandelions, its height twice the height map's grey, the rest kept.
+    #[test]
+    fn a_stored_blade_takes_the_maps_at_its_root() {
+        use crate::blade::Blade;
+        use spirv_std::glam::Vec3;
+        let half = 3.0;
+        let types = grey(&[0, 128, 255]);
+        let heights = grey(&[255, 255, 64]);
+        let set = words(&[(TYPE, 3, 1, &types), (HEIGHT, 3, 1, &heights)]);
+        let at = |x: f32| Blade::at_rest(Vec3::new(x, 0.5, 0.0), Vec3::Y, 1.0, 0.8, 0.05, 2.0);
+        let map_point = |b: &Blade| Vec2::new(b.root().x, b.root().z);
+        let bare = at(-2.0);
+        assert!(painted_blade(&bare, &set, map_point(&bare), half).is_none());
+        let flower = at(0.0);
+        let painted = painted_blade(&flower, &set, map_point(&flower), half).unwrap();
+        assert!((painted.orientation() - (1.0 + crate::shape::DANDELION_TURNS)).abs() < 1e-5);
+        assert!((painted.height() - 1.6).abs() < 1e-5);
+        let grass = at(2.0);
+        let painted = painted_blade(&grass, &set, map_point(&grass), half).unwrap();
+        assert!((painted.orientation() - 1.0).abs() < 1e-5);
+        assert!((painted.height() - 0.8 * 2.0 * 64.0 / 255.0).abs() < 1e-5);
+        assert_eq!(painted.root(), grass.root());
+        assert_eq!((painted.width(), painted.stiffness()), (0.05, 2.0));
+        // No maps: the blade as it was.
+        assert_eq!(
+            painted_blade(&grass, &[], map_point(&grass), half),
+            Some(grass)
+        );
     }
 }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 pub use runner::vulkan::gpu_required;
+pub use runner::vulkan::probe::{Need, runs_here};
 
 /// One GPU test at a time in a test binary. Debian's validation layer (1.3.239) dies of
 /// a segmentation fault on the NVIDIA driver when validated instances work in several
@@ -22,9 +23,16 @@ fn gpu_lock() -> GpuGuard {
 
 /// Runs `test` with a Vulkan context under the validation layer (core and
 /// synchronization validation), then fails if the layer said anything, warnings too;
-/// or skips it (printing why) when there is no usable device or no layer, unless
-/// GRASS_REQUIRE_GPU=1, where that is a failure. Holds the GPU lock throughout.
+/// skips it where [`runs_here`] says so. Holds the GPU lock throughout.
 pub fn with_device(name: &str, test: impl FnOnce(Arc<Context>)) {
+    with_device_needing(name, &[], test);
+}
+
+/// [`with_device`] for a test that also needs `needs` (mesh shaders, 64-bit atomics).
+pub fn with_device_needing(name: &str, needs: &[Need], test: impl FnOnce(Arc<Context>)) {
+    if !runs_here(name, needs) {
+        return;
+    }
     let _gpu = gpu_lock();
     run_with_device(name, test);
 }
@@ -36,30 +44,25 @@ fn run_with_device(name: &str, test: impl FnOnce(Arc<Context>)) {
         validation: true,
         ..Default::default()
     };
-    match Context::new(options) {
-        Ok(ctx) => {
-            test(ctx.clone());
-            let messages = ctx.validation_messages();
-            assert_eq!(
-                messages, 0,
-                "{name}: the validation layer spoke (see the log)"
-            );
-        }
-        Err(e) if gpu_required() => {
-            panic!("{name}: GRASS_REQUIRE_GPU=1 but no usable Vulkan device: {e:#}")
-        }
-        Err(e) => eprintln!("{name}: skipped, no usable Vulkan device: {e:#}"),
-    }
+    let ctx = Context::new(options)
+        .unwrap_or_else(|e| panic!("{name}: the probe found a device, but: {e:#}"));
+    test(ctx.clone());
+    let messages = ctx.validation_messages();
+    assert_eq!(
+        messages, 0,
+        "{name}: the validation layer spoke (see the log)"
+    );
 }
 
 /// For tests that create their own contexts: the GPU lock, to hold for the whole test,
-/// when a device exists; `None` (skipping, or failing as [`with_device`] does) when
-/// not.
+/// where [`runs_here`] says the test runs; `None` where it skips.
 pub fn device_available(name: &str) -> Option<GpuGuard> {
-    let gpu = gpu_lock();
-    let mut found = false;
-    run_with_device(name, |_| found = true);
-    found.then_some(gpu)
+    device_needing(name, &[])
+}
+
+/// [`device_available`] for a test that also needs `needs`.
+pub fn device_needing(name: &str, needs: &[Need]) -> Option<GpuGuard> {
+    runs_here(name, needs).then(gpu_lock)
 }
 
 /// Folder where failing tests leave the images they compared.

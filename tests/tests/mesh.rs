@@ -4,7 +4,9 @@
 //! tessellator's fractional-odd rows (`shared::meshlet`), so blade edges move by a
 //! fraction of a pixel: the images agree within the stated tolerance, not exactly.
 
-use tests::{Difference, device_available, difference, grass_share, render_image, save_failure};
+use tests::{
+    Difference, Need, device_needing, difference, grass_share, render_image, save_failure,
+};
 
 /// Small images: lavapipe tessellates slowly.
 const SIZE: &str = "192";
@@ -54,7 +56,10 @@ fn both(name: &str, args: &str, mean: f64) -> Difference {
 
 #[test]
 fn mesh_and_tessellation_draw_the_same_field() {
-    let Some(_gpu) = device_available("mesh_and_tessellation_draw_the_same_field") else {
+    let Some(_gpu) = device_needing(
+        "mesh_and_tessellation_draw_the_same_field",
+        &[Need::MeshShaders],
+    ) else {
         return;
     };
     let common =
@@ -108,11 +113,8 @@ fn mesh_stage_vertices_equal_the_hosts() {
     };
     use shared::settings::{GrassPipeline, Look};
     use shared::shape::surface_point;
-    tests::with_device("mesh_stage_vertices_equal_the_hosts", |ctx| {
-        if let Err(why) = &ctx.mesh_shader {
-            println!("skipped: {why}");
-            return;
-        }
+    let name = "mesh_stage_vertices_equal_the_hosts";
+    tests::with_device_needing(name, &[tests::Need::MeshShaders], |ctx| {
         let scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(2048), 5, |_| {
             Ok(())
         })

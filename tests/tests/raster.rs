@@ -9,7 +9,7 @@ use shared::raster::{
     Coverage, EMPTY, in_front, is_wide, packed_depth, pixel_index, raster_blade, unpack,
 };
 use shared::settings::Look;
-use tests::grass_share;
+use tests::{Need, grass_share};
 
 /// The visibility buffer the GPU wrote for a frame with every visible blade far,
 /// against the host running `shared::raster` on the same blades and the same hardware
@@ -36,11 +36,8 @@ use tests::grass_share;
 /// here.)
 #[test]
 fn visibility_buffer_equals_the_hosts() {
-    tests::with_device("visibility_buffer_equals_the_hosts", |ctx| {
-        if let Err(why) = &ctx.int64_atomics {
-            println!("skipped: {why}");
-            return;
-        }
+    let name = "visibility_buffer_equals_the_hosts";
+    tests::with_device_needing(name, &[Need::Int64Atomics], |ctx| {
         let single = equal_to_the_hosts(&ctx, (160, 120), 1.0, 0.0, 1);
         equal_to_the_hosts(&ctx, (320, 240), 3.0, 0.5, 1);
         let multi = equal_to_the_hosts(&ctx, (160, 120), 1.0, 0.0, 4);
@@ -220,7 +217,8 @@ fn off_and_on(args: &str, below: f32) -> (tests::Difference, f64, f64, f64) {
 /// failed, 4.44 against 3.37.
 #[test]
 fn the_default_threshold_differs_no_more_than_a_third_of_a_pixel() {
-    let Some(_gpu) = tests::device_available("the_default_threshold_differs") else {
+    let Some(_gpu) = tests::device_needing("the_default_threshold_differs", &[Need::Int64Atomics])
+    else {
         return;
     };
     let below = runner::app::DEFAULT_COMPUTE_RASTER_BELOW_GPU;
@@ -277,7 +275,10 @@ fn the_default_threshold_differs_no_more_than_a_third_of_a_pixel() {
 /// changes; the rasterizer itself is checked pixel by pixel against the host above.
 #[test]
 fn the_compute_rasterizer_draws_the_field_the_hardware_draws() {
-    let Some(_gpu) = tests::device_available("the_compute_rasterizer_draws_the_field") else {
+    let Some(_gpu) = tests::device_needing(
+        "the_compute_rasterizer_draws_the_field",
+        &[Need::Int64Atomics],
+    ) else {
         return;
     };
     let size = "--blades 8192 --width 320 --height 240 --frames 3";
@@ -367,11 +368,8 @@ fn shared_mean_difference(a: &[u8], b: &[u8]) -> f64 {
 /// atomics, and gave 0.174 still (and 1.522 turning, within the first limit).
 #[test]
 fn the_compute_rasterizer_flickers_no_more_than_the_hardware() {
-    tests::with_device("the_compute_rasterizer_flickers_no_more", |ctx| {
-        if let Err(why) = &ctx.int64_atomics {
-            println!("skipped: {why}");
-            return;
-        }
+    let name = "the_compute_rasterizer_flickers_no_more";
+    tests::with_device_needing(name, &[Need::Int64Atomics], |ctx| {
         // A third of a pixel at 240 pixels high and a 45° field of view.
         let step = 0.33 * 45f32.to_radians() / 240.0;
         for look in [Look::Paper, Look::Natural] {
@@ -406,7 +404,7 @@ fn grey(p: &image::Rgba<u8>) -> bool {
 /// the nearest depth (0) instead of the blade's failed it (795 of 3,384).
 #[test]
 fn a_blade_behind_a_wall_is_drawn_by_neither_path() {
-    let Some(_gpu) = tests::device_available("a_blade_behind_a_wall") else {
+    let Some(_gpu) = tests::device_needing("a_blade_behind_a_wall", &[Need::Int64Atomics]) else {
         return;
     };
     let args = "--scene walls --look paper --blades 8192 --width 320 --height 240 --frames 3 \

@@ -149,6 +149,7 @@ impl FrameDriver {
         let index = self.next;
         crate::vulkan::fault::check_frame(self.frames_begun)
             .with_context(|| format!("wait for frame {}", self.frames_begun))?;
+        crate::vulkan::fault::leak_device(&self.ctx)?;
         self.frames_begun += 1;
         self.slots[index].fence.wait()?;
         self.read_back(index)?;

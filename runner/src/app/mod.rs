@@ -19,6 +19,7 @@ use crate::field::Field;
 use crate::scene::{BladeCount, Scene, SceneFile, SceneKind};
 use crate::tiles::TiledSpec;
 use crate::vulkan::Context;
+use crate::vulkan::probe::Capabilities;
 use anyhow::Result;
 use shared::settings::{GrassPipeline, Settings};
 
@@ -28,9 +29,116 @@ pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
 /// million triangles a second on two cores).
 pub const DEFAULT_BLADES_SOFTWARE: u32 = 2048;
 
+/// The options that do not act in a command, and why: (command, options, why). Each is
+/// refused where typed, and noted in the log where a settings file sets it.
+pub const NOT_ACTING: &[(&str, &[&str], &str)] = &[
+    (
+        "soak",
+        &[
+            "look",
+            "msaa",
+            "shadows",
+            "no-shadows",
+            "shape",
+            "view",
+            "wind",
+            "no-cull-orientation",
+            "no-cull-frustum",
+            "no-cull-distance",
+            "no-cull-occlusion",
+            "no-lod",
+        ],
+        "soak cycles it itself, with every other switch",
+    ),
+    (
+        "soak",
+        &["collider-path", "collider-speed"],
+        "soak's ball circles the camera's target (--collider-radius sizes it, --no-ball \
+         leaves it out)",
+    ),
+    (
+        "bench",
+        &[
+            "no-cull-orientation",
+            "no-cull-frustum",
+            "no-cull-distance",
+            "no-cull-occlusion",
+            "no-lod",
+        ],
+        "bench sets the culling and level of detail of each --configs entry",
+    ),
+    (
+        "bench",
+        &[
+            "collider-path",
+            "collider-radius",
+            "collider-speed",
+            "trample-decay",
+        ],
+        "bench runs without a ball",
+    ),
+];
+
+/// Refuses (or notes) what [`NOT_ACTING`] lists for `command`, every setting for
+/// `grass config` (which prints the defaults), and what does not apply to the field:
+/// all before any device is opened.
+fn check_options(command: &str, common: &Common) -> Result<()> {
+    let given = &common.given;
+    for (_, options, why) in NOT_ACTING.iter().filter(|(c, _, _)| *c == command) {
+        given.refuse(options, why)?;
+    }
+    if command == "config" {
+        let every: Vec<String> = crate::config::settable()
+            .iter()
+            .filter_map(|a| a.get_long().map(str::to_owned))
+            .collect();
+        let every: Vec<&str> = every.iter().map(String::as_str).collect();
+        return given.refuse(
+            &every,
+            "grass config prints every setting at its default (the viewer's \"save \
+             settings\" writes the running ones)",
+        );
+    }
+    let kind = common.scene_kind();
+    if tiled(common, &kind) {
+        given.refuse(
+            &["density"],
+            "a tiled field's blades come from its tiles, at their own density",
+        )?;
+        let sized = [
+            SceneKind::Plane,
+            SceneKind::Hills,
+            SceneKind::Walls,
+            SceneKind::Planet,
+        ];
+        if !sized.contains(&kind) {
+            given.refuse(
+                &["blades"],
+                "a tiled field's blades come from its tiles, and this scene has its own \
+                 size (--blades sizes the built-in plane, hills, walls and planet)",
+            )?;
+        }
+    } else {
+        given.refuse(
+            &["full-distance", "far-at-rest"],
+            "a stored field has no far tiles: it applies to a tiled field (--field tiles)",
+        )?;
+    }
+    Ok(())
+}
+
 /// Runs what the command line asks for.
 pub fn run(cli: Cli) -> Result<()> {
     cli.common.check()?;
+    let name = match &cli.command {
+        Some(Command::Render(_)) => "render",
+        Some(Command::Bench(_)) => "bench",
+        Some(Command::Soak(_)) => "soak",
+        Some(Command::Record(_)) => "record",
+        Some(Command::Config) => "config",
+        Some(Command::View(_)) | None => "view",
+    };
+    check_options(name, &cli.common)?;
     match cli.command {
         Some(Command::Render(args)) => render::run(&cli.common, &args).map(|_| ()),
         Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),
@@ -76,35 +184,16 @@ pub fn advice(error: &anyhow::Error) -> Option<&'static str> {
     })
 }
 
-/// Checks before any work that `path` can be written as a file with one of
-/// `extensions`: a folder that exists, not a folder itself.
-pub fn check_output(path: &std::path::Path, extensions: &[&str]) -> Result<()> {
-    let shown = path.display();
-    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if !extensions.iter().any(|e| e.eq_ignore_ascii_case(extension)) {
-        anyhow::bail!(
-            "output {shown}: expected a .{} file",
-            extensions.join(" or .")
-        );
-    }
-    if path.is_dir() {
-        anyhow::bail!("output {shown}: is a directory");
-    }
-    match path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        Some(parent) if !parent.is_dir() => {
-            anyhow::bail!("output {shown}: folder {} does not exist", parent.display())
-        }
-        _ => Ok(()),
-    }
-}
-
 /// The scene file (read and checked first, so a bad file fails without a GPU), then a
-/// headless context: how `render` and `bench` start.
-pub fn open_headless(common: &Common) -> Result<(Option<SceneFile>, std::sync::Arc<Context>)> {
+/// headless context, validated if `validation`: how `render`, `bench` and `soak` start.
+pub fn open_headless(
+    common: &Common,
+    validation: bool,
+) -> Result<(Option<SceneFile>, std::sync::Arc<Context>)> {
     let file = common.scene_kind().read()?;
     let ctx = Context::new(crate::vulkan::ContextOptions {
-        validation: common.validation_requested(),
-        checks: common.validation_checks,
+        validation,
+        checks: common.checks(),
         ..Default::default()
     })?;
     Ok((file, ctx))
@@ -133,8 +222,21 @@ pub fn prepare(
     ctx: &Context,
     file: Option<SceneFile>,
 ) -> Result<(Scene, Settings)> {
-    let count = blade_count(common, ctx);
-    let mut scene = Scene::build(&common.scene_kind(), file, count, common.seed, |n| {
+    let scene = build_scene(common, ctx, file, blade_count(common, ctx))?;
+    let settings = device_settings(common, &scene, ctx)?;
+    Ok((scene, settings))
+}
+
+/// The scene the command line asks for with `count` blades: built, grown at the look's
+/// blade size, painted, tiled where asked.
+pub fn build_scene(
+    common: &Common,
+    ctx: &Context,
+    file: Option<SceneFile>,
+    count: BladeCount,
+) -> Result<Scene> {
+    let kind = common.scene_kind();
+    let mut scene = Scene::build(&kind, file, count, common.seed, |n| {
         Field::check_limits(ctx, n)
     })?;
     let _ = scene.rescale(scene.scale_for(common.look));
@@ -152,7 +254,10 @@ pub fn prepare(
         common.type_map.as_deref(),
     )?;
     if tiled(common, &scene.kind) {
-        let spec = tiled_spec(&scene, ctx, scene.scale_for(common.look));
+        let mut spec = tiled_spec(&scene, ctx, scene.scale_for(common.look));
+        if let Some(distance) = common.full_distance {
+            spec.params.full_distance = distance;
+        }
         log::info!(
             "scene {}: tiled field, {:.2} M blades in the world, a pool of {} tiles \
              ({} blades simulated), room for {} far blades",
@@ -164,11 +269,17 @@ pub fn prepare(
         );
         scene.make_tiled(spec);
     } else {
-        scene.thin_by_paint();
+        scene.apply_paint();
         log::info!("scene {}: {} blades", scene.name, scene.blade_count());
     }
-    let mut settings = settings(common, &scene);
-    device_defaults(&mut settings, common, ctx)?;
+    Ok(scene)
+}
+
+/// The settings the command line asks for on `scene`, with what it leaves to the
+/// device `ctx` decided ([`device_defaults`]).
+pub fn device_settings(common: &Common, scene: &Scene, ctx: &Context) -> Result<Settings> {
+    let mut settings = settings(common, scene);
+    device_defaults(&mut settings, common, &ctx.capabilities())?;
     if scene.tiles.is_some() && ctx.is_software() && settings.cull.tests.occlusion {
         // Lavapipe spent 15 ms of a 720p valley frame on the occluders' depth and
         // pyramid, to remove 67 of 3,338 blades (README, "Grass to the horizon").
@@ -177,7 +288,7 @@ pub fn prepare(
             "software device, tiled field: occlusion test off (its pre-pass costs more than it saves)"
         );
     }
-    Ok((scene, settings))
+    Ok(settings)
 }
 
 /// Whether the field is tiled: `--field`, else on the valley only. Every scene can
@@ -271,6 +382,10 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s.look.shadows = !common.no_shadows;
     s.far_sway = !common.far_at_rest;
     s.look.exposure = common.exposure;
+    s.look.fog_density = common.fog_density;
+    if let Some(size) = common.clump_size {
+        s.look.clump_size = size;
+    }
     s.look.msaa = common.msaa.unwrap_or(1);
     s.look.seed = common.seed as u32;
     s
@@ -280,35 +395,40 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
 /// ([`grass_pipeline`]), samples per pixel ([`msaa`]) and sun
 /// shadows (`--shadows`, `--no-shadows`, else on a GPU only: lavapipe spends about a
 /// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
-pub fn device_defaults(settings: &mut Settings, common: &Common, ctx: &Context) -> Result<()> {
-    settings.pipeline = grass_pipeline(common.pipeline, ctx)?;
-    settings.compute_raster_below = match (common.cull.compute_raster_below, &ctx.int64_atomics) {
+pub fn device_defaults(
+    settings: &mut Settings,
+    common: &Common,
+    device: &Capabilities,
+) -> Result<()> {
+    settings.pipeline = grass_pipeline(common.pipeline, device)?;
+    settings.compute_raster_below = match (common.cull.compute_raster_below, &device.int64_atomics)
+    {
         (Some(below), Err(why)) if below > 0.0 => {
             anyhow::bail!(
                 "--compute-raster-below: {why} (64-bit atomics for its visibility buffer)"
             )
         }
         (Some(below), _) => below,
-        (None, Ok(())) if !ctx.is_software() => DEFAULT_COMPUTE_RASTER_BELOW_GPU,
+        (None, Ok(())) if !device.software => DEFAULT_COMPUTE_RASTER_BELOW_GPU,
         (None, _) => 0.0,
     };
-    settings.look.msaa = msaa(common, ctx);
+    settings.look.msaa = msaa(common, device.software);
     settings.look.shadows = if common.no_shadows {
         false
     } else {
-        common.shadows || !ctx.is_software()
+        common.shadows || !device.software
     };
     Ok(())
 }
 
-/// The grass pipeline `choice` names on `ctx`: `mesh` is an error naming what the
+/// The grass pipeline `choice` names on `device`: `mesh` is an error naming what the
 /// device lacks; `auto` takes the mesh path wherever the device has it, measured the
 /// faster on every device and look (README, "Mesh shaders": lavapipe 2.9 to 4.5 times,
 /// the NVIDIA H100 1.6 to 1.7 times with the paper look at the edge camera and 1.1 to
 /// 1.2 times with the natural look), else tessellation. The log says which it took
 /// and why.
-pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context) -> Result<GrassPipeline> {
-    let missing = ctx.mesh_shader.as_ref().err().map(String::as_str);
+pub fn grass_pipeline(choice: PipelineChoice, device: &Capabilities) -> Result<GrassPipeline> {
+    let missing = device.mesh_shader.as_ref().err().map(String::as_str);
     let (pipeline, why) = match (choice, missing) {
         (PipelineChoice::Tess, _) => (GrassPipeline::Tess, "--pipeline tess"),
         (PipelineChoice::Mesh, None) => (GrassPipeline::Mesh, "--pipeline mesh"),
@@ -325,9 +445,9 @@ pub fn grass_pipeline(choice: PipelineChoice, ctx: &Context) -> Result<GrassPipe
     Ok(pipeline)
 }
 
-/// Samples per pixel: `--msaa`, else the device's default.
-pub fn msaa(common: &Common, ctx: &Context) -> u32 {
-    common.msaa.unwrap_or(if ctx.is_software() {
+/// Samples per pixel: `--msaa`, else the default of a device, `software` or not.
+pub fn msaa(common: &Common, software: bool) -> u32 {
+    common.msaa.unwrap_or(if software {
         DEFAULT_MSAA_SOFTWARE
     } else {
         DEFAULT_MSAA_GPU

@@ -29,6 +29,9 @@ pub struct Readings {
     pub pool: Option<PoolStats>,
     /// Something the user should know, shown above everything (a device made again).
     pub notice: Option<String>,
+    /// What became of the last screenshot or settings file: where it went, or why it
+    /// was not written (`true`).
+    pub saved: Option<(String, bool)>,
 }
 
 /// egui's output for one frame, ready for the overlay pass.
@@ -145,6 +148,14 @@ impl Overlay {
 fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) {
     if let Some(notice) = &r.notice {
         ui.colored_label(Color32::from_rgb(255, 170, 60), notice);
+    }
+    if let Some((said, failed)) = &r.saved {
+        let colour = if *failed {
+            Color32::from_rgb(255, 90, 80)
+        } else {
+            Color32::from_rgb(150, 220, 150)
+        };
+        ui.colored_label(colour, said);
     }
     let last = frame_ms.last().copied().unwrap_or(0.0);
     ui.label(format!("{:.1} fps, {last:.2} ms ({device})", r.fps));

@@ -76,9 +76,9 @@ impl Presenter {
 }
 
 impl Presenter {
-    /// Writes the frame copied for a screenshot (wait for it first) as a PNG in
-    /// `folder`, named by the time (`grass-<seconds since 1970>.png`), and returns its
-    /// path; the request is then done.
+    /// Writes the frame copied for a screenshot (wait for it first) as a new PNG in
+    /// `folder`, named by the time (`grass-<seconds since 1970>.png`, `-2`, `-3`, ...
+    /// added when that is taken), and returns its path; the request is then done.
     pub fn save_screenshot(&mut self, folder: &Path) -> Result<PathBuf> {
         self.screenshot = false;
         let (buffer, extent) = self.capture.as_ref().context("no screenshot was taken")?;
@@ -103,16 +103,13 @@ impl Presenter {
         let seconds = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
-        let path = folder.join(format!("grass-{seconds}.png"));
-        image::save_buffer(
-            &path,
+        crate::files::save_png_new(
+            folder,
+            &format!("grass-{seconds}"),
             &pixels,
-            extent.width,
-            extent.height,
+            (extent.width, extent.height),
             image::ColorType::Rgba8,
         )
-        .with_context(|| format!("write {}", path.display()))?;
-        Ok(path)
     }
 }
 

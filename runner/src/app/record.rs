@@ -27,7 +27,7 @@ impl Clip {
         let shown = out.display();
         let extension = out.extension().and_then(|e| e.to_str()).unwrap_or("");
         let file = |clip: fn(PathBuf) -> Clip| -> Result<Clip> {
-            super::check_output(out, &["gif", "mp4"])?;
+            crate::files::check_output(out, &["gif", "mp4"])?;
             Ok(clip(out.to_path_buf()))
         };
         match extension.to_ascii_lowercase().as_str() {
@@ -60,7 +60,7 @@ impl Sink {
     fn open(clip: &Clip, (width, height): (u32, u32), fps: u32) -> Result<Self> {
         Ok(match clip {
             Clip::Gif(path) => {
-                let file = std::fs::File::create(path)
+                let file = crate::files::create(path)
                     .with_context(|| format!("write {}", path.display()))?;
                 let mut encoder = gif::Encoder::new(
                     std::io::BufWriter::new(file),
@@ -119,8 +119,7 @@ impl Sink {
             }
             Sink::Pngs(dir) => {
                 let path = dir.join(format!("frame_{index:05}.png"));
-                image::save_buffer(&path, pixels, w, h, image::ColorType::Rgba8)
-                    .with_context(|| format!("write {}", path.display()))?;
+                crate::files::save_png(&path, pixels, (w, h), image::ColorType::Rgba8)?;
             }
         }
         Ok(())

@@ -5,7 +5,7 @@ use super::headless::{FORMAT, Offscreen};
 use crate::cli::{Common, RenderArgs};
 use crate::collider::Ball;
 use crate::renderer::{CullCounts, PassTimes, Renderer};
-use anyhow::{Context as _, Result, bail};
+use anyhow::{Result, bail};
 
 /// What a headless render produced.
 pub struct RenderReport {
@@ -27,16 +27,14 @@ pub struct RenderReport {
 
 /// Renders as `args` asks and writes the PNG.
 pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
-    super::check_output(&args.out, &["png"])?;
+    crate::files::check_output(&args.out, &["png"])?;
     let report = render(common, args)?;
-    image::save_buffer(
+    crate::files::save_png(
         &args.out,
         &report.pixels,
-        args.width,
-        args.height,
+        (args.width, args.height),
         image::ColorType::Rgba8,
-    )
-    .with_context(|| format!("write {}", args.out.display()))?;
+    )?;
     log::info!(
         "wrote {} ({}x{}, {} frames, {} of {} blades visible)",
         args.out.display(),
@@ -119,9 +117,10 @@ pub fn camera_path(
 }
 
 /// The ball's sphere at simulated `time` along the command line's collider path, if
-/// there is one.
+/// there is one (and no `--no-ball`).
 pub fn ball_at(common: &Common, scene: &crate::scene::Scene, time: f32) -> Vec<glam::Vec4> {
-    let ball = common.collider_path.as_ref().and_then(|path| {
+    let path = common.collider_path.as_ref().filter(|_| !common.no_ball);
+    let ball = path.and_then(|path| {
         let travelled = common.collider_speed * time;
         Ball::dropped(&scene.solid, path.at(travelled), common.collider_radius)
     });
@@ -154,7 +153,7 @@ impl Headless {
         (width, height): (u32, u32),
         camera: &crate::cli::CameraArgs,
     ) -> Result<Self> {
-        let (file, ctx) = super::open_headless(common)?;
+        let (file, ctx) = super::open_headless(common, common.validation_requested())?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
         let offscreen = Offscreen::new(&ctx, width, height)?;
         let driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;

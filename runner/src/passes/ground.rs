@@ -1,6 +1,7 @@
 //! The surfaces: the scene's ground mesh and the collider balls, from one vertex and
 //! one index buffer, textured and lit in the fragment stage.
 
+use super::by_target::ByTarget;
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
@@ -52,7 +53,8 @@ impl MeshSet {
 
 /// The surface pipelines and their meshes.
 pub struct GroundPass {
-    pipeline: Pipeline,
+    /// The lit surfaces, for each draw target.
+    pipeline: ByTarget<Pipeline>,
     /// Depth only, for the occluder pre-pass.
     depth_only: Pipeline,
     vertices: Buffer,
@@ -120,7 +122,10 @@ impl GroundPass {
         )?;
         let indices = Buffer::upload(ctx, pool, "surface indices", &set.indices, U::INDEX_BUFFER)?;
         let one = vk::SampleCountFlags::TYPE_1;
-        let pipeline = Self::pipeline(ctx, module, field, color_format, one)?;
+        let pipeline = ByTarget::new(
+            (color_format, one),
+            Self::pipeline(ctx, module, field, color_format, one)?,
+        );
         let depth_only = Self::pipeline(ctx, module, field, vk::Format::UNDEFINED, one)?;
         Ok(Self {
             pipeline,
@@ -168,8 +173,8 @@ impl GroundPass {
         Pipeline::graphics(ctx, &desc)
     }
 
-    /// Builds the lit pipeline again for colour targets of `color_format` with
-    /// `samples` samples. No frame may be in flight.
+    /// Uses the lit pipeline for colour targets of `color_format` with `samples`
+    /// samples, made the first time it is asked for. No frame may be in flight.
     pub fn retarget(
         &mut self,
         ctx: &Arc<Context>,
@@ -178,14 +183,15 @@ impl GroundPass {
         color_format: vk::Format,
         samples: vk::SampleCountFlags,
     ) -> Result<()> {
-        self.pipeline = Self::pipeline(ctx, module, field, color_format, samples)?;
-        Ok(())
+        self.pipeline.select((color_format, samples), || {
+            Self::pipeline(ctx, module, field, color_format, samples)
+        })
     }
 
     /// Records the ground and one ball per collider (centre xyz, radius w) inside the
     /// frame's rendering scope.
     pub fn record(&self, rec: &Recorder, field: &Field, balls: &[Vec4]) {
-        self.record_with(&self.pipeline, rec, field, balls);
+        self.record_with(self.pipeline.current(), rec, field, balls);
     }
 
     /// Records the ground's depth alone (the occluders of the occlusion test) inside

@@ -26,6 +26,7 @@
 //!
 //! [`throughput`] is no part of a frame: the benchmark's triangle reference.
 
+pub mod by_target;
 pub mod grass;
 pub mod ground;
 pub mod occlusion;

@@ -6,6 +6,7 @@
 //! full-screen draw shades each pixel a far blade won and writes its depth, so the
 //! depth test composites the two paths.
 
+use super::by_target::ByTarget;
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
@@ -35,7 +36,8 @@ pub struct RasterPass {
     far: Option<(Pipeline, Pipeline)>,
     /// The preparation, single-sample and multisampled.
     prepare: Option<(Pipeline, Pipeline)>,
-    resolve: Option<Resolve>,
+    /// The resolve's, for each draw target.
+    resolve: Option<ByTarget<Resolve>>,
     visibility: Option<Buffer>,
     hardware_depth: Option<Buffer>,
 }
@@ -86,7 +88,8 @@ impl RasterPass {
         self.far.is_some()
     }
 
-    /// The resolve's pipelines for colour targets of `color_format` with `samples`.
+    /// Uses the resolve's pipelines for colour targets of `color_format` with
+    /// `samples`, made the first time they are asked for.
     pub fn retarget(
         &mut self,
         module: &ShaderModules,
@@ -113,11 +116,18 @@ impl RasterPass {
             };
             Pipeline::graphics(&self.ctx, &desc)
         };
-        self.resolve = Some(Resolve {
-            paper: make(shaders::RESOLVE_PAPER_FS)?,
-            lod: make(shaders::RESOLVE_LOD_FS)?,
-            natural: make(shaders::RESOLVE_NATURAL_FS)?,
-        });
+        let make_all = || -> Result<Resolve> {
+            Ok(Resolve {
+                paper: make(shaders::RESOLVE_PAPER_FS)?,
+                lod: make(shaders::RESOLVE_LOD_FS)?,
+                natural: make(shaders::RESOLVE_NATURAL_FS)?,
+            })
+        };
+        let target = (color_format, samples);
+        match &mut self.resolve {
+            Some(kept) => kept.select(target, make_all)?,
+            None => self.resolve = Some(ByTarget::new(target, make_all()?)),
+        }
         Ok(())
     }
 
@@ -224,7 +234,7 @@ impl RasterPass {
     /// Records the resolve inside its rendering scope, in `view` and the look
     /// `style`.
     pub fn record_resolve(&self, rec: &Recorder, field: &Field, view: u32, style: u32) {
-        let Some(resolve) = &self.resolve else {
+        let Some(resolve) = self.resolve.as_ref().map(ByTarget::current) else {
             return;
         };
         let pipeline = match (view == VIEW_LOD, style == LOOK_NATURAL) {

@@ -73,7 +73,7 @@ impl Renderer {
         };
         rec.begin_rendering_with(&loaded, extent);
         let grass = &uniforms.grass;
-        self.grass.record(
+        self.grass.current().record(
             rec,
             &self.field,
             grass.view,

@@ -62,7 +62,7 @@ impl Renderer {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let descriptors = &self.field.descriptors;
         descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, target);
-        self.grass.capturing = buffer.is_some();
+        self.grass.current_mut().capturing = buffer.is_some();
         Ok(())
     }
 

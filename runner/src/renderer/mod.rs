@@ -13,6 +13,7 @@ pub mod targets;
 pub use readback::{CullCounts, FrameQueries, Mark, PassTimes, Readback};
 
 use crate::field::{Field, FieldBlades};
+use crate::passes::by_target::ByTarget;
 use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::passes::occlusion::OcclusionPass;
@@ -109,8 +110,11 @@ pub struct Meshes<'a> {
     pub has_occluders: bool,
     /// A tiled field's layout: then `blades` is empty and the blades come from tiles.
     pub tiles: Option<TiledSpec>,
-    /// A tiled field's painted density map (`shared::paint` words; empty for none).
+    /// The painted maps (`shared::paint` words; empty for none).
     pub paint: &'a [u32],
+    /// A stored field's map square: its centre (x, z) and half its side
+    /// (`Scene::paint_square`); a tiled field's is its layout's.
+    pub paint_square: (glam::Vec2, f32),
     /// The valley's half extent: its ground is drawn as a grid around the camera on
     /// its height field rather than from `surface` (`passes::ground`).
     pub valley: Option<f32>,
@@ -123,10 +127,13 @@ pub struct Renderer {
     pub field: Field,
     simulate: SimulatePass,
     ground: GroundPass,
-    grass: GrassPass,
+    grass: ByTarget<GrassPass>,
     raster: RasterPass,
     /// A tiled field's generation.
     pub tiles: Option<TilesPass>,
+    /// Where a stored field reads its painted maps: the map square's centre and half
+    /// side (a tiled field's layout has its own).
+    stored_maps: shared::tiles::TileParams,
     occlusion: OcclusionPass,
     /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
     pub has_occluders: bool,
@@ -158,7 +165,10 @@ impl Renderer {
                     tile_words: spec.tile_words(),
                 }
             }
-            None => FieldBlades::Stored(meshes.blades),
+            None => FieldBlades::Stored {
+                blades: meshes.blades,
+                paint: meshes.paint,
+            },
         };
         let field = Field::new(ctx, &pool, source)?;
         let module = ShaderModules::new(ctx, shaders::MODULES)?;
@@ -183,7 +193,10 @@ impl Renderer {
         )?;
         let one = vk::SampleCountFlags::TYPE_1;
         let raster = RasterPass::new(ctx, &module, &field, color_format, one)?;
-        let grass = GrassPass::new(ctx, &module, &field, color_format, one)?;
+        let grass = ByTarget::new(
+            (color_format, one),
+            GrassPass::new(ctx, &module, &field, color_format, one)?,
+        );
         let occlusion = OcclusionPass::new(ctx, &module, &field)?;
         let shadow = ShadowPass::new(ctx, &pool, &module, &field)?;
         let tonemap = ToneMapPass::new(ctx, &module, color_format)?;
@@ -195,6 +208,11 @@ impl Renderer {
             grass,
             raster,
             tiles,
+            stored_maps: shared::tiles::TileParams {
+                centre: meshes.paint_square.0,
+                half_extent: meshes.paint_square.1,
+                ..Default::default()
+            },
             occlusion,
             has_occluders: meshes.has_occluders,
             shadow,
@@ -269,7 +287,9 @@ impl Renderer {
             let (ctx, module, field) = (&self.ctx, &self.module, &self.field);
             self.ground
                 .retarget(ctx, module, field, drawn_into.0, samples)?;
-            self.grass = GrassPass::new(ctx, module, field, drawn_into.0, samples)?;
+            self.grass.select((drawn_into.0, samples), || {
+                GrassPass::new(ctx, module, field, drawn_into.0, samples)
+            })?;
             self.raster.retarget(module, field, drawn_into.0, samples)?;
             self.drawn_into = drawn_into;
         }
@@ -432,7 +452,7 @@ impl Renderer {
         stamp(Mark::SimulateCull);
         if natural && uniforms.look.shadows != 0 {
             self.shadow
-                .record(rec, &self.field, &self.ground, &self.grass, balls);
+                .record(rec, &self.field, &self.ground, self.grass.current(), balls);
         }
         stamp(Mark::Shadow);
     }
@@ -453,7 +473,10 @@ impl Renderer {
                 tiles: tiles.spec().params,
                 ..push
             },
-            None => push,
+            None => SimulatePush {
+                tiles: self.stored_maps,
+                ..push
+            },
         }
     }
 
@@ -582,7 +605,9 @@ impl Renderer {
         }
         let (view, style) = (uniforms.grass.view, uniforms.look.style);
         let pipeline = uniforms.grass.pipeline;
-        self.grass.record(rec, &self.field, view, style, pipeline);
+        self.grass
+            .current()
+            .record(rec, &self.field, view, style, pipeline);
         if let Some(pool) = triangles {
             rec.end_query(pool);
         }

@@ -72,6 +72,9 @@ pub struct Scene {
     pub kind: SceneKind,
     /// The blades at rest.
     pub blades: Vec<Blade>,
+    /// Blades grown before the painted maps thinned them (what [`Self::rescale`]
+    /// grows again).
+    pub grown: u32,
     /// Where grass grows (drawn as soil).
     pub surface: SurfaceMesh,
     /// Drawn without grass (rock).
@@ -93,11 +96,10 @@ pub struct Scene {
     pub blade_scale: f32,
     /// Seed of the blades.
     pub seed: u64,
-    /// A tiled field's layout (issue 19): then `blades` is empty and the blades come
-    /// from tiles every frame.
+    /// A tiled field's layout: then `blades` is empty and the blades come from tiles
+    /// every frame.
     pub tiles: Option<TiledSpec>,
-    /// The painted density map laid over the world (`shared::paint` words; empty for
-    /// none).
+    /// The painted maps laid over the world (`shared::paint` words; empty for none).
     pub paint: Vec<u32>,
 }
 
@@ -237,6 +239,7 @@ impl Scene {
             name,
             kind: kind.clone(),
             blades: scatter_scaled(&surface, blades, seed, 1.0),
+            grown: blades,
             natural_scale,
             blade_scale: 1.0,
             seed,
@@ -262,25 +265,42 @@ impl Scene {
         }
     }
 
-    /// A stored field under a density map (`paint`): each blade kept with the
-    /// probability the map reads at its root (by a hash of its index), the map laid
-    /// over the square around the ground's centre.
-    pub fn thin_by_paint(&mut self) {
-        if self.paint.len() <= shared::paint::HEADER_WORDS || self.tiles.is_some() {
-            return;
-        }
+    /// The square a stored field's painted maps are laid over: its centre (x, z) and
+    /// half its side, the ground's seen from above.
+    pub fn paint_square(&self) -> (glam::Vec2, f32) {
         let Some((lo, hi)) = self.surface.bounds() else {
-            return;
+            return (glam::Vec2::ZERO, 1.0);
         };
         let centre = 0.5 * (lo + hi);
-        let half = 0.5 * (hi.x - lo.x).max(hi.z - lo.z);
+        (centre.xz(), 0.5 * (hi.x - lo.x).max(hi.z - lo.z))
+    }
+
+    /// A stored field under its painted maps (`paint`, over [`Self::paint_square`]):
+    /// each blade kept with the probability the density map reads at its root (by a
+    /// hash of its index); then, under a type or height map, gone from bare ground,
+    /// made a dandelion, its height scaled (`shared::paint::painted_blade`). The colour
+    /// map is read on the GPU, at the same point.
+    pub fn apply_paint(&mut self) {
+        use shared::paint::{HEADER_WORDS, HEIGHT, TYPE, has, painted_blade};
+        if self.paint.len() <= HEADER_WORDS || self.tiles.is_some() {
+            return;
+        }
+        let (centre, half) = self.paint_square();
+        let at = |b: &Blade| b.root().xz() - centre;
         let mut index = 0u32;
+        let paint = &self.paint;
         self.blades.retain(|b| {
             index += 1;
-            let p = (b.root() - centre).xz();
             shared::look::hash_unit(index.wrapping_mul(0x9e37_79b9))
-                < shared::paint::density(&self.paint, p, half)
+                < shared::paint::density(paint, at(b), half)
         });
+        if has(paint, TYPE) || has(paint, HEIGHT) {
+            self.blades = self
+                .blades
+                .iter()
+                .filter_map(|b| painted_blade(b, paint, at(b), half))
+                .collect();
+        }
     }
 
     /// The ground's lowest and highest points.
@@ -298,9 +318,9 @@ impl Scene {
         if scale == self.blade_scale || self.tiles.is_some() {
             return false;
         }
-        let count = self.blades.len() as u32;
-        self.blades = scatter_scaled(&self.surface, count, self.seed, scale);
+        self.blades = scatter_scaled(&self.surface, self.grown, self.seed, scale);
         self.blade_scale = scale;
+        self.apply_paint();
         true
     }
 
@@ -351,6 +371,7 @@ impl Scene {
             has_occluders: self.has_occluders(),
             tiles: self.tiles,
             paint: &self.paint,
+            paint_square: self.paint_square(),
             valley: (self.kind == SceneKind::Valley).then_some(0.5 * VALLEY_SIDE),
         }
     }

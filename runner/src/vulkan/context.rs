@@ -139,7 +139,7 @@ struct ValidationCounts {
     messages: AtomicU32,
 }
 
-const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+pub(super) const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
 impl Context {
     /// Loads Vulkan, creates the instance (with validation if asked) and the device
@@ -313,6 +313,16 @@ impl Context {
         name_of(&self.properties)
     }
 
+    /// What the renderer's choices depend on in this device.
+    pub fn capabilities(&self) -> super::probe::Capabilities {
+        super::probe::Capabilities {
+            name: self.device_name(),
+            software: self.is_software(),
+            mesh_shader: self.mesh_shader.as_ref().map(|_| ()).map_err(Clone::clone),
+            int64_atomics: self.int64_atomics.clone(),
+        }
+    }
+
     /// True for a software rasteriser such as lavapipe.
     pub fn is_software(&self) -> bool {
         self.properties.device_type == vk::PhysicalDeviceType::CPU
@@ -426,7 +436,7 @@ fn create_surface(
 
 /// The first discrete GPU, else the first other device, that has Vulkan 1.3, every
 /// feature and a graphics + compute queue (able to present, with a surface).
-fn pick_device(
+pub(super) fn pick_device(
     instance: &ash::Instance,
     surface_fn: &khr::surface::Instance,
     surface: Option<vk::SurfaceKHR>,

@@ -2,7 +2,8 @@
 //! rarely: `GRASS_FAULT=missing-feature:<name>` makes every device lack that feature,
 //! `GRASS_FAULT=device-lost:<frame>` makes the wait for that frame report
 //! `VK_ERROR_DEVICE_LOST`, `GRASS_FAULT=leak:<bytes>` leaks that much host memory a
-//! frame (what the soak's memory check must catch). Unset (the normal case), nothing
+//! frame and `GRASS_FAULT=device-leak:<bytes>` a device buffer of that size a frame
+//! (what the soak's memory checks must catch). Unset (the normal case), nothing
 //! changes.
 
 use ash::vk;
@@ -22,10 +23,14 @@ pub enum Fault {
     DeviceLost(u64),
     /// This many bytes of host memory are leaked (written, never freed) every frame.
     Leak(usize),
+    /// A device buffer of this many bytes is leaked (made, never destroyed) every
+    /// frame.
+    DeviceLeak(u64),
 }
 
 impl Fault {
-    /// Parses `missing-feature:<name>` or `device-lost:<frame>`.
+    /// Parses `missing-feature:<name>`, `device-lost:<frame>`, `leak:<bytes>` or
+    /// `device-leak:<bytes>`.
     pub fn parse(s: &str) -> Result<Self, String> {
         match s.trim().split_once(':') {
             Some(("missing-feature", name)) if !name.is_empty() => {
@@ -39,9 +44,13 @@ impl Fault {
                 .parse()
                 .map(Fault::Leak)
                 .map_err(|_| format!("GRASS_FAULT: \"{bytes}\" is not a byte count")),
+            Some(("device-leak", bytes)) => bytes
+                .parse()
+                .map(Fault::DeviceLeak)
+                .map_err(|_| format!("GRASS_FAULT: \"{bytes}\" is not a byte count")),
             _ => Err(format!(
                 "GRASS_FAULT: \"{s}\" is none of missing-feature:<name>, device-lost:<frame>, \
-                 leak:<bytes>"
+                 leak:<bytes>, device-leak:<bytes>"
             )),
         }
     }
@@ -81,6 +90,22 @@ pub fn check_frame(frame: u64) -> Result<(), vk::Result> {
     }
 }
 
+/// Leaks a device buffer when `GRASS_FAULT` asks for `device-leak:<bytes>`: made in
+/// device memory and never destroyed.
+pub fn leak_device(ctx: &std::sync::Arc<super::Context>) -> anyhow::Result<()> {
+    if let Some(Fault::DeviceLeak(bytes)) = injected() {
+        let buffer = super::Buffer::new(
+            ctx,
+            "planted device leak",
+            *bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            gpu_allocator::MemoryLocation::GpuOnly,
+        )?;
+        std::mem::forget(buffer);
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +117,10 @@ mod tests {
             Ok(Fault::MissingFeature("tessellationShader".into()))
         );
         assert_eq!(Fault::parse("device-lost:12"), Ok(Fault::DeviceLost(12)));
+        assert_eq!(
+            Fault::parse("device-leak:65536"),
+            Ok(Fault::DeviceLeak(65536))
+        );
         assert!(
             Fault::parse("device-lost:soon")
                 .unwrap_err()

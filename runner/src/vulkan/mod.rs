@@ -9,6 +9,7 @@ pub mod fault;
 pub mod features;
 pub mod image;
 pub mod pipeline;
+pub mod probe;
 pub mod query;
 pub mod recorder;
 pub mod sampler;

@@ -1,6 +1,6 @@
 //! What the command-line tests share: running the `grass` binary and scratch folders.
 
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -13,6 +13,7 @@ pub fn scratch(name: &str) -> PathBuf {
 }
 
 pub use runner::vulkan::gpu_required;
+pub use runner::vulkan::probe::{Need, runs_here};
 
 /// Runs `grass` with `args` and extra environment variables.
 pub fn grass_with(args: &[&str], env: &[(&str, &str)]) -> Output {

@@ -37,7 +37,7 @@ fn save(
         draw(&root)?;
         root.present().map_err(|e| anyhow!("{e}"))?;
     }
-    image::save_buffer(path, &pixels, SIZE.0, SIZE.1, image::ColorType::Rgb8)?;
+    crate::files::save_png(path, &pixels, SIZE, image::ColorType::Rgb8)?;
     Ok(())
 }
 

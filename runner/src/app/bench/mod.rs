@@ -18,7 +18,7 @@ use crate::camera::OrbitCamera;
 use crate::cli::{BenchArgs, BenchConfig, CameraPreset, Common};
 use crate::field::Field;
 use crate::renderer::{PassTimes, Renderer};
-use crate::scene::{BladeCount, Scene};
+use crate::scene::{BladeCount, Scene, SceneKind};
 use crate::vulkan::Context;
 use anyhow::{Context as _, Result};
 use glam::Vec3;
@@ -63,19 +63,30 @@ pub fn configure(settings: &mut Settings, config: BenchConfig) {
     settings.lod.on = lod;
 }
 
-/// The blade counts to sweep: as asked, else powers of two from 2^10 to 2^22, up to
-/// what the device's buffers hold (and [`SOFTWARE_MAX_BLADES`] on a software device).
-fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
-    if let Some(n) = common.blades {
-        return vec![n];
-    }
-    // A tiled field is one world, whatever the count (the stored blades of a count
-    // of one are dropped).
-    if super::tiled(common, &common.scene_kind()) {
-        return vec![1];
-    }
+/// The blade counts to sweep: `--blades` or `--density` alone, else `--counts`, else
+/// powers of two from 2^10 to 2^22, up to what the device's buffers hold (and
+/// [`SOFTWARE_MAX_BLADES`] on a software device). A tiled field is one world: its
+/// count is its tiles'.
+fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Result<Vec<BladeCount>> {
+    let tiled = super::tiled(common, &common.scene_kind());
     if !args.counts.is_empty() {
-        return args.counts.clone();
+        if tiled {
+            anyhow::bail!("--counts: a tiled field is one world, its blades its tiles'");
+        }
+        if common.blade_count().is_some() {
+            anyhow::bail!("--counts conflicts with --blades and --density (one count)");
+        }
+        for &n in &args.counts {
+            Field::check_limits(ctx, u64::from(n))?;
+        }
+        return Ok(args.counts.iter().map(|&n| BladeCount::Total(n)).collect());
+    }
+    if let Some(count) = common.blade_count() {
+        return Ok(vec![count]);
+    }
+    // The stored blades of a count of one are dropped for the tiles.
+    if tiled {
+        return Ok(vec![BladeCount::Total(1)]);
     }
     let cap = if ctx.is_software() {
         log::info!(
@@ -86,20 +97,18 @@ fn counts(common: &Common, args: &BenchArgs, ctx: &Context) -> Vec<u32> {
     } else {
         u32::MAX
     };
-    (10..=22)
+    Ok((10..=22)
         .map(|p| 1u32 << p)
         .filter(|&n| n <= cap && Field::check_limits(ctx, u64::from(n)).is_ok())
-        .collect()
+        .map(BladeCount::Total)
+        .collect())
 }
 
 /// Runs the sweep, prints the table and writes the CSV.
 pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
-    super::check_output(&args.out, &["csv"])?;
-    let (file, ctx) = super::open_headless(common)?;
-    let counts = counts(common, args, &ctx);
-    for &n in &counts {
-        Field::check_limits(&ctx, u64::from(n))?;
-    }
+    crate::files::check_output(&args.out, &["csv"])?;
+    let (file, ctx) = super::open_headless(common, common.validation_requested())?;
+    let counts = counts(common, args, &ctx)?;
     let configs = if args.configs.is_empty() {
         BenchConfig::ALL.to_vec()
     } else {
@@ -117,7 +126,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     };
     let pipelines = choices
         .iter()
-        .map(|&choice| super::grass_pipeline(choice, &ctx))
+        .map(|&choice| super::grass_pipeline(choice, &ctx.capabilities()))
         .collect::<Result<Vec<_>>>()?;
     let rasters = if args.compute_raster.is_empty() {
         vec![None]
@@ -136,33 +145,22 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     let mut references = References::default();
     let (mut view, mut unculled) = (Vec::new(), Vec::new());
     let progress = Progress::new(total);
-    let mut last_count = counts.last().copied().unwrap_or(0);
-    for (at, &n) in counts.iter().enumerate() {
+    let mut last_count = 0;
+    for (at, &count) in counts.iter().enumerate() {
         // The file was checked before the device opened; read again for each count.
         let file = if file.is_some() {
             common.scene_kind().read()?
         } else {
             None
         };
-        let mut scene = Scene::build(
-            &common.scene_kind(),
-            file,
-            BladeCount::Total(n),
-            common.seed,
-            |_| Ok(()),
-        )?;
-        if args.camera == CameraPreset::Flight && scene.kind != crate::scene::SceneKind::Valley {
+        if args.camera == CameraPreset::Flight && common.scene_kind() != SceneKind::Valley {
             anyhow::bail!("--camera flight flies over the valley: add --scene valley");
         }
-        let mut n = n;
-        if super::tiled(common, &scene.kind) {
-            let scale = scene.scale_for(common.look);
-            scene.make_tiled(super::tiled_spec(&scene, &ctx, scale));
-            n = scene.blade_count();
-            last_count = n;
-        }
-        let mut base = super::settings(common, &scene);
-        super::device_defaults(&mut base, common, &ctx)?;
+        // Painted, tiled, grown as every command's scene is.
+        let mut scene = super::build_scene(common, &ctx, file, count)?;
+        let n = scene.blade_count();
+        last_count = n;
+        let base = super::device_settings(common, &scene, &ctx)?;
         let size = offscreen.size();
         let still_camera = camera(&scene, args.camera);
         let preset = args.camera;
@@ -261,8 +259,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     let (w, h) = (args.width, args.height);
     for (pixels, extension) in [(&view, "view.png"), (&unculled, "unculled.png")] {
         let path = args.out.with_extension(extension);
-        image::save_buffer(&path, pixels, w, h, image::ColorType::Rgba8)
-            .with_context(|| format!("write {}", path.display()))?;
+        crate::files::save_png(&path, pixels, (w, h), image::ColorType::Rgba8)?;
         written.push(path);
     }
     for path in &written {

@@ -301,9 +301,6 @@ pub fn write_csv(
             p.far_blades,
         );
     }
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
-    std::fs::write(path, out)?;
+    crate::files::write(path, out.as_bytes())?;
     Ok(())
 }

@@ -27,7 +27,7 @@ impl Gpu {
             .context("Vulkan surface extensions for this window system")?;
         Context::new(ContextOptions {
             validation: common.validation_requested(),
-            checks: common.validation_checks,
+            checks: common.checks(),
             surface_extensions: extensions,
             window: Some(window),
         })

@@ -27,6 +27,7 @@ use winit::window::{Window, WindowId};
 
 /// Opens the window and runs until it is closed (or Esc).
 pub fn run(common: &Common, args: &ViewArgs) -> Result<()> {
+    crate::files::check_folder(&args.screenshot_dir, "--screenshot-dir")?;
     let file = common.scene_kind().read()?;
     let event_loop = EventLoop::new()
         .context("cannot open a window (no display?); `grass render` works without one")?;
@@ -50,6 +51,23 @@ struct Viewer {
     file: Option<SceneFile>,
     state: Option<Running>,
     error: Option<anyhow::Error>,
+}
+
+/// What the overlay says of a file written (`saved`: its path) or not (why), also
+/// logged: `(message, failed)`.
+fn said(saved: Result<std::path::PathBuf>, done: &str, failed: &str) -> (String, bool) {
+    match saved {
+        Ok(path) => {
+            let message = format!("{done}: {}", path.display());
+            log::info!("{message}");
+            (message, false)
+        }
+        Err(e) => {
+            let message = format!("{failed}: {e:#}");
+            log::warn!("{message}");
+            (message, true)
+        }
+    }
 }
 
 /// Mouse state for the orbit camera.
@@ -156,6 +174,8 @@ struct Running {
     notice: Option<String>,
     /// Where the K key's screenshots go.
     screenshot_dir: std::path::PathBuf,
+    /// What became of the last screenshot or settings file, for the overlay.
+    saved: Option<(String, bool)>,
     window: Window,
 }
 
@@ -189,7 +209,7 @@ impl Running {
             common: common.clone(),
             camera: scene.camera(),
             ball,
-            ball_on: true,
+            ball_on: !common.no_ball,
             arrows: Arrows::default(),
             fly: Fly::default(),
             full_distance: scene.tiles.map(|t| t.params.full_distance),
@@ -199,6 +219,7 @@ impl Running {
             pace: Pace::new(),
             storm: args.resize_storm.then(Storm::default),
             screenshot_dir: args.screenshot_dir.clone(),
+            saved: None,
             recoveries: 0,
             notice: None,
             window,
@@ -282,6 +303,7 @@ impl Running {
             occluders: self.gpu.driver.renderer.has_occluders,
             pool: self.gpu.driver.renderer.tiles.as_ref().map(|t| t.stats),
             notice: self.notice.clone(),
+            saved: self.saved.clone(),
         };
         let painted = self.overlay.run(
             &self.window,
@@ -291,11 +313,17 @@ impl Running {
         );
         if std::mem::take(&mut self.overlay.save_settings) {
             let path = self.screenshot_dir.join("grass-settings.toml");
-            let text = crate::config::current(&self.common, &self.settings);
-            match std::fs::write(&path, text) {
-                Ok(()) => log::info!("settings saved: {} (--config reads them)", path.display()),
-                Err(e) => log::warn!("settings not saved to {}: {e}", path.display()),
-            }
+            let viewer = crate::config::ViewerState {
+                full_distance: self.full_distance,
+                ball: self.ball_on,
+            };
+            let text = crate::config::current(&self.common, &self.settings, &viewer);
+            let written = crate::files::write(&path, text.as_bytes());
+            self.saved = Some(said(
+                written.map(|()| path),
+                "settings saved (--config reads them)",
+                "settings not saved",
+            ));
         }
         if let (Some(d), Some(tiles)) =
             (self.full_distance, self.gpu.driver.renderer.tiles.as_mut())
@@ -325,8 +353,9 @@ impl Running {
         gpu.driver.submit(frame, &mut gpu.presenter, spec)?;
         if screenshot {
             gpu.driver.finish()?;
-            let path = gpu.presenter.save_screenshot(&self.screenshot_dir)?;
-            log::info!("screenshot: {}", path.display());
+            // A screenshot that cannot be written is said, never the end of the viewer.
+            let saved = gpu.presenter.save_screenshot(&self.screenshot_dir);
+            self.saved = Some(said(saved, "screenshot", "screenshot not saved"));
         }
         if self.pace.drawn() {
             self.report();
@@ -614,7 +643,7 @@ impl ApplicationHandler for Viewer {
                     event_loop.exit();
                 } else if self.args.frames.is_some_and(|n| state.pace.frames >= n) {
                     event_loop.exit();
-                } else if self.args.screenshot_at == Some(state.pace.frames) {
+                } else if self.args.screenshot_at.contains(&state.pace.frames) {
                     state.gpu.presenter.screenshot = true;
                 }
             }

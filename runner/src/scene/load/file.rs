@@ -1,12 +1,13 @@
-//! Opening a file the loader reads (a scene file, or a glTF buffer of its own): once,
-//! without blocking, a regular file only (after following links), its size checked
+//! Opening a file the loader reads (a scene file, or a glTF buffer of its own) through
+//! the program's file guard ([`crate::files`]): once, without blocking, a regular file only (after following links), its size checked
 //! against [`MAX_FILE_BYTES`] before a byte is read, and the read capped there, so a
 //! link to `/dev/zero`, a named pipe or a file that grows while it is read can cost
 //! neither unbounded memory nor a hang.
 
 use super::error::SceneErrorKind;
+use crate::files::{self, Problem};
 use std::fs::File;
-use std::io::{self, Read};
+use std::io::Read;
 use std::path::Path;
 
 /// Most bytes a scene file may have: a file of the most vertices and triangles a scene
@@ -14,79 +15,31 @@ use std::path::Path;
 /// written out as OBJ text with a normal per vertex, is about 540 MB.
 pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
-/// Opens `path` for reading and returns it with its size, or why it cannot be read:
-/// nothing there, a directory, or anything else that is not a regular file (a named
-/// pipe, a device, a socket), after following symbolic links. A named pipe is opened
-/// without waiting for a writer, then refused.
+impl From<Problem> for SceneErrorKind {
+    fn from(problem: Problem) -> Self {
+        match problem {
+            Problem::NotFound => SceneErrorKind::NotFound,
+            Problem::IsDirectory => SceneErrorKind::IsDirectory,
+            Problem::NotRegular { what } => SceneErrorKind::NotRegular { what },
+            Problem::TooBig { bytes, limit } => SceneErrorKind::TooBig { bytes, limit },
+            Problem::Grew { limit } => SceneErrorKind::Grew { limit },
+            Problem::Io(error) => SceneErrorKind::Read { error },
+        }
+    }
+}
+
+/// Opens `path` for reading through the program's file guard ([`files::open`]).
 pub(super) fn open(path: &Path) -> Result<(File, u64), SceneErrorKind> {
-    let mut options = std::fs::OpenOptions::new();
-    options.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        options.custom_flags(libc::O_NONBLOCK);
-    }
-    let file = options.open(path).map_err(|error| match error.kind() {
-        io::ErrorKind::NotFound => SceneErrorKind::NotFound,
-        io::ErrorKind::IsADirectory => SceneErrorKind::IsDirectory,
-        _ => SceneErrorKind::Read { error },
-    })?;
-    let meta = file
-        .metadata()
-        .map_err(|error| SceneErrorKind::Read { error })?;
-    let kind = meta.file_type();
-    if kind.is_dir() {
-        return Err(SceneErrorKind::IsDirectory);
-    }
-    if !kind.is_file() {
-        return Err(SceneErrorKind::NotRegular {
-            what: describe(kind),
-        });
-    }
-    Ok((file, meta.len()))
+    Ok(files::open(path)?)
 }
 
-/// What a file that is neither a regular file nor a directory is.
-fn describe(kind: std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if kind.is_fifo() {
-            return "named pipe (FIFO)";
-        }
-        if kind.is_char_device() {
-            return "character device";
-        }
-        if kind.is_block_device() {
-            return "block device";
-        }
-        if kind.is_socket() {
-            return "socket";
-        }
-    }
-    let _ = kind;
-    "special file"
-}
-
-/// The bytes of `reader`, which said it holds `size` bytes, refused before reading
-/// when `size` is over `limit`, and refused when more than `limit` bytes turn up.
+/// The bytes of `reader`, capped at `limit` ([`files::read_capped`]).
 pub(super) fn read_capped(
     reader: impl Read,
     size: u64,
     limit: u64,
 ) -> Result<Vec<u8>, SceneErrorKind> {
-    if size > limit {
-        return Err(SceneErrorKind::TooBig { bytes: size, limit });
-    }
-    let mut data = Vec::with_capacity(size as usize);
-    reader
-        .take(limit + 1)
-        .read_to_end(&mut data)
-        .map_err(|error| SceneErrorKind::Read { error })?;
-    if data.len() as u64 > limit {
-        return Err(SceneErrorKind::Grew { limit });
-    }
-    Ok(data)
+    Ok(files::read_capped(reader, size, limit)?)
 }
 
 #[cfg(test)]

@@ -255,9 +255,10 @@ fn simulate_and_cull<T: Copy + Default>(
             }
         } else {
             in_field = kept(&blades[i]);
-            // A stored blade reads the maps at its root, over the map square.
-            map_at = shared::tiles::map_point(blades[i].root(), &push.tiles);
         }
+    } else if in_field {
+        // A stored blade reads the maps at its root, over the map square.
+        map_at = shared::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();

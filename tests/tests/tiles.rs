@@ -3,7 +3,7 @@
 use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
 use runner::scene::{BladeCount, Scene, SceneKind};
-use shared::glam::{IVec2, Vec3};
+use shared::glam::{IVec2, Vec3, Vec3Swizzles};
 use shared::layout::TilePush;
 use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, far_blade, kept, tile_blade};
 
@@ -858,6 +858,117 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
         assert!(same < 0.2 * other, "{same} against {other}");
         assert_eq!(bare_left, 0);
         assert!(grass_right > 1000, "{grass_right}");
+    });
+}
+
+/// The painted maps on a stored field (the paper's, every blade simulated): a type map
+/// black on the left half leaves no blade there and grey on the right makes
+/// dandelions; a height map scales the right half's blades by twice its grey
+/// (`shared::paint::painted_blade`, host); a colour map red on the left half reddens
+/// the natural look's blades there on the GPU and leaves the right half as it was
+/// (read at each root over the ground's square, `Scene::paint_square`). Measured on
+/// lavapipe: no blade left of −1 under the bare half, all 3,566 right of 1 dandelions
+/// at 1.5 times their height; the left quarter's green 77 % lower, the right quarter
+/// 0.000 apart (mean of 0..255). Planted fault: every stored blade reading the colour
+/// map at the square's centre (the map point left at zero) failed (the right quarter
+/// 14.5 apart).
+#[test]
+fn the_painted_maps_act_on_a_stored_field() {
+    use shared::paint::{COLOUR, HEIGHT, KIND_DANDELION, TYPE, grey, kind, words};
+    tests::with_device("the_painted_maps_act_on_a_stored_field", |ctx| {
+        let grown = Scene::build(&SceneKind::Plane, None, BladeCount::Total(8192), 5, |_| {
+            Ok(())
+        })
+        .unwrap();
+        let (centre, half) = grown.paint_square();
+        let types = grey(&[0, 0, 0, 0, 128, 128, 128, 128]);
+        let heights = grey(&[191; 8]);
+        let mut painted = Scene::build(&SceneKind::Plane, None, BladeCount::Total(8192), 5, |_| {
+            Ok(())
+        })
+        .unwrap();
+        painted.paint = words(&[(TYPE, 8, 1, &types), (HEIGHT, 8, 1, &heights)]);
+        painted.apply_paint();
+        let left = painted.blades.iter().filter(|b| b.root().x < -1.0).count();
+        let right: Vec<_> = painted.blades.iter().filter(|b| b.root().x > 1.0).collect();
+        let grown_right = grown.blades.iter().filter(|b| b.root().x > 1.0).count();
+        println!(
+            "{left} blades left of -1, {} of {grown_right} right of 1",
+            right.len()
+        );
+        assert_eq!(left, 0);
+        assert_eq!(right.len(), grown_right);
+        for (b, g) in right
+            .iter()
+            .zip(grown.blades.iter().filter(|b| b.root().x > 1.0))
+        {
+            let p = b.root().xz() - centre;
+            assert_eq!(kind(&painted.paint, p, half), KIND_DANDELION);
+            assert!(b.orientation() >= shared::shape::DANDELION_TURNS, "{b:?}");
+            assert!((b.height() - g.height() * 2.0 * 191.0 / 255.0).abs() < 1e-5);
+        }
+
+        let mut scene = grown;
+        let (width, height) = (192, 192);
+        let mut camera = runner::camera::OrbitCamera::framing(20.0);
+        camera.target = Vec3::ZERO;
+        camera.yaw = 0.0;
+        camera.pitch = 0.9;
+        camera.distance = 7.0;
+        let mut settings = scene.settings();
+        settings.look.style = shared::settings::Look::Natural;
+        settings.look.shadows = false;
+        // Red on the left half, white on the right, blended over a 64th of the square.
+        let red: Vec<[u8; 4]> = (0..64)
+            .map(|i| if i < 32 { [255, 0, 0, 255] } else { [255; 4] })
+            .collect();
+        let mut images = Vec::new();
+        for maps in [Vec::new(), words(&[(COLOUR, 64, 1, &red)])] {
+            scene.paint = maps;
+            images.push(still_frame(&ctx, &scene, &settings, &camera, (width, height)).0);
+        }
+        let quarter = |pixels: &[u8], right: bool| -> Vec<[u8; 4]> {
+            pixels
+                .chunks(4)
+                .enumerate()
+                .filter(|(i, _)| {
+                    let x = (i % width as usize) as u32;
+                    if right {
+                        x >= 3 * width / 4
+                    } else {
+                        x < width / 4
+                    }
+                })
+                .map(|(_, p)| [p[0], p[1], p[2], p[3]])
+                .collect()
+        };
+        let green = |pixels: &[[u8; 4]]| {
+            let grass: Vec<f64> = pixels
+                .iter()
+                .filter(|p| p[1] > p[2] || p[0] > p[2])
+                .map(|p| f64::from(p[1]))
+                .collect();
+            grass.iter().sum::<f64>() / grass.len().max(1) as f64
+        };
+        let left_drop =
+            1.0 - green(&quarter(&images[1], false)) / green(&quarter(&images[0], false));
+        let (a, b) = (quarter(&images[0], true), quarter(&images[1], true));
+        let right_diff = a
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| {
+                (0..3)
+                    .map(|c| (f64::from(p[c]) - f64::from(q[c])).abs())
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+            / (3 * a.len()) as f64;
+        println!(
+            "colour map: the left quarter's green {:.0} % lower, the right quarter {right_diff:.3} apart",
+            100.0 * left_drop
+        );
+        assert!(left_drop > 0.08, "{left_drop}");
+        assert!(right_diff < 0.5, "{right_diff}");
     });
 }
 

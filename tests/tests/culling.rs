@@ -126,10 +126,8 @@ fn lod_and_wireframe_views_match_their_references() {
     check_reference("view_wireframe", &wire);
     let (d, _) = difference(&wire, &shaded);
     println!("wireframe vs shaded: {d:?}");
-    assert!(
-        !d.within_tolerance(),
-        "the wireframe view looks like the shaded one"
-    );
+    // Half what was measured: 12.6 (lavapipe) and 13.7 (the NVIDIA H100).
+    assert!(d.mean > 6.0, "the wireframe view looks like the shaded one");
 
     // Levels near the camera are yellow to red, far ones green to blue. Without LOD
     // every blade has the near level, so the green-to-blue blades go.

@@ -21,27 +21,26 @@ const FRAMES: u32 = 30;
 const STEPS_PER_FRAME: u32 = 10;
 
 /// Largest difference allowed between a GPU and a host control point, in world units
-/// (blades are 1.3 to 2.5 tall; lavapipe stays within 1e-5 of the host). The GPU's sin, cos, sqrt and division may differ from
-/// the host's in the last bits (Vulkan allows a few ULP, sin/cos 2^-11 absolute), and
-/// fused multiply-adds round differently; recovery pulls every tip towards its rest
-/// position, so those differences do not grow over the steps.
-const POSITION_TOLERANCE: f32 = 5e-4;
+/// (blades are 1.3 to 2.5 tall), after 300 steps: the GPU's sin, cos, sqrt and
+/// division may differ from the host's in the last bits (Vulkan allows a few ULP,
+/// sin/cos 2^-11 absolute), and fused multiply-adds round differently; recovery pulls
+/// every tip towards its rest position, so those differences do not grow. Measured at
+/// most 1.3e-5 on lavapipe and 4.3e-5 on the NVIDIA H100.
+const POSITION_TOLERANCE: f32 = 2e-4;
 
 /// Blades a ball touched: whether a tip is inside a sphere in a given step is a
-/// threshold decision, like the cull tests, and one step of contact more or less
-/// changes η and so the recovery for seconds. These blades may differ by this much...
-const TOUCHED_TOLERANCE: f32 = 0.05;
-/// ...and at most this share of them by more than [`POSITION_TOLERANCE`].
-const TOUCHED_DIVERGING_SHARE: f32 = 0.05;
+/// threshold decision, and one step of contact more or less changes η and so the
+/// recovery for seconds; yet none has been seen to: measured at most 5.3e-5 on
+/// lavapipe and 1.2e-4 on the H100 (about 400 blades touched in each of three runs).
+const TOUCHED_TOLERANCE: f32 = 5e-4;
 
 /// A blade within this of a cull threshold may fall either way on the two sides.
 const THRESHOLD_EPSILON: f32 = 1e-3;
 
 /// Largest difference allowed between a GPU and a host collision strength (0..1).
-/// η adds up the displacement of every step a blade spends against a ball, and
-/// whether a tip touches the ball in a step turns on differences of 1e-5 in its
-/// position; lavapipe stays within 0.01.
-const STRENGTH_TOLERANCE: f32 = 0.02;
+/// η adds up the displacement of every step a blade spends against a ball; measured
+/// at most 5.2e-5 on lavapipe and 6.9e-5 on the H100.
+const STRENGTH_TOLERANCE: f32 = 3e-4;
 
 /// Two balls pressing into the field (centre xyz, radius w).
 const BALLS: [Vec4; 2] = [
@@ -122,7 +121,9 @@ fn run_both(
         .download(&renderer.field.strengths, host.len())
         .unwrap();
     let mut trampled = 0;
+    let mut worst_strength: f32 = 0.0;
     for (i, (g, (_, h))) in strengths.iter().zip(&host).enumerate() {
+        worst_strength = worst_strength.max((g - h).abs());
         assert!(
             (g - h).abs() < STRENGTH_TOLERANCE,
             "blade {i}: collision strength GPU {g} host {h}"
@@ -137,7 +138,7 @@ fn run_both(
         .unwrap();
 
     // Every blade, every control point.
-    let mut worst: f32 = 0.0;
+    let (mut worst, mut worst_touched): (f32, f32) = (0.0, 0.0);
     let (mut touched, mut diverging) = (0u32, 0u32);
     for (i, (g, h)) in gpu.iter().zip(&host).enumerate() {
         assert_eq!(g.v0, h.v0, "blade {i}: the root must not move");
@@ -152,6 +153,7 @@ fn run_both(
         if strengths[i] > 0.0 || host_strengths[i] > 0.0 {
             touched += 1;
             diverging += u32::from(d >= POSITION_TOLERANCE);
+            worst_touched = worst_touched.max(d);
             assert!(
                 d < TOUCHED_TOLERANCE,
                 "blade {i} (touched by a ball): GPU {g:?} host {h:?} differ by {d}"
@@ -164,10 +166,10 @@ fn run_both(
         );
         worst = worst.max(d);
     }
-    println!("{touched} blades touched by a ball, {diverging} of them beyond {POSITION_TOLERANCE}");
-    assert!(
-        diverging as f32 <= TOUCHED_DIVERGING_SHARE * touched as f32,
-        "{diverging} of {touched} touched blades diverged"
+    println!(
+        "{touched} blades touched by a ball, {diverging} of them beyond {POSITION_TOLERANCE}; \
+         the largest difference of a touched blade {worst_touched:e}, of a collision \
+         strength {worst_strength:e}"
     );
     println!(
         "largest GPU/host control-point difference of untouched blades after {} steps: {worst:e}",

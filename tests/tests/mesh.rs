@@ -5,7 +5,7 @@
 //! fraction of a pixel: the images agree within the stated tolerance, not exactly.
 
 use tests::{
-    Difference, Need, device_needing, difference, grass_share, render_image, save_failure,
+    Need, compare_reference, device_needing, difference, grass_share, render_image, save_failure,
 };
 
 /// Small images: lavapipe tessellates slowly.
@@ -18,15 +18,25 @@ const OUTLIERS: f64 = 0.035;
 /// green pixels; measured: at most 2.2 %; dropping every fourth blade gave up to 10.7 %).
 const COVERAGE: f64 = 0.04;
 
-/// The frame of `args` through both pipelines: their difference, whose mean must stay
-/// under `mean` (0..255 per channel).
-fn both(name: &str, args: &str, mean: f64) -> Difference {
+/// The frame of `args` through both pipelines: what is wrong with it, if anything (the
+/// same blades drawn; the mesh path's frame against its reference `mesh_<name>`; the
+/// paths' difference, whose mean must stay under `mean` (0..255 per channel), and
+/// their grass coverage).
+fn both(name: &str, args: &str, mean: f64) -> Vec<String> {
     let (tess_report, tess) = render_image(&format!("{args} --pipeline tess"));
     let (mesh_report, mesh) = render_image(&format!("{args} --pipeline mesh"));
-    assert_eq!(
-        tess_report.counts.drawn, mesh_report.counts.drawn,
-        "{name}: the same blades reach the draw"
-    );
+    let mut wrong = Vec::new();
+    if tess_report.counts.drawn != mesh_report.counts.drawn {
+        wrong.push(format!(
+            "{name}: {} blades reach the tessellator, {} the mesh stages",
+            tess_report.counts.drawn, mesh_report.counts.drawn
+        ));
+    }
+    // The mesh path's frame against its own reference: the two paths' rows differ
+    // by design, so their comparison below cannot see blades 10 % short in the mesh
+    // path (the mean rose by less than the paths' own difference in most cases);
+    // against the reference it fails each case.
+    wrong.extend(compare_reference(&format!("mesh_{name}"), &mesh).err());
     let (diff, picture) = difference(&tess, &mesh);
     let (cover_tess, cover_mesh) = (grass_share(&tess), grass_share(&mesh));
     let coverage = (cover_mesh / cover_tess.max(1e-9) - 1.0).abs();
@@ -38,20 +48,22 @@ fn both(name: &str, args: &str, mean: f64) -> Difference {
         cover_tess,
         100.0 * coverage
     );
-    assert!(
-        cover_tess > 0.05 && coverage < COVERAGE,
-        "{name}: grass covers {cover_mesh:.4} of the mesh path's image against {cover_tess:.4}; {}",
-        save_failure(&format!("mesh_{name}"), &mesh, Some(&picture))
-    );
-    assert!(
-        diff.mean < mean && diff.outliers < OUTLIERS,
-        "{name}: mesh against tessellation: mean {:.3} (max {mean}), outliers {:.4} \
-         (max {OUTLIERS}); {}",
-        diff.mean,
-        diff.outliers,
-        save_failure(&format!("mesh_{name}"), &mesh, Some(&picture))
-    );
-    diff
+    if cover_tess <= 0.05 || coverage >= COVERAGE {
+        wrong.push(format!(
+            "{name}: grass covers {cover_mesh:.4} of the mesh path's image against {cover_tess:.4}; {}",
+            save_failure(&format!("mesh_{name}"), &mesh, Some(&picture))
+        ));
+    }
+    if diff.mean >= mean || diff.outliers >= OUTLIERS {
+        wrong.push(format!(
+            "{name}: mesh against tessellation: mean {:.3} (max {mean}), outliers {:.4} \
+             (max {OUTLIERS}); {}",
+            diff.mean,
+            diff.outliers,
+            save_failure(&format!("mesh_{name}"), &mesh, Some(&picture))
+        ));
+    }
+    wrong
 }
 
 #[test]
@@ -75,16 +87,18 @@ fn mesh_and_tessellation_draw_the_same_field() {
         ("triangle-tip", 2.1),
         ("dandelion", 3.3),
     ];
+    let mut wrong = Vec::new();
     for (shape, mean) in shapes {
-        both(shape, &format!("{common} --shape {shape}"), mean);
+        wrong.extend(both(shape, &format!("{common} --shape {shape}"), mean));
     }
-    both("lod_view", &format!("{common} --view lod"), 1.9);
-    both("walls", &format!("{common} --scene walls"), 3.5);
-    both(
+    wrong.extend(both("lod_view", &format!("{common} --view lod"), 1.9));
+    wrong.extend(both("walls", &format!("{common} --scene walls"), 3.5));
+    wrong.extend(both(
         "natural",
         &format!("{common} --look natural --scene hills"),
         5.5,
-    );
+    ));
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
 /// The mesh stage's vertices against the host's: a frame of the paper look through
@@ -167,7 +181,14 @@ fn mesh_stage_vertices_equal_the_hosts() {
                     let distance = (blade.root() - eye.position).length();
                     let band = near_band(distance, blade.height());
                     let packed = pack_level(blade_level(blade, &uniforms), band);
-                    assert_eq!(strip.level, unpack_level(packed).0, "level of {at}");
+                    // The GPU's float rounding may differ in the last bits (the
+                    // H100: 8e-6 relative).
+                    let level = unpack_level(packed).0;
+                    assert!(
+                        (strip.level - level).abs() <= 1e-5 * level,
+                        "level of {at}: {} against {level}",
+                        strip.level
+                    );
                     assert_eq!(strip_segments(strip.level), n, "bucket of {at}");
                     // The longest strips in their band of distance, nearest first.
                     if b < NEAR_BANDS {

@@ -59,6 +59,15 @@ fn visibility_buffer_equals_the_hosts() {
     });
 }
 
+/// Two pixels of the visibility buffer alike: the same blade at the same point along it,
+/// at depths that may differ in their last bits (the NVIDIA H100's differ from the
+/// host's by up to 1e-6, where multiplies and adds fuse).
+fn same_pixel(gpu: u64, host: u64) -> bool {
+    let ((dg, bg, vg), (dh, bh, vh)) = (unpack(gpu), unpack(host));
+    gpu == host
+        || (gpu != EMPTY && host != EMPTY && bg == bh && vg == vh && (dg - dh).abs() <= 4e-6)
+}
+
 /// [`visibility_buffer_equals_the_hosts`] at `(width, height)` with the camera
 /// `nearer` times nearer than the scene's framing, at least `wide_at_least` of the
 /// blades drawn as surfaces, `samples` per pixel. Returns the hardware's depth the
@@ -127,7 +136,11 @@ fn equal_to_the_hosts(
         );
     }
     let covered = host.iter().filter(|&&p| p != EMPTY).count();
-    let differ = gpu.iter().zip(&host).filter(|(g, h)| g != h).count();
+    let differ = gpu
+        .iter()
+        .zip(&host)
+        .filter(|(g, h)| !same_pixel(**g, **h))
+        .count();
     let gpu_covered = gpu.iter().filter(|&&p| p != EMPTY).count();
     println!(
         "{counts:?}: {covered} pixels covered on the host, {gpu_covered} on the GPU, {differ} differ"
@@ -170,7 +183,7 @@ fn equal_to_the_hosts(
         .iter()
         .zip(&host)
         .enumerate()
-        .filter(|(_, (g, h))| g != h)
+        .filter(|(_, (g, h))| !same_pixel(**g, **h))
         .take(5)
     {
         println!("pixel {i}: GPU {:?}, host {:?}", unpack(*g), unpack(*h));
@@ -184,10 +197,19 @@ fn equal_to_the_hosts(
 
 /// The same frame with the compute rasterizer off and drawing the blades below
 /// `below` pixels, in each built-in scene and both looks: (difference, the share of
-/// drawn blades the compute rasterizer took, coverage off and on).
-fn off_and_on(args: &str, below: f32) -> (tests::Difference, f64, f64, f64) {
+/// drawn blades the compute rasterizer took, coverage off and on, and how the latter
+/// frame is off its reference `raster_<name>`, if it is).
+fn off_and_on(
+    args: &str,
+    below: f32,
+    name: &str,
+) -> (tests::Difference, f64, f64, f64, Option<String>) {
     let (off_report, off) = tests::render_image(&format!("{args} --compute-raster-below 0"));
     let (on_report, on) = tests::render_image(&format!("{args} --compute-raster-below {below}"));
+    // The compute rasterizer's frame against its own reference: where the far field is
+    // covered several times over, dropping half its blades moves the frame less than
+    // the two paths' own difference below.
+    let reference = tests::compare_reference(&format!("raster_{name}"), &on).err();
     let (off_c, on_c) = (off_report.counts, on_report.counts);
     assert_eq!(off_c.compute, 0, "{args}: off draws nothing by compute");
     assert_eq!(
@@ -197,7 +219,7 @@ fn off_and_on(args: &str, below: f32) -> (tests::Difference, f64, f64, f64) {
     );
     let share = f64::from(on_c.compute) / f64::from(off_c.drawn.max(1));
     let (diff, _) = tests::difference(&off, &on);
-    (diff, share, grass_share(&off), grass_share(&on))
+    (diff, share, grass_share(&off), grass_share(&on), reference)
 }
 
 /// The GPU's default threshold (`DEFAULT_COMPUTE_RASTER_BELOW_GPU`) keeps the frame as
@@ -282,6 +304,7 @@ fn the_compute_rasterizer_draws_the_field_the_hardware_draws() {
         return;
     };
     let size = "--blades 8192 --width 320 --height 240 --frames 3";
+    let mut wrong = Vec::new();
     for (name, args, mean) in [
         ("plane paper", "--look paper --pitch 10", 2.0),
         ("plane natural", "--look natural --pitch 10", 1.65),
@@ -289,7 +312,9 @@ fn the_compute_rasterizer_draws_the_field_the_hardware_draws() {
         ("walls", "--scene walls --look paper --pitch 8", 1.55),
         ("planet", "--scene planet --look paper", 1.3),
     ] {
-        let (diff, share, off, on) = off_and_on(&format!("{size} {args}"), 28.0);
+        let reference = name.replace(' ', "_");
+        let (diff, share, off, on, off_reference) =
+            off_and_on(&format!("{size} {args}"), 28.0, &reference);
         let coverage = (on / off.max(1e-9) - 1.0).abs();
         println!(
             "{name}: {:.1} % of the drawn blades by compute; mean {:.3}, outliers {:.4}; grass {off:.4} against {on:.4}",
@@ -297,15 +322,21 @@ fn the_compute_rasterizer_draws_the_field_the_hardware_draws() {
             diff.mean,
             diff.outliers
         );
-        assert!(share > 0.3, "{name}: only {share} by compute");
-        assert!(
-            diff.mean < mean,
-            "{name}: mean {} (limit {mean})",
-            diff.mean
-        );
-        assert!(diff.outliers < 0.035, "{name}: outliers {}", diff.outliers);
-        assert!(coverage < 0.05, "{name}: coverage {off} against {on}");
+        wrong.extend(off_reference);
+        if share <= 0.3 {
+            wrong.push(format!("{name}: only {share} by compute"));
+        }
+        if diff.mean >= mean || diff.outliers >= 0.035 {
+            wrong.push(format!(
+                "{name}: mean {:.3} (limit {mean}), outliers {:.4} (limit 0.035)",
+                diff.mean, diff.outliers
+            ));
+        }
+        if coverage >= 0.05 {
+            wrong.push(format!("{name}: coverage {off} against {on}"));
+        }
     }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
 /// Mean absolute difference between consecutive frames (0-255 per channel) of the

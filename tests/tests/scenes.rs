@@ -33,8 +33,17 @@ fn each_built_in_scene_matches_its_reference() {
     }
 }
 
+/// How far apart any two blade shapes' frames are at least: half the nearest pair
+/// measured (triangle and triangle-tip: a mean of 5.84 with 4.0 % outliers on lavapipe
+/// and the NVIDIA H100). Planted fault: the shape ignored by the drawing stages (every
+/// blade quadratic) made every pair alike (0.000) and failed.
+const SHAPES_APART: tests::Tolerance = tests::Tolerance {
+    mean: 2.9,
+    outliers: 0.02,
+};
+
 /// Each blade shape matches its reference, and every shape looks different from
-/// every other one by more than the reference tolerance (so the switch is seen).
+/// every other one by at least [`SHAPES_APART`] (so the switch is seen).
 #[test]
 fn each_blade_shape_matches_its_reference_and_differs_from_the_others() {
     let Some(_gpu) = device_available("each_blade_shape_matches_its_reference") else {
@@ -60,7 +69,7 @@ fn each_blade_shape_matches_its_reference_and_differs_from_the_others() {
                 shapes[i], shapes[j], d.mean, d.outliers
             );
             assert!(
-                !d.within_tolerance() || d.outliers > 0.004,
+                d.beyond(SHAPES_APART),
                 "{} and {} look alike: {d:?}",
                 shapes[i],
                 shapes[j]

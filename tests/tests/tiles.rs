@@ -137,6 +137,12 @@ fn the_gpu_selects_the_hosts_tiles() {
     });
 }
 
+/// Two blades of the same height, within the GPU's float rounding (a product of three
+/// factors, which the NVIDIA H100 fuses differently from the host: 1e-7 relative).
+fn same_height(gpu: &shared::Blade, host: &shared::Blade) -> bool {
+    (gpu.height() - host.height()).abs() <= 1e-6 * host.height()
+}
+
 /// A small tiled world on the plane: tiles of 4 units with 16² blades, every blade
 /// kept to 6 units, a pool of `pool` tiles for those within 3 units, room for 32,768
 /// far blades out to 40 units, the world `half` units each way.
@@ -355,7 +361,17 @@ fn tiled_frame_against_the_host(
             // A frame of no time: the wind's pose at time 0.
             let h = far_blade(tile, k, camera, &params, map, &forces);
             assert_eq!(ids[IDS_WORDS * (first + k as usize)], blade_id(tile, k));
-            // Where it reads the maps, within a step of the packing.
+            if kept(g) != kept(&h) {
+                differ += 1;
+                continue;
+            }
+            // A blade left out on both sides is not drawn: the GPU may stop short of
+            // working out its root exactly (on the NVIDIA H100 one on the hills stood
+            // 2.7e-4 from the host's).
+            if !kept(g) {
+                continue;
+            }
+            // Where a drawn blade reads the maps, within a step of the packing.
             let (word, host) = (
                 ids[IDS_WORDS * (first + k as usize) + 1],
                 pack_map_point(tile, k, &h, &params, map),
@@ -363,12 +379,12 @@ fn tiled_frame_against_the_host(
             let step = |w: u32| shared::glam::IVec2::new((w & 0xffff) as i32, (w >> 16) as i32);
             assert!(
                 (step(word) - step(host)).abs().max_element() <= 1,
-                "{tile} {k}"
+                "{tile} {k}: map point {} on the GPU, {} on the host; root {} and {}",
+                step(word),
+                step(host),
+                g.root(),
+                h.root()
             );
-            if kept(g) != kept(&h) {
-                differ += 1;
-                continue;
-            }
             for (a, b) in [(g.v0, h.v0), (g.v1, h.v1), (g.v2, h.v2), (g.up, h.up)] {
                 let d = (a - b).abs() / b.abs().max(shared::glam::Vec4::ONE);
                 largest = largest.max(d.max_element());
@@ -417,7 +433,12 @@ fn tiled_frame_against_the_host(
             let (g, h) = (&blades[i], tile_blade(tile, k, camera, &params, map));
             assert_eq!(ids[IDS_WORDS * i], blade_id(tile, k));
             assert!((g.root() - h.root()).length() < 1e-5, "{tile} {k}");
-            assert_eq!(g.height(), h.height());
+            assert!(
+                same_height(g, &h),
+                "{tile} {k}: {} against {}",
+                g.height(),
+                h.height()
+            );
             if h.height() > 0.0 {
                 let width = drawn_width(tile, k, h.root(), camera, &params, map);
                 assert!((g.width() - width).abs() <= 1e-6, "{tile} {k}");
@@ -742,7 +763,12 @@ fn height_and_colour_maps_paint_the_blades() {
                 for k in 0..tiles[at + 3] {
                     let g = &blades[first + k as usize];
                     let h = tile_blade(tile, k, eye.position, &spec.params, &scene.paint);
-                    assert_eq!(g.height(), h.height(), "{tile} {k}");
+                    assert!(
+                        same_height(g, &h),
+                        "{tile} {k}: {} against {}",
+                        g.height(),
+                        h.height()
+                    );
                     let x = g.root().x;
                     if x.abs() > 5.0 {
                         let side = &mut heights_by_side[usize::from(x > 0.0)];

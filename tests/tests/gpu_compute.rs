@@ -25,7 +25,8 @@ const STEPS_PER_FRAME: u32 = 10;
 /// division may differ from the host's in the last bits (Vulkan allows a few ULP,
 /// sin/cos 2^-11 absolute), and fused multiply-adds round differently; recovery pulls
 /// every tip towards its rest position, so those differences do not grow. Measured at
-/// most 1.3e-5 on lavapipe and 4.3e-5 on the NVIDIA H100.
+/// most 1.3e-5 on lavapipe and 4.3e-5 on the NVIDIA H100. Planted fault: the GPU's
+/// steps taken one step late (the wind's time) failed, on a touched blade first.
 const POSITION_TOLERANCE: f32 = 2e-4;
 
 /// Blades a ball touched: whether a tip is inside a sphere in a given step is a
@@ -39,7 +40,8 @@ const THRESHOLD_EPSILON: f32 = 1e-3;
 
 /// Largest difference allowed between a GPU and a host collision strength (0..1).
 /// η adds up the displacement of every step a blade spends against a ball; measured
-/// at most 5.2e-5 on lavapipe and 6.9e-5 on the H100.
+/// at most 5.2e-5 on lavapipe and 6.9e-5 on the H100. Planted fault: the GPU keeping
+/// 98 % of η each frame failed (0.1004 against 0.1066).
 const STRENGTH_TOLERANCE: f32 = 3e-4;
 
 /// Two balls pressing into the field (centre xyz, radius w).
@@ -122,12 +124,13 @@ fn run_both(
         .unwrap();
     let mut trampled = 0;
     let mut worst_strength: f32 = 0.0;
+    // Checked after the positions, so a fault that moves blades is named by them.
+    let mut strength_off = None;
     for (i, (g, (_, h))) in strengths.iter().zip(&host).enumerate() {
         worst_strength = worst_strength.max((g - h).abs());
-        assert!(
-            (g - h).abs() < STRENGTH_TOLERANCE,
-            "blade {i}: collision strength GPU {g} host {h}"
-        );
+        if (g - h).abs() >= STRENGTH_TOLERANCE && strength_off.is_none() {
+            strength_off = Some(format!("blade {i}: collision strength GPU {g} host {h}"));
+        }
         trampled += usize::from(*h > 0.1);
     }
     assert!(trampled > 20, "the balls must trample blades: {trampled}");
@@ -165,6 +168,9 @@ fn run_both(
             "blade {i}: GPU {g:?} host {h:?} differ by {d}"
         );
         worst = worst.max(d);
+    }
+    if let Some(off) = strength_off {
+        panic!("{off}");
     }
     println!(
         "{touched} blades touched by a ball, {diverging} of them beyond {POSITION_TOLERANCE}; \

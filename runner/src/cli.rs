@@ -562,8 +562,8 @@ pub struct CameraArgs {
     #[arg(long, value_parser = range(1.0, 85.0))]
     pub pitch: Option<f32>,
     /// Fly the valley's path at the bench's flight speed (6 units a second) over the
-    /// frames instead of standing still (`--scene valley`).
-    #[arg(long)]
+    /// frames instead of standing still (`--scene valley`); the flight sets the camera.
+    #[arg(long, conflicts_with_all = ["zoom", "yaw", "pitch", "orbit"])]
     pub flight: bool,
     /// Turn the camera around the scene by this many degrees a second.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = range(-720.0, 720.0))]

@@ -539,7 +539,8 @@ fn settings_of(args: &[&str]) -> [shared::settings::Settings; 2] {
 /// settings change them. In each command, an option that does not act there
 /// (`app::NOT_ACTING`; every one in `grass config`, which prints the defaults) is
 /// refused, naming itself and why, before any device is looked for; so are the field's
-/// (`--full-distance` on a stored field, `--density` on a tiled one). What acts on the
+/// (`--full-distance` on a stored field, `--density` on a tiled one), and the camera's
+/// options beside `--flight`, which sets the camera. What acts on the
 /// scene and the ball is checked by the tests of each (painted maps on both fields,
 /// the tiled field, the ball's trail).
 #[test]
@@ -602,4 +603,20 @@ fn every_command_s_options_act_or_are_refused() {
     refused("render", "density", &["--field", "tiles"], tiled);
     refused("bench", "blades", &["--scene", "valley"], tiled);
     assert!(walked > 20, "only {walked} refusals walked");
+    // The flight sets the camera: the camera's own options are refused beside it.
+    for (command, other) in [
+        ("render", "--zoom"),
+        ("record", "--yaw"),
+        ("render", "--pitch"),
+        ("record", "--orbit"),
+    ] {
+        let args = [command, "--scene", "valley", "--flight", other, "20"];
+        let o = grass_with(&args, &no_device);
+        let stderr = stderr_of(&args, &o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("--flight") && stderr.contains(other),
+            "{args:?}: {stderr}"
+        );
+    }
 }

@@ -1,9 +1,9 @@
 //! A short `grass soak` in CI: the validation layer silent, device memory flat and host
 //! memory within 8 MiB over every switch, both image sizes and frame times from 0.1 ms
 //! to 2 s; and the same run with a planted leak of 0.1 MB a frame, which must fail.
-//! Host memory swings by about 4 MiB between readings on lavapipe; the check compares
-//! the lowest of the last third of the readings with the highest of the first third,
-//! which the leak raises by about 19 MiB (200 frames apart).
+//! After the soak's warm-up host memory is flat on lavapipe (+0.0 MiB by the check,
+//! which compares the lowest of the last third of the readings with the highest of
+//! the first third); the leak raises it by about 19 MiB.
 
 mod common;
 
@@ -80,11 +80,9 @@ fn a_planted_device_leak_fails_the_soak() {
 /// entering and leaving the pool every frame), device memory the same at every
 /// reading, the layer silent. Planted fault: a 64 KiB device buffer leaked every
 /// frame failed ("device memory changed between frame 40 and frame 120"). Host memory
-/// is judged more loosely than on the plane: over the valley lavapipe's rises in steps
-/// as the soak's phases first meet a combination of settings (231 to 267 MiB over the
-/// first 200 frames, 269 to 280 at frame 600, flat between), so the slack is 32 MiB.
-/// It catches a leak of 0.2 MB a frame (planted: +50.0 MiB, failed) but not one of
-/// 0.1 MB (+31.2 MiB), which the plane's soak above catches.
+/// is judged more loosely than on the plane: over the valley lavapipe's rises once as
+/// the camera meets new ground (+3.5 MiB at frame 200, flat before and after), so the
+/// slack is 16 MiB. A leak of 0.1 MB a frame measured +31.2 MiB over this run.
 #[test]
 fn a_flight_over_the_valley_keeps_device_memory_flat() {
     let args = [
@@ -100,7 +98,7 @@ fn a_flight_over_the_valley_keeps_device_memory_flat() {
         "--height",
         "64",
         "--host-slack-mib",
-        "32",
+        "16",
     ];
     silent_and_flat(&args);
 }

@@ -810,37 +810,7 @@ fn height_and_colour_maps_paint_the_blades() {
         let ratio = mean(heights_by_side[0]) / mean(heights_by_side[1]);
         // Grass pixels' green by quarter of the image (the camera looks along −z, so
         // image x follows world x), without and with the colour map.
-        let quarter_green = |pixels: &[u8], right: bool| {
-            let (mut sum, mut n) = (0.0, 0);
-            for y in 0..height {
-                for x in 0..width {
-                    let in_quarter = if right {
-                        x >= 3 * width / 4
-                    } else {
-                        x < width / 4
-                    };
-                    let p = &pixels[4 * (y * width + x) as usize..][..4];
-                    if in_quarter && (p[1] > p[2] || p[0] > p[2]) {
-                        sum += f64::from(p[1]);
-                        n += 1;
-                    }
-                }
-            }
-            sum / f64::from(n.max(1))
-        };
-        let left_drop = 1.0 - quarter_green(&images[1], false) / quarter_green(&images[0], false);
-        let right_diff = images[0]
-            .chunks(4)
-            .zip(images[1].chunks(4))
-            .enumerate()
-            .filter(|(i, _)| (i % width as usize) >= 3 * width as usize / 4)
-            .map(|(_, (a, b))| {
-                (0..3)
-                    .map(|c| (f64::from(a[c]) - f64::from(b[c])).abs())
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            / f64::from(width * height / 4 * 3);
+        let (left_drop, right_diff) = red_on_the_left(&images[0], &images[1], width);
         println!(
             "heights left/right {ratio:.3}; left quarter's green {:.0} % lower, right \
              quarter's pixels {right_diff:.3} apart",
@@ -850,6 +820,44 @@ fn height_and_colour_maps_paint_the_blades() {
         assert!(left_drop > 0.08, "{left_drop}");
         assert!(right_diff < 0.5, "{right_diff}");
     });
+}
+
+/// The natural look's frame `before` and `after` a colour map red on the left half
+/// and white on the right, `width` pixels wide, the camera looking along −z (image x
+/// follows world x): how much lower the left quarter's grass green is after (a share of
+/// before's), and how far apart the right quarter's pixels are (the mean of 0..255 per
+/// channel).
+fn red_on_the_left(before: &[u8], after: &[u8], width: u32) -> (f64, f64) {
+    let in_quarter = |i: usize, right: bool| {
+        let x = (i % width as usize) as u32;
+        if right {
+            x >= 3 * width / 4
+        } else {
+            x < width / 4
+        }
+    };
+    let green = |pixels: &[u8]| {
+        let grass: Vec<f64> = pixels
+            .chunks(4)
+            .enumerate()
+            .filter(|(i, p)| in_quarter(*i, false) && (p[1] > p[2] || p[0] > p[2]))
+            .map(|(_, p)| f64::from(p[1]))
+            .collect();
+        grass.iter().sum::<f64>() / grass.len().max(1) as f64
+    };
+    let right: Vec<f64> = before
+        .chunks(4)
+        .zip(after.chunks(4))
+        .enumerate()
+        .filter(|(i, _)| in_quarter(*i, true))
+        .map(|(_, (a, b))| {
+            (0..3)
+                .map(|c| (f64::from(a[c]) - f64::from(b[c])).abs())
+                .sum::<f64>()
+        })
+        .collect();
+    let apart = right.iter().sum::<f64>() / (3 * right.len().max(1)) as f64;
+    (1.0 - green(after) / green(before), apart)
 }
 
 /// A type map: grey everywhere (dandelions) draws the field as the dandelion shape
@@ -981,42 +989,7 @@ fn the_painted_maps_act_on_a_stored_field() {
             scene.paint = maps;
             images.push(still_frame(&ctx, &scene, &settings, &camera, (width, height)).0);
         }
-        let quarter = |pixels: &[u8], right: bool| -> Vec<[u8; 4]> {
-            pixels
-                .chunks(4)
-                .enumerate()
-                .filter(|(i, _)| {
-                    let x = (i % width as usize) as u32;
-                    if right {
-                        x >= 3 * width / 4
-                    } else {
-                        x < width / 4
-                    }
-                })
-                .map(|(_, p)| [p[0], p[1], p[2], p[3]])
-                .collect()
-        };
-        let green = |pixels: &[[u8; 4]]| {
-            let grass: Vec<f64> = pixels
-                .iter()
-                .filter(|p| p[1] > p[2] || p[0] > p[2])
-                .map(|p| f64::from(p[1]))
-                .collect();
-            grass.iter().sum::<f64>() / grass.len().max(1) as f64
-        };
-        let left_drop =
-            1.0 - green(&quarter(&images[1], false)) / green(&quarter(&images[0], false));
-        let (a, b) = (quarter(&images[0], true), quarter(&images[1], true));
-        let right_diff = a
-            .iter()
-            .zip(&b)
-            .map(|(p, q)| {
-                (0..3)
-                    .map(|c| (f64::from(p[c]) - f64::from(q[c])).abs())
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            / (3 * a.len()) as f64;
+        let (left_drop, right_diff) = red_on_the_left(&images[0], &images[1], width);
         println!(
             "colour map: the left quarter's green {:.0} % lower, the right quarter {right_diff:.3} apart",
             100.0 * left_drop

@@ -213,10 +213,14 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
         };
         driver.run(offscreen, dt, uniforms, false)
     };
-    // Warm-up: one frame of every phase the run will meet, at each size, before the
-    // first frame counted. A driver's caches and pools (lavapipe's grew by 4 MiB the
-    // first time the quad shape met one combination of switches, 200 frames into the
-    // CI soak) then have the size this run needs, and growth after it is growth.
+    // Warm-up, before the first frame counted: at each size, one frame of every phase
+    // the run will meet, and the same with every blade drawn at the most segments (no
+    // culling, no LOD: the largest draw the phase's pipelines can be asked for). A
+    // driver's caches and pools grow to the largest draw they have met and keep that
+    // size (lavapipe's rasteriser: 2 to 4 MiB the first time the CI soak met the quad
+    // shape in one combination of switches, 200 frames in, and once again 8,000 frames
+    // into a 20,000-frame soak); after the warm-up they have the size this run needs,
+    // and growth is growth.
     let phases = args.frames.div_ceil(phase_frames);
     for (i, &size) in sizes.iter().enumerate() {
         for phase in 0..phases {
@@ -226,7 +230,12 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
             }
             let dt = FRAME_TIMES[phase as usize % FRAME_TIMES.len()];
             let settings = phase_settings(&base, phase);
-            draw(&mut driver, &mut offscreen, &settings, &camera, dt)?;
+            let mut largest = settings;
+            largest.cull.tests = CullTests::NONE;
+            largest.lod.on = false;
+            for s in [settings, largest] {
+                draw(&mut driver, &mut offscreen, &s, &camera, dt)?;
+            }
         }
         progress.show(0, &format!("warming up {} of 2", i + 1));
     }

@@ -580,5 +580,19 @@ mod tests {
         let missing = std::env::temp_dir().join("grass-config-no-such-file.toml");
         let error = format!("{:#}", parse(&missing, &[]).expect_err("missing"));
         assert!(error.contains("no-such-file"), "{error}");
+        // Through the file guard: a device or a named pipe is refused unread, at once
+        // (`/dev/zero` was read without bound, a pipe waited for a writer).
+        let pipe = std::env::temp_dir().join(format!("grass-config-{}-pipe", std::process::id()));
+        let _ = std::fs::remove_file(&pipe);
+        let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+        assert!(made.expect("run mkfifo").success());
+        for (path, what) in [
+            (Path::new("/dev/zero"), "character device"),
+            (pipe.as_path(), "named pipe"),
+        ] {
+            let error = format!("{:#}", parse(path, &[]).expect_err(what));
+            assert!(error.contains(what), "{error}");
+        }
+        let _ = std::fs::remove_file(pipe);
     }
 }

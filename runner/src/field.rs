@@ -167,7 +167,7 @@ pub enum FieldBlades<'a> {
         /// The maps' words.
         paint: &'a [u32],
     },
-    /// A tiled field (issue 19): room for `simulated` pool blades, simulated in
+    /// A tiled field: room for `simulated` pool blades, simulated in
     /// place, then for `far` blades generated every frame, `tile_words` words of
     /// tile lists (`layout::BINDING_TILES`), and the painted density map's words
     /// (`shared::paint`; empty for none).

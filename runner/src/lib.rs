@@ -5,7 +5,7 @@
 //! frame in order, [`renderer`] records one frame start to end, and [`app`] the
 //! frame driver (`app::driver`: slots, submission, presentation or capture, the
 //! simulation clock, read-back) and the shells that use it (window viewer, `render`,
-//! `bench`, `soak`); [`tiles`] the tiled field's host side (issue 19) and [`paint`]
+//! `bench`, `soak`); [`tiles`] the tiled field's host side and [`paint`]
 //! its painted maps; [`embed`] the field in someone else's frame.
 //! The settings are typed (`shared::settings`) and become the
 //! shaders' numbers in one place, `Settings::uniforms`.

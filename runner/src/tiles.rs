@@ -1,4 +1,4 @@
-//! The tiled field's host side (issue 19): its layout and budget ([`TiledSpec`]),
+//! The tiled field's host side: its layout and budget ([`TiledSpec`]),
 //! and which tiles hold simulated state. A fixed number of slots, each the state of one tile's blades (the paper's
 //! v1, v2 and collision strength), so device memory depends on the pool, not on the
 //! world. A tile keeps its slot while it is needed (near the camera) or pinned (a

@@ -659,7 +659,7 @@ fn count_pixels(
     }
 }
 
-/// One thread per blade of one tile (`shared::tiles`, issue 19): blade `i` of the
+/// One thread per blade of one tile (`shared::tiles`): blade `i` of the
 /// pushed tile as the camera sees it, into slot `i` of the scratch binding (width 0
 /// where its rank has left it). The GPU side of the tiled field's generation, checked
 /// against the host's.
@@ -679,7 +679,7 @@ pub fn generate_tile(
     }
 }
 
-/// One thread per blade of a tile entering the tiled field's pool (issue 19): blade
+/// One thread per blade of a tile entering the tiled field's pool: blade
 /// `i` of the pushed tile (every one kept: the pool's tiles are near, and a trampled
 /// one keeps its blades as the camera leaves) into field slot `push.slot.x + i` in
 /// the far tiles' pose (`tiles::far_blade`: it starts as it was drawn), with its id, no collision strength, and its clump in the natural look.
@@ -734,8 +734,8 @@ fn write_tile_blade(
     }
 }
 
-/// One thread per candidate tile of a square around the camera, in a tiled frame
-/// (issue 19): a tile in view ([`tile_in_view`]) that no pool slot holds (the pool's
+/// One thread per candidate tile of a square around the camera, in a tiled frame:
+/// a tile in view ([`tile_in_view`]) that no pool slot holds (the pool's
 /// table at `layout::TILES_POOL`) takes room for its first [`far_count`] blades in the
 /// field's far part (one device atomic on `COUNTER_TILE_BLADES`; a tile the room runs
 /// out in keeps what is left, its first, most spread blades, and is counted short),
@@ -853,8 +853,8 @@ pub fn generate_far(
     }
 }
 
-/// One thread per candidate tile of a square around the camera (`shared::tiles`,
-/// issue 19): the tiles [`tile_in_view`] keeps, appended to the scratch binding after
+/// One thread per candidate tile of a square around the camera (`shared::tiles`):
+/// the tiles [`tile_in_view`] keeps, appended to the scratch binding after
 /// their count (word 0), two words each (x, z). The GPU side of the tiled field's
 /// selection, checked against the host's.
 #[spirv(compute(threads(64)))]

@@ -217,7 +217,7 @@ pub fn occluded(blade: &Blade, view_proj: Mat4, pyramid: &[f32], hiz: &HiZLayout
 }
 
 /// [`occluded`] for the box from `lo` to `hi` (a tile of the tiled field and the
-/// blades it can hold: issue 19's tile-level test).
+/// blades it can hold: the tile-level test).
 pub fn box_occluded(lo: Vec3, hi: Vec3, view_proj: Mat4, pyramid: &[f32], hiz: &HiZLayout) -> bool {
     if hiz.is_empty() {
         return false;

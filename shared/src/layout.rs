@@ -108,7 +108,7 @@ pub const BINDING_DEPTH_IMAGE_MS: u32 = 19;
 /// pixel).
 pub const PREPARE_WORKGROUP: u32 = 8;
 
-/// Binding of the tiled field's tile words (storage and indirect, `u32`; issue 19):
+/// Binding of the tiled field's tile words (storage and indirect, `u32`):
 /// the far blades' generation dispatch at [`TILES_DISPATCH`], the pool's tiles from
 /// [`TILES_POOL`] (x, z each; written by the host every frame), and the far tiles in
 /// view from [`TILES_LIST`] (x, z, first blade, blade count each), written by

@@ -1,4 +1,4 @@
-//! The natural look: what games add to the paper's Lambert blades (issue 16). Clumps
+//! The natural look: what games add to the paper's Lambert blades. Clumps
 //! and a colour palette, leaves rounded across their width and lit through, ambient
 //! occlusion towards the root, fades instead of popping, a sky with a sun disc,
 //! aerial perspective, sun shadows and a tone map. Every function here runs in the

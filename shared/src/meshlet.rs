@@ -1,5 +1,5 @@
 //! The mesh-shader path's blade strips and how blades are grouped into mesh
-//! workgroups (issue 17), after AMD's mesh-shader grass (GPUOpen, *Procedural grass
+//! workgroups, after AMD's mesh-shader grass (GPUOpen, *Procedural grass
 //! rendering*, 2022), with its task stage's work moved into the compute pass.
 //!
 //! A blade of level L is a strip of N = ⌈L⌉ segments: 2(N + 1) vertices and exactly

@@ -1,4 +1,4 @@
-//! The compute rasterizer for far blades (issue 18): blades a few pixels tall skip the
+//! The compute rasterizer for far blades: blades a few pixels tall skip the
 //! fixed-function pipeline. Each is drawn by one compute thread into a visibility
 //! buffer of one 64-bit value per pixel taken with an atomic minimum: the depth in the
 //! high 32 bits (a positive `f32`'s bits order as the float does), the blade's slot and

@@ -1,4 +1,4 @@
-//! A loaded scene's surface cut into the tiled field's tiles (issue 19): "tiles over
+//! A loaded scene's surface cut into the tiled field's tiles: "tiles over
 //! their triangles, by area". A tile's column (its square in x and z, at any height)
 //! holds the pieces of the scene's triangles inside it, clipped to the square, so
 //! the tiles share the surface's area out exactly: no blade grows twice, no seam is

@@ -1,6 +1,6 @@
 //! The far blades' wind pose: the pose a simulated blade settles into under the
 //! frame's gravity and wind, in closed form, so that blades nobody simulates sway
-//! like their simulated neighbours (issue 19).
+//! like their simulated neighbours.
 
 use crate::simulate::{Environment, wind_at};
 use crate::{Blade, forces, validate};

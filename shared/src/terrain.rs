@@ -1,4 +1,4 @@
-//! The generated world of issue 19: `valley`, a height field of 2 km × 2 km and more
+//! The generated world: `valley`, a height field of 2 km × 2 km and more
 //! (it repeats nowhere: sines of incommensurate wavelengths), with a winding bare path
 //! along its floor, as pure functions of a ground point so the tiles' blades (GPU) and
 //! the ground mesh (host) stand on the same surface.

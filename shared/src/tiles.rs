@@ -1,4 +1,4 @@
-//! Blades from tiles (issue 19, first step): the world is cut into square tiles, and a
+//! Blades from tiles: the world is cut into square tiles, and a
 //! tile's blades are a function of the tile's coordinates, the blade's index in it and
 //! a seed, so nothing per blade has to be stored for a tile nobody simulates. After the
 //! generated grass of Ghost of Tsushima (Eric Wohllaib, *Procedural Grass in Ghost of

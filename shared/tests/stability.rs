@@ -1,4 +1,4 @@
-//! Stability of the simulation (issue 6): for frame times from 0.1 ms to 2 s and
+//! Stability of the simulation: for frame times from 0.1 ms to 2 s and
 //! extreme settings, no blade becomes NaN or infinite, `v2` stays above its ground,
 //! `v1` above `v0`, the curve length stays within a stated tolerance of h and the
 //! collision strength η stays in [0, MAX_STRENGTH].

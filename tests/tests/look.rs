@@ -1,4 +1,4 @@
-//! The natural look (issue 16) on the device: references of each built-in scene with
+//! The natural look on the device: references of each built-in scene with
 //! one shape each and of the trail, and image measures that fail when a technique
 //! stops working: shadows darken only where the walls shade and never the sky, MSAA
 //! lowers the high-frequency energy of edges, and the field's far edge is no line.

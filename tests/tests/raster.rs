@@ -1,4 +1,4 @@
-//! The compute rasterizer of far blades (issue 18) on the device against the host.
+//! The compute rasterizer of far blades on the device against the host.
 
 use runner::app::driver::FrameDriver;
 use runner::app::headless::{FORMAT, Offscreen};

@@ -1,4 +1,4 @@
-//! Blades from tiles (issue 19): the GPU's generation against the host's.
+//! Blades from tiles: the GPU's generation against the host's.
 
 use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;

@@ -1,4 +1,4 @@
-//! The compute rasterizer of far blades (`shared::raster`, issue 18). Once the
+//! The compute rasterizer of far blades (`shared::raster`). Once the
 //! hardware has drawn the near grass and the ground, a compute pass copies their depth
 //! into a buffer (the farthest sample under MSAA), and another draws each far blade
 //! into the visibility buffer: a pixel behind that depth costs a load, one in front a

@@ -1,4 +1,4 @@
-//! The tiled field's generation (issue 19), first in a tiled frame: the host decides
+//! The tiled field's generation, first in a tiled frame: the host decides
 //! which tiles the pool of simulated tiles holds ([`TilePool`]: the tiles near the
 //! camera and the ones a collider trampled), and the GPU generates a tile entering the
 //! pool into its slot; then a compute pass picks the far tiles in view, each taking

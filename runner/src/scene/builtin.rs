@@ -66,7 +66,7 @@ pub fn hills(side: f32, cells: u32) -> SurfaceMesh {
     )
 }
 
-/// The valley of issue 19 (`shared::terrain`): its height field over the square of
+/// The valley (`shared::terrain`): its height field over the square of
 /// side `side` (metres) centred on the origin, as a grid of `cells`×`cells` quads
 /// (`cells` clamped to 1..=[`MAX_CELLS`]), normals from the analytic gradient. The
 /// ground the tiled field's blades will stand on (`shared::tiles::TERRAIN_VALLEY`);

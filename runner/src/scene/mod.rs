@@ -34,7 +34,7 @@ pub enum SceneKind {
     /// A field with stone walls and a block: the occlusion test's showcase.
     Walls,
     /// A generated valley 2 km wide with a bare path (`shared::terrain`): the tiled
-    /// field's world (issue 19).
+    /// field's world.
     Valley,
     /// A glTF 2.0 (`.gltf`, `.glb`) or Wavefront OBJ file.
     File(PathBuf),

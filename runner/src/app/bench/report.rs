@@ -106,7 +106,7 @@ pub fn print_table(device: &str, args: &BenchArgs, points: &[Point]) {
 }
 
 /// A tiled field's line per point: the world's blades, the far tiles and blades in
-/// view, and the GPU frame's 99th percentile against its median (issue 19's targets).
+/// view, and the GPU frame's 99th percentile against its median (the tiled world's targets).
 pub fn print_tiled(points: &[Point]) {
     for p in points.iter().filter(|p| p.potential > 0.0) {
         println!(

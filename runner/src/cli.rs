@@ -369,6 +369,10 @@ pub struct Common {
     /// on a GPU, 1 on a software device].
     #[arg(long, global = true, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
+    /// Side of the sun's shadow map in texels: 256, 512, 1024, 2048 or 4096 [default:
+    /// 2048 on a GPU, 512 on a software device].
+    #[arg(long, global = true, value_parser = parse_shadow_size)]
+    pub shadow_size: Option<u32>,
     /// How the grass is drawn: `tess` through the tessellator (a patch per blade),
     /// `mesh` by mesh stages (VK_EXT_mesh_shader), `auto` the one measured
     /// faster: mesh wherever the device has it.
@@ -578,6 +582,14 @@ fn parse_msaa(s: &str) -> Result<u32, String> {
     match s.trim().parse::<u32>() {
         Ok(n @ (1 | 2 | 4 | 8)) => Ok(n),
         _ => Err(format!("{s:?} is not 1, 2, 4 or 8")),
+    }
+}
+
+fn parse_shadow_size(s: &str) -> Result<u32, String> {
+    use shared::settings::SHADOW_SIZES;
+    match s.trim().parse::<u32>() {
+        Ok(n) if SHADOW_SIZES.contains(&n) => Ok(n),
+        _ => Err(format!("{s:?} is not one of {SHADOW_SIZES:?}")),
     }
 }
 

@@ -195,8 +195,8 @@ pub struct ViewerState {
 /// The running `settings` and `viewer` state (as the overlay and the keys leave them)
 /// and the command line's other options (`common`: scene, field, maps, ball path) as a
 /// settings file that `--config` reads back to the same settings: what the overlay's
-/// "save settings" writes. The device's own choices (pipeline, samples, shadows,
-/// compute rasterizer) are written as they are now, so the file makes them explicit.
+/// "save settings" writes. The device's own choices (pipeline, samples, shadows and
+/// their map, compute rasterizer) are written as they are now, so the file makes them explicit.
 pub fn current(
     common: &crate::cli::Common,
     s: &shared::settings::Settings,
@@ -259,6 +259,7 @@ pub fn current(
         ("no-shadows", switch(!look.shadows)),
         ("shadows", switch(look.shadows)),
         ("msaa", Some(look.msaa.to_string())),
+        ("shadow-size", Some(look.shadow_size.to_string())),
         ("exposure", number(look.exposure)),
         ("fog-density", number(look.fog_density)),
         ("clump-size", number(look.clump_size)),
@@ -478,6 +479,7 @@ mod tests {
         s.look.style = Look::Paper;
         s.look.shadows = false;
         s.look.msaa = 2;
+        s.look.shadow_size = 1024;
         s.look.exposure = 1.5;
         s.look.fog_density = 0.004;
         s.look.clump_size = 3.25;

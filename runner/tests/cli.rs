@@ -504,6 +504,7 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("far-at-rest", None, "Settings"),
     ("shadows", None, "Settings"),
     ("msaa", Some("2"), "Settings"),
+    ("shadow-size", Some("1024"), "Settings"),
     ("pipeline", Some("tess"), "Settings"),
     ("exposure", Some("2"), "Settings"),
     ("fog-density", Some("0.01"), "Settings"),

@@ -82,6 +82,8 @@ pub struct LookSettings {
     pub shadows: bool,
     /// Samples per pixel: 1, 2, 4 or 8.
     pub msaa: u32,
+    /// Side of the sun's shadow map in texels, one of [`SHADOW_SIZES`].
+    pub shadow_size: u32,
     /// Factor on the radiance before the tone map (natural look).
     pub exposure: f32,
     /// Aerial perspective: fog density per unit of distance.
@@ -110,6 +112,7 @@ impl Default for LookSettings {
             style: Look::Natural,
             shadows: true,
             msaa: 1,
+            shadow_size: SHADOW_SIZE,
             exposure: 1.0,
             fog_density: 0.0012,
             clump_size: 1.6,
@@ -127,6 +130,9 @@ pub const SHADOW_SIZE: u32 = 2048;
 /// Side of the sun's shadow map on a software device, whose rasteriser pays for
 /// every texel cleared and drawn.
 pub const SHADOW_SIZE_SOFTWARE: u32 = 512;
+/// The shadow map's sides that can be chosen: powers of two up to 4096, the least
+/// `maxImageDimension2D` Vulkan allows a device.
+pub const SHADOW_SIZES: [u32; 5] = [256, 512, 1024, 2048, 4096];
 
 /// Farthest the shadow map reaches from the camera, in units: beyond, the sun's map
 /// would spread too thin over a large field.
@@ -558,8 +564,7 @@ impl Settings {
             style: look.style as u32,
             shadows: u32::from(look.shadows && look.style == Look::Natural),
             seed: look.seed,
-            // The renderer fills in its map's size, as it fills in the pyramid's.
-            shadow_size: 0,
+            shadow_size: look.shadow_size,
             fog_density: look.fog_density,
             field_distance: self.cull.max_distance,
             pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,

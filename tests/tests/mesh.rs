@@ -3,7 +3,7 @@
 //! grass (occlusion) and the natural look. The strips' rows are not the tessellator's
 //! fractional-odd rows (`shared::meshlet`), so blade edges move by a fraction of a
 //! pixel: the images agree within the stated tolerance, not exactly; each mesh-path
-//! frame also matches its own reference (`tests::PAPER_TOLERANCE`).
+//! frame also matches its own reference (`tests::FRAME_TOLERANCE`).
 
 use tests::{
     Need, compare_reference, device_needing, difference, grass_share, render_image, save_failure,

@@ -21,7 +21,7 @@ use crate::tiles::TiledSpec;
 use crate::vulkan::Context;
 use crate::vulkan::probe::Capabilities;
 use anyhow::Result;
-use shared::settings::{GrassPipeline, Settings};
+use shared::settings::{GrassPipeline, SHADOW_SIZE, SHADOW_SIZE_SOFTWARE, Settings};
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -387,14 +387,17 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
         s.look.clump_size = size;
     }
     s.look.msaa = common.msaa.unwrap_or(1);
+    s.look.shadow_size = common.shadow_size.unwrap_or(s.look.shadow_size);
     s.look.seed = common.seed as u32;
     s
 }
 
 /// What the command line leaves to the device: the grass pipeline
-/// ([`grass_pipeline`]), samples per pixel ([`msaa`]) and sun
-/// shadows (`--shadows`, `--no-shadows`, else on a GPU only: lavapipe spends about a
-/// tenth of the natural look's frame on them and would fall below the viewer's 20 fps).
+/// ([`grass_pipeline`]), samples per pixel ([`msaa`]), sun shadows (`--shadows`,
+/// `--no-shadows`, else on a GPU only: lavapipe spends about a tenth of the natural
+/// look's frame on them and would fall below the viewer's 20 fps) and the shadow
+/// map's side (`--shadow-size`, else `SHADOW_SIZE` on a GPU, `SHADOW_SIZE_SOFTWARE`
+/// on a software device).
 pub fn device_defaults(
     settings: &mut Settings,
     common: &Common,
@@ -418,6 +421,11 @@ pub fn device_defaults(
     } else {
         common.shadows || !device.software
     };
+    settings.look.shadow_size = common.shadow_size.unwrap_or(if device.software {
+        SHADOW_SIZE_SOFTWARE
+    } else {
+        SHADOW_SIZE
+    });
     Ok(())
 }
 

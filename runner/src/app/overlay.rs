@@ -5,7 +5,7 @@ use crate::camera::Fly;
 use crate::passes::tiles::PoolStats;
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
-use shared::settings::{BladeShape, GrassPipeline, Look, Settings, View, WindField};
+use shared::settings::{BladeShape, GrassPipeline, Look, SHADOW_SIZES, Settings, View, WindField};
 use std::collections::VecDeque;
 use winit::event::WindowEvent;
 use winit::window::Window;
@@ -336,6 +336,14 @@ fn look(ui: &mut egui::Ui, s: &mut Settings) {
         natural,
         egui::Checkbox::new(&mut look.shadows, "sun shadows (H)"),
     );
+    ui.add_enabled_ui(natural && look.shadows, |ui| {
+        ui.horizontal(|ui| {
+            ui.label("shadow map");
+            for n in SHADOW_SIZES {
+                ui.radio_value(&mut look.shadow_size, n, n.to_string());
+            }
+        })
+    });
     ui.horizontal(|ui| {
         ui.label("MSAA (M)");
         for n in MSAA_CHOICES {

@@ -22,7 +22,7 @@ use anyhow::Result;
 use ash::vk;
 use glam::Vec4;
 use shared::layout::SurfaceVertex;
-use shared::settings::{SHADOW_SIZE, SHADOW_SIZE_SOFTWARE};
+use shared::settings::SHADOW_SIZES;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -40,22 +40,73 @@ pub struct ShadowPass {
 }
 
 impl ShadowPass {
-    /// The map (cleared to the far plane, so everything reads lit until the first
-    /// shadow pass, and left ready to be sampled) and its pipelines; points the
-    /// field's binding 8 at it.
+    /// The map, `side` texels a side (cleared to the far plane, so everything reads
+    /// lit until the first shadow pass, and left ready to be sampled), and its
+    /// pipelines; points the field's bindings 8 and 9 at them.
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
         module: &ShaderModules,
         field: &Field,
+        side: u32,
     ) -> Result<Self> {
-        use vk::ImageUsageFlags as U;
         use vk::ShaderStageFlags as St;
-        let side = if ctx.is_software() {
-            SHADOW_SIZE_SOFTWARE
-        } else {
-            SHADOW_SIZE
-        };
+        let map = Self::map(ctx, pool, field, side)?;
+        let sampler = Sampler::shadow_compare(ctx, DEPTH_FORMAT)?;
+        let set = &field.descriptors;
+        set.write_sampler(BINDING_SHADOW_SAMPLER, sampler.sampler);
+        let none = vk::Format::UNDEFINED;
+        // The position alone (location 0): the shadow's vertex stage reads no normal.
+        let mut input = vec4_vertex_input::<SurfaceVertex>();
+        input.1.truncate(1);
+        let stages = [(St::VERTEX, shaders::SHADOW_SURFACE_VS)];
+        let surfaces =
+            GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
+        let surfaces = Pipeline::graphics(ctx, &surfaces)?;
+        let stages = [
+            (St::VERTEX, shaders::NATURAL_VS),
+            (St::TESSELLATION_CONTROL, shaders::GRASS_SHADOW_TCS),
+            (St::TESSELLATION_EVALUATION, shaders::GRASS_SHADOW_TES),
+        ];
+        let grass = GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
+        let grass = Pipeline::graphics(ctx, &grass)?;
+        Ok(Self {
+            map,
+            _sampler: sampler,
+            surfaces,
+            grass,
+        })
+    }
+
+    /// Side of the map in texels.
+    pub fn size(&self) -> u32 {
+        self.map.extent.width
+    }
+
+    /// Makes the map again `side` texels a side, unless it is already; waits for the
+    /// frames in flight, which may read the old one.
+    pub fn resize(
+        &mut self,
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        field: &Field,
+        side: u32,
+    ) -> Result<()> {
+        if side != self.size() {
+            ctx.wait_idle()?;
+            self.map = Self::map(ctx, pool, field, side)?;
+        }
+        Ok(())
+    }
+
+    /// A map `side` texels a side, cleared to the far plane and ready to be sampled,
+    /// bound to the field's binding 8.
+    fn map(ctx: &Arc<Context>, pool: &CommandPool, field: &Field, side: u32) -> Result<Image> {
+        use vk::ImageUsageFlags as U;
+        anyhow::ensure!(
+            SHADOW_SIZES.contains(&side),
+            "shadow map of {side} texels: the sides are {SHADOW_SIZES:?}"
+        );
         let extent = vk::Extent2D {
             width: side,
             height: side,
@@ -87,36 +138,10 @@ impl ShadowPass {
                 (S::FRAGMENT_SHADER, A::SHADER_READ),
             )
         })?;
-        let sampler = Sampler::shadow_compare(ctx, DEPTH_FORMAT)?;
-        let set = &field.descriptors;
-        set.write_sampled_image(BINDING_SHADOW_MAP, map.view);
-        set.write_sampler(BINDING_SHADOW_SAMPLER, sampler.sampler);
-        let none = vk::Format::UNDEFINED;
-        // The position alone (location 0): the shadow's vertex stage reads no normal.
-        let mut input = vec4_vertex_input::<SurfaceVertex>();
-        input.1.truncate(1);
-        let stages = [(St::VERTEX, shaders::SHADOW_SURFACE_VS)];
-        let surfaces =
-            GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
-        let surfaces = Pipeline::graphics(ctx, &surfaces)?;
-        let stages = [
-            (St::VERTEX, shaders::NATURAL_VS),
-            (St::TESSELLATION_CONTROL, shaders::GRASS_SHADOW_TCS),
-            (St::TESSELLATION_EVALUATION, shaders::GRASS_SHADOW_TES),
-        ];
-        let grass = GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
-        let grass = Pipeline::graphics(ctx, &grass)?;
-        Ok(Self {
-            map,
-            _sampler: sampler,
-            surfaces,
-            grass,
-        })
-    }
-
-    /// Side of the map in texels.
-    pub fn size(&self) -> u32 {
-        self.map.extent.width
+        field
+            .descriptors
+            .write_sampled_image(BINDING_SHADOW_MAP, map.view);
+        Ok(map)
     }
 
     /// Records the map: surfaces, `balls` and the visible grass; it is then ready

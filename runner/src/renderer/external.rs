@@ -56,7 +56,7 @@ impl Renderer {
         uniforms.hiz = Default::default();
         uniforms.look.samples = 1;
         uniforms.raster.below = 0.0;
-        self.complete_uniforms(&mut uniforms, frame.push, extent);
+        self.complete_uniforms(&mut uniforms, frame.push, extent)?;
         let stamp = super::stamper(rec, queries);
         stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a

@@ -35,6 +35,7 @@ use shared::cull::OCCLUSION;
 use shared::layout::{FrameUniforms, PIPELINE_MESH, SimulatePush, ToneMapPush};
 use shared::look::LOOK_NATURAL;
 use shared::mesh::SurfaceMesh;
+use shared::settings::SHADOW_SIZES;
 use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use std::sync::Arc;
 use targets::{DrawTargets, TargetSpec};
@@ -198,7 +199,8 @@ impl Renderer {
             GrassPass::new(ctx, &module, &field, color_format, one)?,
         );
         let occlusion = OcclusionPass::new(ctx, &module, &field)?;
-        let shadow = ShadowPass::new(ctx, &pool, &module, &field)?;
+        // The smallest map until the first frame names its size.
+        let shadow = ShadowPass::new(ctx, &pool, &module, &field, SHADOW_SIZES[0])?;
         let tonemap = ToneMapPass::new(ctx, &module, color_format)?;
         Ok(Self {
             ctx: ctx.clone(),
@@ -328,7 +330,7 @@ impl Renderer {
         } else {
             Default::default()
         };
-        self.complete_uniforms(&mut uniforms, input.push, target.extent);
+        self.complete_uniforms(&mut uniforms, input.push, target.extent)?;
         if !self.raster.supported() {
             uniforms.raster.below = 0.0;
         }
@@ -396,21 +398,24 @@ impl Renderer {
         Ok(())
     }
 
-    /// What the renderer fills in of every frame's block: the shadow map's size, a
-    /// tiled field's part, the simulated time after `push`'s steps and the target's
-    /// `extent`; the ground's grid follows the camera.
+    /// What the renderer fills in of every frame's block: a tiled field's part, the
+    /// simulated time after `push`'s steps and the target's `extent`; the shadow map
+    /// takes the block's size and the ground's grid follows the camera.
     fn complete_uniforms(
         &mut self,
         uniforms: &mut FrameUniforms,
         push: SimulatePush,
         extent: vk::Extent2D,
-    ) {
-        uniforms.look.shadow_size = self.shadow.size();
+    ) -> Result<()> {
+        let side = uniforms.look.shadow_size;
+        self.shadow
+            .resize(&self.ctx, &self.pool, &self.field, side)?;
         self.tile_uniforms(uniforms);
         uniforms.forces.time = shared::simulate::step_time(push.first_step + push.steps);
         self.ground.follow(uniforms.camera.position);
         uniforms.raster.width = extent.width;
         uniforms.raster.height = extent.height;
+        Ok(())
     }
 
     /// A tiled field's tiles for the frame of `push`'s steps (nothing for a stored

@@ -14,8 +14,8 @@ use anyhow::{Context, ensure};
 use glam::{Quat, Vec3};
 use runner::scene::builtin::{hills, hills_height, sphere};
 use runner::scene::load::load_gltf_slice;
-use shared::generate::SplitMix64;
-use shared::mesh::SurfaceMesh;
+use shared::world::generate::SplitMix64;
+use shared::world::mesh::SurfaceMesh;
 use std::fmt::Write as _;
 use std::path::Path;
 

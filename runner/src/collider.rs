@@ -2,8 +2,8 @@
 //! or along a scripted path (`--collider-path`) in both viewer and headless render.
 
 use glam::{Vec2, Vec3, Vec4};
-use shared::mesh::SurfacePoint;
-use shared::mesh::bvh::IndexedMesh;
+use shared::world::mesh::SurfacePoint;
+use shared::world::mesh::bvh::IndexedMesh;
 
 /// How deep the ball sinks into the grass: its centre is this fraction of its radius
 /// above the surface, so it presses the blades down rather than rolling over them.

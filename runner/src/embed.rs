@@ -32,11 +32,11 @@
 //! Look::Natural` draws the natural look (clumps and colour, rounded normals,
 //! translucency, sun shadows, fog) as linear radiance, before exposure and tone
 //! mapping: give it a linear HDR colour target (e.g. `R16G16B16A16_SFLOAT`) and tone
-//! map it with the rest of your frame (`shared::look::tone_map` is this program's,
+//! map it with the rest of your frame (`shared::draw::look::sky::tone_map` is this program's,
 //! with `settings.look.exposure`). The program's own sky and tone-map pass are not
 //! drawn: they would cover your picture.
 //!
-//! `runner/examples/embed.rs` is a whole program: its own spinning cube and this grass
+//! `runner/examples/embed/` is a whole program: its own spinning cube and this grass
 //! in one frame, in a window or headless (`--out frame.png`).
 
 use crate::renderer::external::ExternalFrame;
@@ -47,11 +47,11 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
-use shared::collide::MAX_COLLIDERS;
-use shared::mesh::SurfaceMesh;
-use shared::mesh::bvh::IndexedMesh;
 use shared::settings::{GrassPipeline, Look};
-use shared::simulate::SimClock;
+use shared::sim::collide::MAX_COLLIDERS;
+use shared::sim::simulate::SimClock;
+use shared::world::mesh::SurfaceMesh;
+use shared::world::mesh::bvh::IndexedMesh;
 use std::sync::Arc;
 
 pub use crate::passes::DEPTH_FORMAT;
@@ -138,7 +138,7 @@ pub struct Frame<'a> {
     /// Where it is seen from ([`viewpoint`]).
     pub camera: Viewpoint,
     /// Time since the last frame, seconds: the simulation runs in fixed steps of
-    /// `shared::simulate::STEP_SECONDS` to catch up with it.
+    /// `shared::sim::simulate::STEP_SECONDS` to catch up with it.
     pub seconds: f64,
     /// Spheres (centre xyz, radius w) that push the blades down; at most
     /// [`MAX_COLLIDERS`].
@@ -231,7 +231,7 @@ impl GrassField {
         let uniforms = self
             .settings
             .uniforms(&frame.camera, self.blades, frame.colliders);
-        let push = shared::layout::SimulatePush {
+        let push = shared::gpu::layout::SimulatePush {
             first_step,
             steps,
             ..Default::default()

@@ -9,18 +9,20 @@ use anyhow::{Result, bail};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
-use shared::layout::{
-    self, ChunkPush, CopyPush, FrameUniforms, HiZPush, PreparePush, SimulatePush, SurfacePush,
+use shared::cull::lod::blades_per_chunk;
+use shared::draw::look::clump::DressedBlade;
+use shared::draw::meshlet::{BUCKETS, StripBlade};
+use shared::gpu::counters;
+use shared::gpu::layout;
+use shared::gpu::layout::{
+    ChunkPush, CopyPush, FrameUniforms, HiZPush, PreparePush, SimulatePush, SurfacePush,
     ThroughputPush,
 };
-use shared::layout::{SelectPush, TilePush};
-use shared::lod::blades_per_chunk;
-use shared::look::DressedBlade;
-use shared::meshlet::{BUCKETS, StripBlade};
+use shared::gpu::layout::{SelectPush, TilePush};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
-/// `shared::layout::BINDING_UNIFORMS`).
+/// `shared::gpu::layout::BINDING_UNIFORMS`).
 const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::COMPUTE.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
@@ -230,9 +232,9 @@ pub struct Field {
     pub levels: Buffer,
     /// The mesh path's visible blades binned by strip length (`meshlet::StripBlade`).
     pub binned: Buffer,
-    /// The visible blades as the natural look draws them (`look::DressedBlade`).
+    /// The visible blades as the natural look draws them (`clump::DressedBlade`).
     pub dressed: Buffer,
-    /// Each blade's clump (`look::Clump::pack`).
+    /// Each blade's clump (`clump::Clump::pack`).
     pub clumps: Buffer,
     /// The frame's uniform block, updated by a transfer at the start of each frame.
     pub uniforms: Buffer,
@@ -308,7 +310,7 @@ impl Field {
         let gpu = MemoryLocation::GpuOnly;
         let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
         let blade_usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
-        let no_map = [0u32; shared::paint::HEADER_WORDS];
+        let no_map = [0u32; shared::world::paint::HEADER_WORDS];
         let paint_words = match source {
             FieldBlades::Tiled { paint, .. } | FieldBlades::Stored { paint, .. }
                 if !paint.is_empty() =>
@@ -363,7 +365,7 @@ impl Field {
         let clumps = device_buffer("clumps", u64::from(count) * 16, U::STORAGE_BUFFER)?;
         let counters = device_buffer(
             "counters",
-            (layout::COUNTER_COUNT * 4) as u64,
+            (counters::COUNTER_COUNT * 4) as u64,
             U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
         )?;
         let draws = device_buffer(

@@ -56,7 +56,7 @@
 //! [`embed::GrassField`] puts the grass into a frame of your own ash program: your
 //! instance, device, queue, gpu-allocator, command buffer and colour and depth
 //! images. The field says what it needs before anything is made, and what is
-//! missing; [`embed`] has the whole contract, `runner/examples/embed.rs` a whole
+//! missing; [`embed`] has the whole contract, `runner/examples/embed/` a whole
 //! program (a spinning cube of its own and the grass, in a window or headless).
 //!
 //! ```no_run

@@ -14,7 +14,7 @@ pub const MAX_SIDE: u32 = 4096;
 /// Most bytes a map's file may have: the largest map's texels, uncompressed, and some.
 pub const MAX_FILE_BYTES: u64 = (MAX_SIDE as u64 * MAX_SIDE as u64 * 4) * 2;
 
-/// One map: which (`shared::paint::DENSITY`, ...), its size and its RGBA texels.
+/// One map: which (`shared::world::paint::DENSITY`, ...), its size and its RGBA texels.
 pub type Map = (usize, u32, u32, Vec<[u8; 4]>);
 
 /// The maps the command line names, as `shared::paint` words (empty for none).
@@ -24,7 +24,7 @@ pub fn load_all(
     colour: Option<&Path>,
     kind: Option<&Path>,
 ) -> Result<Vec<u32>> {
-    use shared::paint::{COLOUR, DENSITY, HEIGHT, TYPE};
+    use shared::world::paint::{COLOUR, DENSITY, HEIGHT, TYPE};
     let mut maps = Vec::new();
     let named = [
         (DENSITY, density),
@@ -44,7 +44,7 @@ pub fn load_all(
         .iter()
         .map(|(which, w, h, texels)| (*which, *w, *h, texels.as_slice()))
         .collect();
-    Ok(shared::paint::words(&refs))
+    Ok(shared::world::paint::words(&refs))
 }
 
 /// Map `which` in `path`: an 8-bit PNG (grey, grey and alpha, RGB or RGBA), at most
@@ -91,10 +91,10 @@ fn load_named(path: &Path, which: usize) -> Result<Map> {
     ) {
         bail!("{shown}: {color:?} pixels; save it with 8 bits a channel");
     }
-    let texels = if which == shared::paint::COLOUR {
+    let texels = if which == shared::world::paint::COLOUR {
         image.to_rgba8().pixels().map(|p| p.0).collect()
     } else {
-        shared::paint::grey(image.to_luma8().as_raw())
+        shared::world::paint::grey(image.to_luma8().as_raw())
     };
     Ok((which, width, height, texels))
 }
@@ -131,15 +131,17 @@ mod tests {
             .unwrap()
             .save(&path)
             .unwrap();
-        let (which, w, h, texels) = load(&path, shared::paint::DENSITY).unwrap();
-        assert_eq!((which, w, h), (shared::paint::DENSITY, 3, 1));
+        let (which, w, h, texels) = load(&path, shared::world::paint::DENSITY).unwrap();
+        assert_eq!((which, w, h), (shared::world::paint::DENSITY, 3, 1));
         assert_eq!(
             texels,
             vec![[0, 0, 0, 255], [128, 128, 128, 255], [255, 255, 255, 255]]
         );
         let words = load_all(Some(&path), None, Some(&path), None).unwrap();
-        assert_eq!(words[shared::paint::HEIGHT], 0, "no height map");
-        assert!(words[shared::paint::DENSITY] > 0 && words[shared::paint::COLOUR] > 0);
+        assert_eq!(words[shared::world::paint::HEIGHT], 0, "no height map");
+        assert!(
+            words[shared::world::paint::DENSITY] > 0 && words[shared::world::paint::COLOUR] > 0
+        );
         std::fs::remove_file(path).ok();
     }
 

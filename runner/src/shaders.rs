@@ -12,35 +12,35 @@ pub fn module(entry: &str) -> Option<&'static [u8]> {
 }
 
 /// Compute: simulate, cull and compact.
-pub const SIMULATE_CULL: &str = "compute::simulate_cull";
+pub const SIMULATE_CULL: &str = "compute::simulate::simulate_cull";
 /// Compute: simulate, cull and compact, and dress the visible blades (natural look).
-pub const SIMULATE_CULL_NATURAL: &str = "compute::simulate_cull_natural";
+pub const SIMULATE_CULL_NATURAL: &str = "compute::simulate::simulate_cull_natural";
 /// Compute: the bandwidth reference, a plain copy of every blade.
-pub const COPY_BLADES: &str = "compute::copy_blades";
+pub const COPY_BLADES: &str = "compute::reference::copy_blades";
 /// Compute: one level of the occluders' depth pyramid.
-pub const BUILD_HIZ: &str = "compute::build_hiz";
+pub const BUILD_HIZ: &str = "compute::hiz::build_hiz";
 /// Compute: the tiles in view around the camera (`shared::tiles`), into the scratch
 /// binding.
-pub const SELECT_TILES: &str = "compute::select_tiles";
+pub const SELECT_TILES: &str = "compute::tiles::select_tiles";
 /// Compute: one tile's blades (`shared::tiles`), into the scratch binding.
-pub const GENERATE_TILE: &str = "compute::generate_tile";
+pub const GENERATE_TILE: &str = "compute::tiles::generate_tile";
 /// Compute: a tile entering the tiled field's pool (`shared::tiles`).
-pub const GENERATE_POOL_TILE: &str = "compute::generate_pool_tile";
+pub const GENERATE_POOL_TILE: &str = "compute::tiles::generate_pool_tile";
 /// Compute: the far tiles in view of a tiled frame, listed for their generation.
-pub const SELECT_FAR_TILES: &str = "compute::select_far_tiles";
+pub const SELECT_FAR_TILES: &str = "compute::tiles::select_far_tiles";
 /// Compute: the far tiles' blades of a tiled frame, one workgroup per tile.
-pub const GENERATE_FAR: &str = "compute::generate_far";
+pub const GENERATE_FAR: &str = "compute::tiles::generate_far";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
-pub const CLUMP_BLADES: &str = "compute::clump_blades";
+pub const CLUMP_BLADES: &str = "compute::clumps::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).
-pub const RASTER_FAR: &str = "compute::raster_far";
+pub const RASTER_FAR: &str = "compute::raster::raster_far";
 /// Compute: the compute rasterizer of far blades (natural look, dressed blades).
-pub const RASTER_FAR_NATURAL: &str = "compute::raster_far_natural";
+pub const RASTER_FAR_NATURAL: &str = "compute::raster::raster_far_natural";
 /// Compute: the compute rasterizer's preparation (the hardware's depth copied, the
 /// visibility buffer cleared).
-pub const RASTER_PREPARE: &str = "compute::raster_prepare";
+pub const RASTER_PREPARE: &str = "compute::raster::raster_prepare";
 /// Compute: the preparation under MSAA (the farthest sample of the hardware's depth).
-pub const RASTER_PREPARE_MS: &str = "compute::raster_prepare_ms";
+pub const RASTER_PREPARE_MS: &str = "compute::raster::raster_prepare_ms";
 /// The compute rasterizer's resolve: the full-screen triangle.
 pub const RESOLVE_VS: &str = "raster::resolve_vs";
 /// The resolve's fragment stage, paper look.
@@ -50,9 +50,9 @@ pub const RESOLVE_LOD_FS: &str = "raster::resolve_lod_fs";
 /// The resolve's fragment stage, natural look.
 pub const RESOLVE_NATURAL_FS: &str = "raster::resolve_natural_fs";
 /// Compute: the mesh path's binning of the visible blades by strip length.
-pub const BIN_BLADES: &str = "compute::bin_blades";
+pub const BIN_BLADES: &str = "compute::draws::bin_blades";
 /// Compute: one indirect draw command per chunk of visible blades.
-pub const WRITE_DRAWS: &str = "compute::write_draws";
+pub const WRITE_DRAWS: &str = "compute::draws::write_draws";
 /// Grass vertex stage.
 pub const GRASS_VS: &str = "grass::grass_vs";
 /// Grass tessellation control stage (LOD).

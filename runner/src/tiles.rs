@@ -7,8 +7,8 @@
 //! dropped for the frame (drawn in the far tiles' pose) and counted.
 
 use shared::glam::{IVec2, Vec2, Vec3, Vec4};
-use shared::layout::{MAX_POOL_TILES, TILE_WORDS, TILES_LIST};
-use shared::tiles::TileParams;
+use shared::gpu::layout::{MAX_POOL_TILES, TILE_WORDS, TILES_LIST};
+use shared::world::tiles::TileParams;
 use std::collections::HashMap;
 
 /// A tiled field's layout and budget: the world's tiles, the pool's size and reach,
@@ -55,10 +55,10 @@ impl TiledSpec {
     }
 
     /// Blades a square unit grows at full density: a tile's over its square, on a
-    /// loaded scene a share of that (`shared::surface::per_area`: room for slopes).
+    /// loaded scene a share of that (`shared::world::surface::per_area`: room for slopes).
     pub fn per_area(&self) -> f32 {
-        if self.params.terrain == shared::tiles::TERRAIN_MESH {
-            return shared::surface::per_area(self.params.size, self.tile_blades());
+        if self.params.terrain == shared::world::tiles::TERRAIN_MESH {
+            return shared::world::surface::per_area(self.params.size, self.tile_blades());
         }
         let per_unit = self.params.per_side as f32 / self.params.size;
         per_unit * per_unit
@@ -67,7 +67,7 @@ impl TiledSpec {
     /// The tiles inside the world whose square comes within `radius` of `at` on the
     /// ground plane (x, z), nearest first.
     pub fn tiles_within(&self, at: Vec2, radius: f32) -> Vec<IVec2> {
-        use shared::tiles::{tile_in_world, tile_of, tile_square};
+        use shared::world::tiles::{tile_in_world, tile_of, tile_square};
         let params = &self.params;
         let lo = tile_of(at - Vec2::splat(radius), params);
         let hi = tile_of(at + Vec2::splat(radius), params);
@@ -100,7 +100,7 @@ impl TiledSpec {
     /// The tiles a collider ball (centre xyz, radius w) can bend blades in: those its
     /// ground shadow, grown by the tallest blade, touches.
     pub fn touched(&self, ball: Vec4) -> Vec<IVec2> {
-        let reach = ball.w + shared::tiles::HEIGHT.1;
+        let reach = ball.w + shared::blade::HEIGHT.1;
         self.tiles_within(Vec2::new(ball.x, ball.z), reach)
     }
 
@@ -146,7 +146,7 @@ impl TiledSpec {
 /// seconds of recovery); for ever without decay.
 pub fn trail_hold(decay: f32) -> f32 {
     if decay > 0.0 {
-        shared::collide::MAX_STRENGTH / decay + RECOVERY_SECONDS
+        shared::sim::collide::MAX_STRENGTH / decay + RECOVERY_SECONDS
     } else {
         f32::INFINITY
     }
@@ -168,7 +168,7 @@ struct Slot {
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PoolUpdate {
     /// Slots given to tiles this frame, (slot, tile): their blades start from the
-    /// far tiles' pose (`shared::tiles::far_blade`).
+    /// far tiles' pose (`shared::world::tiles::far_blade`).
     pub placed: Vec<(usize, IVec2)>,
     /// Tiles that lost their slot to a needed one (their state is gone).
     pub evicted: Vec<IVec2>,

@@ -285,7 +285,7 @@ fn bench_writes_one_csv_row_per_point() {
         "--height",
         "32",
         // The paper look: every blade tessellated (the natural look leaves out thin
-        // blades whole, see shared::look::dress).
+        // blades whole, see shared::draw::look::clump::dress).
         "--look",
         "paper",
         // Through the tessellator, whose triangles the device counts.

@@ -1,4 +1,4 @@
-//! The embedding example (`runner/examples/embed.rs`) run headless, in this process:
+//! The embedding example (`runner/examples/embed/`) run headless, in this process:
 //! its own device and cube, and the grass of `runner::embed` in the same frame, with
 //! the validation layer (core and synchronization) silent where it is installed (CI).
 //!
@@ -7,7 +7,7 @@
 //! front of it hides some), outside it the grass's green must cover much of the
 //! picture, and magenta must not show outside it.
 
-#[path = "../examples/embed.rs"]
+#[path = "../examples/embed/main.rs"]
 #[allow(dead_code)]
 mod example;
 
@@ -229,7 +229,7 @@ fn requirements_name_what_is_missing() {
 fn a_field_on_your_own_mesh() {
     use glam::{Vec3, Vec4};
     use runner::embed::Ground;
-    use shared::mesh::SurfaceMesh;
+    use shared::world::mesh::SurfaceMesh;
     if !runs_here("a_field_on_your_own_mesh", &[]) {
         return;
     }
@@ -288,7 +288,7 @@ fn a_field_on_your_own_mesh() {
         seconds: 0.0,
         colliders,
     };
-    let many = [Vec4::ONE; shared::collide::MAX_COLLIDERS + 1];
+    let many = [Vec4::ONE; shared::sim::collide::MAX_COLLIDERS + 1];
     let error = field
         .record(ash::vk::CommandBuffer::null(), &frame(&many))
         .expect_err("too many colliders");

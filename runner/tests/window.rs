@@ -392,7 +392,7 @@ fn a_screenshot_that_cannot_be_written_ends_nothing() {
     assert!(log.contains("20 frames drawn"), "{log}");
 }
 
-/// The embedding example (`runner/examples/embed.rs`) in a window: its own swapchain,
+/// The embedding example (`runner/examples/embed/`) in a window: its own swapchain,
 /// cube and the grass of `runner::embed`, 60 frames with the validation layer
 /// (core and synchronization) silent, through four window sizes (one of 1x1). `cargo test` builds the example beside `grass`.
 #[test]

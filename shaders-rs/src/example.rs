@@ -1,7 +1,7 @@
-//! The embedding example's own object (`runner/examples/embed.rs`): the cube of
+//! The embedding example's own object (`runner/examples/embed/`): the cube of
 //! `shared::cube`, drawn from the vertex index. It stands for a caller's scene.
 
-use shared::cube::{CubePush, cube_shade, cube_vertex};
+use shared::example::cube::{CubePush, cube_shade, cube_vertex};
 use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;
 

@@ -5,21 +5,22 @@
 //! tessellator's per-patch data is what the NVIDIA H100 pays for). The paper look's
 //! stages read the stored blade through its index; the natural look's read the blade
 //! as it draws it, which the compute pass wrote to the same slot of the dressed
-//! buffer (`shared::look::dress`). rust-gpu has no `patch` decoration for user
+//! buffer (`shared::draw::look::clump::dress`). rust-gpu has no `patch` decoration for user
 //! outputs, so they go from the control to the evaluation stage as per-vertex arrays
 //! of length 1. The tessellation levels get their `Patch` decoration from the runner's
 //! build script.
 
 use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
-use shared::layout::FrameUniforms;
-use shared::lod::{blade_level, tess_levels, tess_levels_if};
-use shared::look::{
-    DressedBlade, ambient_occlusion, blade_albedo, casts_shadow, fog, rounded_normal, shade_leaf,
-    unpack_coverage,
-};
-use shared::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
-use shared::shape::surface_point;
+use shared::cull::lod::{blade_level, tess_levels, tess_levels_if};
+use shared::draw::look::clump::{DressedBlade, blade_albedo};
+use shared::draw::look::coverage::unpack_coverage;
+use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
+use shared::draw::look::shadow::casts_shadow;
+use shared::draw::look::sky::fog;
+use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
+use shared::draw::shape::surface_point;
+use shared::gpu::layout::FrameUniforms;
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
@@ -47,7 +48,12 @@ pub fn grass_tcs(
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
     out_blade[0] = in_blade[0];
-    let level = blade_level(&blades[in_blade[0] as usize], frame);
+    let level = blade_level(
+        &blades[in_blade[0] as usize],
+        &frame.lod,
+        &frame.camera,
+        frame.grass.shape,
+    );
     out_level[0] = level;
     let (o, i) = tess_levels(level);
     *outer = o;
@@ -130,9 +136,9 @@ pub fn natural_tcs(
 ) {
     out_slot[0] = in_slot[0];
     let drawn = &dressed[in_slot[0] as usize];
-    let level = blade_level(&drawn.blade, frame);
+    let level = blade_level(&drawn.blade, &frame.lod, &frame.camera, frame.grass.shape);
     out_level[0] = level;
-    // A thin blade its coverage left out (`shared::look::dress`) is dropped.
+    // A thin blade its coverage left out (`shared::draw::look::clump::dress`) is dropped.
     let (mask, _) = unpack_coverage(drawn.tint.w);
     let (o, i) = tess_levels_if(level, mask != 0);
     *outer = o;
@@ -204,7 +210,7 @@ pub(crate) struct Leaf {
     pub world: Vec3,
     /// (u across, v along) the blade.
     pub uv: Vec2,
-    /// The dressed blade's tint and coverage (`shared::look::dress`).
+    /// The dressed blade's tint and coverage (`shared::draw::look::clump::dress`).
     pub tint: Vec4,
     /// The blade's width direction.
     pub width_dir: Vec3,

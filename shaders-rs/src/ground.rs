@@ -2,10 +2,13 @@
 //! with the soil texture generated in the fragment stage.
 
 use crate::{ShadowMap, sun_shadow};
-use shared::layout::{FrameUniforms, GROUND_GRID, SurfacePush};
-use shared::look::{LOOK_NATURAL, fog, natural_ground, shade_ground};
-use shared::shade::{lambert, surface_albedo};
-use shared::terrain::{valley_height, valley_normal};
+use shared::draw::look::LOOK_NATURAL;
+use shared::draw::look::ground::natural_ground;
+use shared::draw::look::ground::shade_ground;
+use shared::draw::look::sky::fog;
+use shared::draw::shade::{lambert, surface_albedo};
+use shared::gpu::layout::{FrameUniforms, GROUND_GRID, SurfacePush};
+use shared::world::terrain::{valley_height, valley_normal};
 use spirv_std::Sampler;
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::spirv;

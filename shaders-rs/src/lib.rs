@@ -2,7 +2,7 @@
 //!
 //! Each entry point only reads its inputs, calls the grass model in `shared`, and
 //! writes its outputs. Descriptor bindings are literals here (rust-gpu attributes take
-//! no constants); the numbers are `shared::layout::BINDING_*`, and a test reflects
+//! no constants); the numbers are `shared::gpu::layout::BINDING_*`, and a test reflects
 //! the compiled module to check that they agree with the runner's layouts.
 #![cfg_attr(target_arch = "spirv", no_std)]
 
@@ -16,8 +16,8 @@ pub mod raster;
 pub mod throughput;
 pub mod tonemap;
 
-use shared::layout::FrameUniforms;
-use shared::look::{on_shadow_map, shadow_bias, shadow_coord};
+use shared::draw::look::shadow::{on_shadow_map, shadow_bias, shadow_coord};
+use shared::gpu::layout::FrameUniforms;
 use spirv_std::Sampler;
 use spirv_std::glam::Vec3;
 
@@ -25,16 +25,16 @@ use spirv_std::glam::Vec3;
 pub type ShadowMap = spirv_std::Image!(2D, type=f32, sampled, depth);
 
 /// The depth target as the depth copy reads it: a sampled image fetched by texel,
-/// with no sampler (`shared::layout::BINDING_DEPTH_IMAGE`).
+/// with no sampler (`shared::gpu::layout::BINDING_DEPTH_IMAGE`).
 pub type DepthImage = spirv_std::Image!(2D, type=f32, sampled);
 
 /// The multisampled depth target as the preparation reads it, sample by sample
-/// (`shared::layout::BINDING_DEPTH_IMAGE_MS`).
+/// (`shared::gpu::layout::BINDING_DEPTH_IMAGE_MS`).
 pub type DepthImageMs = spirv_std::Image!(2D, type=f32, sampled, multisampled);
 
 /// The sun's light reaching `world`: 1 lit, 0 in shadow, from one fetch of the shadow
 /// map through its comparison sampler (the texture unit tests the four nearest texels
-/// and weighs them bilinearly: `shared::look::shadow_factor`); 1 with shadows off.
+/// and weighs them bilinearly: `shared::draw::look::shadow::shadow_factor`); 1 with shadows off.
 pub fn sun_shadow(frame: &FrameUniforms, map: &ShadowMap, sampler: &Sampler, world: Vec3) -> f32 {
     let look = &frame.look;
     if look.shadows == 0 {

@@ -7,18 +7,18 @@
 //! `grass::natural_fs`).
 //!
 //! Output sizes are literals here (rust-gpu attributes take no constants): 32 vertices
-//! and 30 triangles, `shared::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
+//! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
 use shared::Blade;
-use shared::layout::FrameUniforms;
-use shared::look::DressedBlade;
-use shared::meshlet::{
-    MAX_STRIP_VERTICES, StripBlade, bucket_base, bucket_segments, group_index, group_strips,
-    strip_coord, strip_counter, strip_lane, strip_triangle, strip_triangles, strip_vertices,
-    strips_per_group, top_segments,
+use shared::draw::look::clump::DressedBlade;
+use shared::draw::meshlet::{
+    MAX_STRIP_VERTICES, StripBlade, bucket_segments, group_index, group_strips, strip_coord,
+    strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
-use shared::shape::surface_point;
+use shared::draw::shape::surface_point;
+use shared::gpu::counters::{bucket_base, strip_counter};
+use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;

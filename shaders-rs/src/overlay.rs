@@ -1,8 +1,8 @@
 //! The overlay (egui's triangles): positions in points, a texture (egui's font atlas
 //! and images, sRGB, premultiplied alpha) times the vertex colour.
 
-use shared::layout::OverlayPush;
-use shared::shade::srgb_to_linear;
+use shared::draw::shade::srgb_to_linear;
+use shared::gpu::layout::OverlayPush;
 use spirv_std::glam::{Vec2, Vec4};
 use spirv_std::image::SampledImage;
 use spirv_std::{Image, spirv};

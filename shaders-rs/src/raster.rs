@@ -8,11 +8,12 @@
 use crate::ShadowMap;
 use crate::grass::{Leaf, natural_colour};
 use shared::Blade;
-use shared::layout::{FrameUniforms, far_slot};
-use shared::look::DressedBlade;
-use shared::raster::{EMPTY, pixel_index, unpack};
-use shared::shade::{facing_normal, shade_facing};
-use shared::shape::{SurfacePoint, surface_point};
+use shared::draw::look::clump::DressedBlade;
+use shared::draw::raster::{EMPTY, pixel_index, unpack};
+use shared::draw::shade::{facing_normal, shade_facing};
+use shared::draw::shape::{SurfacePoint, surface_point};
+use shared::gpu::counters::far_slot;
+use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::kill;
 use spirv_std::glam::{Vec2, Vec3, Vec4};
 use spirv_std::{Sampler, spirv};

@@ -4,10 +4,10 @@
 //! needs to make and rasterise that many triangles through each pipeline.
 
 use crate::mesh::strip_outputs;
-use shared::layout::ThroughputPush;
-use shared::lod::tess_levels;
-use shared::meshlet::{group_index, strip_coord, strip_segments, strips_per_group};
-use shared::reference::{cell_point, patch_cell};
+use shared::cull::lod::tess_levels;
+use shared::draw::meshlet::{group_index, strip_coord, strip_segments, strips_per_group};
+use shared::draw::reference::{cell_point, patch_cell};
+use shared::gpu::layout::ThroughputPush;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 

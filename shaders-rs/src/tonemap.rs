@@ -1,9 +1,10 @@
 //! The natural look's last pass: the sky behind the scene, then the tone map from the
-//! linear HDR image to the sRGB target (`shared::look::tone_map`).
+//! linear HDR image to the sRGB target (`shared::draw::look::sky::tone_map`).
 
-use shared::layout::TONEMAP_GRID;
-use shared::layout::ToneMapPush;
-use shared::look::{meadow_to_horizon, sky_gradient, sun_disc, tone_map};
+use shared::draw::look::ground::meadow_to_horizon;
+use shared::draw::look::sky::{sky_gradient, sun_disc, tone_map};
+use shared::gpu::layout::TONEMAP_GRID;
+use shared::gpu::layout::ToneMapPush;
 use spirv_std::glam::{UVec2, Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Image, spirv};
 

@@ -3,17 +3,19 @@
 
 use divan::{Bencher, black_box};
 use shared::Blade;
-use shared::collide::MAX_COLLIDERS;
-use shared::cull::{self, CullParams, cull_outcome};
-use shared::generate::{side_for, square_field};
+use shared::cull::blade as cull;
+use shared::cull::blade::{CullParams, cull_outcome};
+use shared::cull::hiz;
+use shared::cull::hiz::HiZLayout;
+use shared::cull::lod::{focal_pixels, screen_level};
+use shared::draw::shape::{SHAPE_QUADRATIC, surface_point};
 use shared::glam::camera::rh;
 use shared::glam::{Mat4, Vec3, Vec4};
-use shared::hiz::{self, HiZLayout};
-use shared::lod::{focal_pixels, screen_level};
-use shared::mesh::bvh::MeshBvh;
-use shared::mesh::{SurfaceMesh, closest_point, ray_hit};
-use shared::shape::{SHAPE_QUADRATIC, surface_point};
-use shared::simulate::{Environment, simulate};
+use shared::sim::collide::MAX_COLLIDERS;
+use shared::sim::simulate::{Environment, simulate};
+use shared::world::generate::{side_for, square_field};
+use shared::world::mesh::bvh::MeshBvh;
+use shared::world::mesh::{SurfaceMesh, closest_point, ray_hit};
 
 fn main() {
     divan::main();

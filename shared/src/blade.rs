@@ -127,6 +127,13 @@ pub fn width_dir(up: Vec3, orientation: f32) -> Vec3 {
     e1 * orientation.cos() + e2 * orientation.sin()
 }
 
+/// Heights of generated blades are drawn in this range (the course's defaults).
+pub const HEIGHT: (f32, f32) = (1.3, 2.5);
+/// Widths are drawn in this range (before widening).
+pub const WIDTH: (f32, f32) = (0.1, 0.14);
+/// Stiffnesses are drawn in this range.
+pub const STIFFNESS: (f32, f32) = (7.0, 13.0);
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,36 +3,24 @@
 //!
 //! The same code runs in the rust-gpu shaders (`shaders-rs`) and in the host tests, so
 //! a formula lives exactly once: change it here and both sides follow.
+//!
+//! The modules by concern: `sim` (the simulation), `cull` (what is drawn), `draw` (how
+//! it is drawn), `world` (where grass grows), `gpu` (the frame's block and counters the
+//! runner and the shaders share), with `blade`, `camera` and `noise` under them all and
+//! `settings` (host only) over them all, the one place settings become the GPU block.
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 pub mod blade;
-pub mod collide;
-pub mod cube;
+pub mod camera;
 pub mod cull;
-pub mod forces;
-#[cfg(not(target_arch = "spirv"))]
-pub mod generate;
-pub mod hiz;
-pub mod layout;
-pub mod lod;
-pub mod look;
-#[cfg(not(target_arch = "spirv"))]
-pub mod mesh;
-pub mod meshlet;
-pub mod paint;
-pub mod raster;
-pub mod reference;
+pub mod draw;
+pub mod example;
+pub mod gpu;
+pub mod noise;
 #[cfg(not(target_arch = "spirv"))]
 pub mod settings;
-pub mod shade;
-pub mod shape;
-pub mod simulate;
-pub mod surface;
-pub mod sway;
-pub mod terrain;
-pub mod tiles;
-pub mod validate;
-pub mod wind;
+pub mod sim;
+pub mod world;
 
 pub use blade::Blade;
 pub use spirv_std::glam;

@@ -2,18 +2,19 @@
 //! edit, and what [`Settings::uniforms`] turns into the frame's GPU block, the one
 //! place where enums and switches become the shaders' numbers.
 
-use crate::collide::MAX_COLLIDERS;
-use crate::cull::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
-use crate::layout::{CameraParams, FrameUniforms, GrassParams};
-use crate::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
-use crate::look::{LOOK_NATURAL, LOOK_PAPER, LookParams};
-use crate::raster::RasterParams;
-use crate::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
-use crate::shape::{
+use crate::camera::CameraParams;
+use crate::cull::blade::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
+use crate::cull::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
+use crate::draw::look::{LOOK_NATURAL, LOOK_PAPER, LookParams};
+use crate::draw::raster::RasterParams;
+use crate::draw::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
+use crate::draw::shape::{
     SHAPE_DANDELION, SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP,
 };
-use crate::simulate::Environment;
-use crate::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};
+use crate::gpu::layout::{FrameUniforms, GrassParams};
+use crate::sim::collide::MAX_COLLIDERS;
+use crate::sim::simulate::Environment;
+use crate::sim::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};
 use spirv_std::glam::{Mat4, Vec3, Vec4};
 
 /// The wind fields (`wind::wind_field`).
@@ -378,9 +379,9 @@ pub struct Settings {
 pub enum GrassPipeline {
     /// One patch per blade through the tessellator (the paper's way).
     #[default]
-    Tess = crate::layout::PIPELINE_TESS,
+    Tess = crate::gpu::layout::PIPELINE_TESS,
     /// Task and mesh stages building blade strips (`VK_EXT_mesh_shader`).
-    Mesh = crate::layout::PIPELINE_MESH,
+    Mesh = crate::gpu::layout::PIPELINE_MESH,
 }
 
 impl GrassPipeline {
@@ -560,7 +561,7 @@ impl Settings {
         let look = &self.look;
         let (centre, radius) = shadow_sphere(look.scene, eye.position, eye.forward);
         LookParams {
-            shadow_view_proj: crate::look::sun_view_proj(look.sun, centre, radius),
+            shadow_view_proj: crate::draw::look::shadow::sun_view_proj(look.sun, centre, radius),
             style: look.style as u32,
             shadows: u32::from(look.shadows && look.style == Look::Natural),
             seed: look.seed,
@@ -594,54 +595,4 @@ pub fn shadow_sphere(scene: (Vec3, f32), camera: Vec3, forward: Vec3) -> (Vec3, 
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn cull_masks_round_trip() {
-        for mask in 0..16 {
-            assert_eq!(CullTests::from_mask(mask).mask(), mask);
-        }
-        assert_eq!(CullTests::ALL.mask(), crate::cull::ALL);
-        assert_eq!(CullTests::PAPER.mask(), ORIENTATION | FRUSTUM | DISTANCE);
-    }
-
-    #[test]
-    fn enums_are_the_shaders_numbers() {
-        assert_eq!(WindField::Vortex as u32, WIND_VORTEX);
-        assert_eq!(BladeShape::TriangleTip as u32, SHAPE_TRIANGLE_TIP);
-        assert_eq!(View::Wireframe as u32, VIEW_WIREFRAME);
-        assert_eq!(View::Wireframe.next(), View::Shaded);
-        assert_eq!(WindField::Calm.next(), WindField::Breeze);
-    }
-
-    #[test]
-    fn the_block_by_hand() {
-        let mut s = Settings::default();
-        s.lod.on = false;
-        s.cull.tests.distance = false;
-        s.gravity.centre = Vec3::new(0.0, -30.0, 0.0);
-        s.wind.direction = 90.0;
-        let eye = Viewpoint {
-            view_proj: Mat4::IDENTITY,
-            position: Vec3::new(1.0, 2.0, 3.0),
-            fov_y: std::f32::consts::FRAC_PI_2,
-            height: 200,
-            forward: Vec3::Z,
-        };
-        let balls = [Vec4::ONE; MAX_COLLIDERS + 3];
-        let u = s.uniforms(&eye, 1234, &balls);
-        // tan(45°) = 1: the focal length is half the height.
-        assert!((u.camera.focal_pixels - 100.0).abs() < 1e-4);
-        assert_eq!(u.camera.position, eye.position);
-        // LOD off: the fewest segments are the most.
-        assert_eq!((u.lod.most, u.lod.fewest), (7.0, 7.0));
-        assert_eq!(u.cull.enabled, ORIENTATION | FRUSTUM | OCCLUSION);
-        assert_eq!(u.forces.colliders, MAX_COLLIDERS as u32);
-        assert_eq!(u.forces.gravity_centre, Vec4::new(0.0, -30.0, 0.0, 9.8));
-        assert!((u.forces.wind - Vec4::new(0.0, 0.0, 1.0, 7.0)).length() < 1e-6);
-        assert_eq!(u.grass.blades, 1234);
-        assert_eq!(u.grass.shape, SHAPE_QUADRATIC);
-        assert!(u.hiz.is_empty());
-    }
-}
+mod tests;

@@ -29,17 +29,18 @@
 
 use proptest::prelude::*;
 use shared::Blade;
-use shared::collide::MAX_COLLIDERS;
-use shared::collide::MAX_STRENGTH;
 use shared::glam::{Vec3, Vec4};
-use shared::simulate::{
+use shared::sim::collide::MAX_COLLIDERS;
+use shared::sim::collide::MAX_STRENGTH;
+use shared::sim::simulate::{
     BladeState, Environment, MAX_STEPS_PER_FRAME, STEP_SECONDS, STEPS_PER_SECOND, SimClock,
     simulate,
 };
-use shared::validate::{
+use shared::sim::validate::{
     BENT_REACH, LENGTH_TOLERANCE_BENT, LENGTH_TOLERANCE_FOLDED, bezier_length, validate,
 };
-use shared::{generate, wind};
+use shared::sim::wind;
+use shared::world::generate;
 
 /// The runner's default wind strength (`--wind-strength`).
 const DEFAULT_WIND: f32 = 7.0;
@@ -368,7 +369,7 @@ proptest! {
         env in environment(),
         time in range(0.0, 1.0e4),
     ) {
-        let pose = shared::sway::settled(&start, &env, time);
+        let pose = shared::sim::sway::settled(&start, &env, time);
         let wrong = violation((pose, 0.0), &start, start.height());
         prop_assert!(wrong.is_none(), "{} in {env:?}", wrong.unwrap_or_default());
     }

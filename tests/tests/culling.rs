@@ -6,8 +6,9 @@ use runner::app::driver::FrameDriver;
 use runner::app::headless::{FORMAT, Offscreen};
 use runner::renderer::{CullCounts, Renderer};
 use runner::scene::{BladeCount, Scene, SceneKind};
-use shared::cull::{self, cull_outcome};
-use shared::hiz;
+use shared::cull::blade as cull;
+use shared::cull::blade::cull_outcome;
+use shared::cull::hiz;
 use std::collections::HashSet;
 use tests::{
     check_reference, device_available, difference, render_image, save_failure, with_device,

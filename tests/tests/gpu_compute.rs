@@ -9,10 +9,10 @@ use runner::camera::OrbitCamera;
 use runner::renderer::Renderer;
 use runner::scene::Scene;
 use shared::Blade;
-use shared::cull;
-use shared::layout::{FrameUniforms, SimulatePush};
+use shared::cull::blade as cull;
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::settings::WindField;
-use shared::simulate::simulate;
+use shared::sim::simulate::simulate;
 use std::collections::HashSet;
 use tests::with_device;
 

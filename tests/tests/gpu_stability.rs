@@ -10,10 +10,12 @@ use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
 use runner::scene::Scene;
 use shared::Blade;
-use shared::layout::SimulatePush;
+use shared::gpu::layout::SimulatePush;
 use shared::settings::WindField::{Breeze, Calm, Gusts, Vortex};
-use shared::simulate::MAX_STEPS_PER_FRAME;
-use shared::validate::{BENT_REACH, LENGTH_TOLERANCE_BENT, LENGTH_TOLERANCE_FOLDED, bezier_length};
+use shared::sim::simulate::MAX_STEPS_PER_FRAME;
+use shared::sim::validate::{
+    BENT_REACH, LENGTH_TOLERANCE_BENT, LENGTH_TOLERANCE_FOLDED, bezier_length,
+};
 use tests::with_device;
 
 const BLADES: u32 = 2048;
@@ -21,7 +23,7 @@ const BLADES: u32 = 2048;
 const FRAMES: u32 = 20;
 
 /// Length error allowed for any blade: validation's bound for a folded blade
-/// (`shared::validate::LENGTH_TOLERANCE_FOLDED`) plus f32 rounding; bent blades are
+/// (`shared::sim::validate::LENGTH_TOLERANCE_FOLDED`) plus f32 rounding; bent blades are
 /// held to `LENGTH_TOLERANCE_BENT`.
 const LENGTH_TOLERANCE_ANY: f32 = LENGTH_TOLERANCE_FOLDED + 1e-3;
 

@@ -183,13 +183,17 @@ fn the_far_edge_of_the_field_is_not_a_line() {
     );
     let contrast = |look: &str| {
         let (report, image) = render_image(&format!("--look {look} --shadows {args}"));
-        let half = 0.5 * shared::generate::side_for(blades);
+        let half = 0.5 * shared::world::generate::side_for(blades);
         let row = |p: glam::Vec3| {
             let clip = report.view_proj * p.extend(1.0);
             ((clip.y / clip.w + 1.0) * 0.5 * image.height() as f32) as u32
         };
         let ground = row(glam::Vec3::new(0.0, 0.0, -half));
-        let tips = row(glam::Vec3::new(0.0, shared::generate::HEIGHT.1, -half));
+        let tips = row(glam::Vec3::new(
+            0.0,
+            shared::world::generate::HEIGHT.1,
+            -half,
+        ));
         let beyond = band_colour(&image, tips.saturating_sub(EDGE_BAND)..tips);
         let field = band_colour(&image, ground..ground + EDGE_BAND);
         let d = (0..3)

@@ -121,15 +121,15 @@ fn mesh_stage_vertices_equal_the_hosts() {
     use runner::renderer::Renderer;
     use runner::scene::{BladeCount, Scene, SceneKind};
     use runner::vulkan::Buffer;
-    use shared::layout::COUNTER_COUNT;
-    use shared::lod::blade_level;
-    use shared::meshlet::{
-        BUCKETS, MAX_STRIP_VERTICES, NEAR_BANDS, StripBlade, bucket_base, bucket_segments,
-        near_band, pack_level, strip_coord, strip_counter, strip_segments, strip_vertices,
-        top_segments, unpack_level,
+    use shared::cull::lod::blade_level;
+    use shared::draw::meshlet::{
+        BUCKETS, MAX_STRIP_VERTICES, NEAR_BANDS, StripBlade, bucket_segments, near_band,
+        pack_level, strip_coord, strip_segments, strip_vertices, top_segments, unpack_level,
     };
+    use shared::draw::shape::surface_point;
+    use shared::gpu::counters::COUNTER_COUNT;
+    use shared::gpu::counters::{bucket_base, strip_counter};
     use shared::settings::{GrassPipeline, Look};
-    use shared::shape::surface_point;
     let name = "mesh_stage_vertices_equal_the_hosts";
     tests::with_device_needing(name, &[tests::Need::MeshShaders], |ctx| {
         let scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(2048), 5, |_| {
@@ -139,7 +139,7 @@ fn mesh_stage_vertices_equal_the_hosts() {
         let mut settings = scene.settings();
         settings.pipeline = GrassPipeline::Mesh;
         settings.look.style = Look::Paper;
-        settings.lod.most = shared::lod::MAX_LEVEL;
+        settings.lod.most = shared::cull::lod::MAX_LEVEL;
         let mut target = Offscreen::new(&ctx, 192, 192).unwrap();
         let mut renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
         let entries = scene.blades.len() * MAX_STRIP_VERTICES as usize;
@@ -155,7 +155,7 @@ fn mesh_stage_vertices_equal_the_hosts() {
         let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
         let eye = scene.camera().viewpoint(target.size());
         let (mut checked, mut worst) = (0usize, 0f32);
-        let mut per_bucket = [0u32; shared::lod::MAX_SEGMENTS as usize];
+        let mut per_bucket = [0u32; shared::cull::lod::MAX_SEGMENTS as usize];
         let top = top_segments(settings.lod.most);
         // From many pixels a segment (every blade at 1) to few (the near ones at 9).
         for pixels in [24.0, 8.0, 4.0, 2.5, 1.6, 1.1] {
@@ -183,7 +183,10 @@ fn mesh_stage_vertices_equal_the_hosts() {
                     // Its level as the levels buffer carries it with its band.
                     let distance = (blade.root() - eye.position).length();
                     let band = near_band(distance, blade.height());
-                    let packed = pack_level(blade_level(blade, &uniforms), band);
+                    let packed = pack_level(
+                        blade_level(blade, &uniforms.lod, &uniforms.camera, uniforms.grass.shape),
+                        band,
+                    );
                     // The GPU's float rounding may differ in the last bits (the
                     // H100: 8e-6 relative).
                     let level = unpack_level(packed).0;

@@ -4,10 +4,10 @@ use runner::app::driver::FrameDriver;
 use runner::app::headless::{FORMAT, Offscreen};
 use runner::renderer::Renderer;
 use runner::scene::{BladeCount, Scene, SceneKind};
-use shared::layout::far_slot;
-use shared::raster::{
+use shared::draw::raster::{
     Coverage, EMPTY, in_front, is_wide, packed_depth, pixel_index, raster_blade, unpack,
 };
+use shared::gpu::counters::far_slot;
 use shared::settings::Look;
 use tests::{Need, grass_share};
 
@@ -246,7 +246,7 @@ fn the_default_threshold_differs_no_more_than_a_third_of_a_pixel() {
     let below = runner::app::DEFAULT_COMPUTE_RASTER_BELOW_GPU;
     let framing = runner::camera::OrbitCamera::framing(1.0);
     let height = 360;
-    let focal = shared::lod::focal_pixels(framing.fov_y, height as f32);
+    let focal = shared::cull::lod::focal_pixels(framing.fov_y, height as f32);
     let yaw = framing.yaw.to_degrees();
     let third = (1.0 / (3.0 * focal)).atan().to_degrees();
     for look in ["paper --msaa 1", "natural --msaa 4"] {

@@ -1,4 +1,4 @@
-//! Headless images of the issue-3 features against references: each built-in scene,
+//! Headless images against references: each built-in scene,
 //! each blade shape, and the trail a collider ball leaves.
 
 use glam::{Vec2, Vec3, Vec4Swizzles};

@@ -9,7 +9,7 @@ use runner::field::{BINDINGS, PUSH_CONSTANTS};
 use runner::passes::{overlay, tonemap};
 use runner::shaders;
 use runner::vulkan::descriptors::BindingSpec;
-use shared::layout;
+use shared::gpu::layout;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Every (entry point, its module).
@@ -245,7 +245,7 @@ fn runner_layout(name: &str) -> (&'static [BindingSpec], (vk::ShaderStageFlags, 
         (&tonemap::BINDINGS, tonemap::PUSH_CONSTANTS)
     } else if name == shaders::CUBE_VS || name == shaders::CUBE_FS {
         // The embedding example's own pipeline: no descriptors, one push range.
-        let push = size_of::<shared::cube::CubePush>() as u32;
+        let push = size_of::<shared::example::cube::CubePush>() as u32;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         (&[], (stages, push))
     } else {
@@ -327,18 +327,18 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             n if n == shaders::GENERATE_TILE
                                 || n == shaders::GENERATE_POOL_TILE =>
                             {
-                                size_of::<shared::layout::TilePush>()
+                                size_of::<shared::gpu::layout::TilePush>()
                             }
                             n if n == shaders::SELECT_TILES
                                 || n == shaders::SELECT_FAR_TILES
                                 || n == shaders::GENERATE_FAR =>
                             {
-                                size_of::<shared::layout::SelectPush>()
+                                size_of::<shared::gpu::layout::SelectPush>()
                             }
                             n if n == shaders::COPY_BLADES => size_of::<layout::CopyPush>(),
                             n if n == shaders::OVERLAY_VS => size_of::<layout::OverlayPush>(),
                             n if n == shaders::CUBE_VS || n == shaders::CUBE_FS => {
-                                size_of::<shared::cube::CubePush>()
+                                size_of::<shared::example::cube::CubePush>()
                             }
                             n if n == shaders::THROUGHPUT_VS || n == shaders::THROUGHPUT_MESH => {
                                 size_of::<layout::ThroughputPush>()
@@ -370,8 +370,8 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::RASTER_PREPARE_MS, layout::PREPARE_WORKGROUP),
         (shaders::GENERATE_TILE, layout::SIMULATE_WORKGROUP),
         (shaders::SELECT_TILES, layout::SIMULATE_WORKGROUP),
-        (shaders::PAPER_MESH, shared::meshlet::MESH_THREADS),
-        (shaders::NATURAL_MESH, shared::meshlet::MESH_THREADS),
+        (shaders::PAPER_MESH, shared::draw::meshlet::MESH_THREADS),
+        (shaders::NATURAL_MESH, shared::draw::meshlet::MESH_THREADS),
     ] {
         let m = module_of(name);
         let function = entry_points(&m)[name].2;
@@ -428,14 +428,15 @@ fn members(m: &Module, ty: u32) -> Vec<(u32, u32)> {
 
 #[test]
 fn frame_block_layout_matches_the_host_struct() {
-    use shared::cull::CullParams;
-    use shared::hiz::HiZLayout;
-    use shared::layout::{CameraParams, FrameUniforms, GrassParams};
-    use shared::lod::LodParams;
-    use shared::look::LookParams;
-    use shared::raster::RasterParams;
-    use shared::shade::Light;
-    use shared::simulate::Environment;
+    use shared::camera::CameraParams;
+    use shared::cull::blade::CullParams;
+    use shared::cull::hiz::HiZLayout;
+    use shared::cull::lod::LodParams;
+    use shared::draw::look::LookParams;
+    use shared::draw::raster::RasterParams;
+    use shared::draw::shade::Light;
+    use shared::gpu::layout::{FrameUniforms, GrassParams};
+    use shared::sim::simulate::Environment;
     use std::mem::offset_of;
 
     // Each member of the frame block: its offset, and the offsets of its own members
@@ -608,7 +609,7 @@ fn execution_mode(m: &Module, entry: &str, mode: ExecutionMode) -> Option<u32> {
 
 #[test]
 fn mesh_stages_declare_the_meshlet_limits() {
-    use shared::meshlet::{MESHLET_TRIANGLES, MESHLET_VERTICES};
+    use shared::draw::meshlet::{MESHLET_TRIANGLES, MESHLET_VERTICES};
     for name in [shaders::PAPER_MESH, shaders::NATURAL_MESH] {
         let m = module_of(name);
         let vertices = execution_mode(&m, name, ExecutionMode::OutputVertices);

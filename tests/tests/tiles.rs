@@ -4,8 +4,8 @@ use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
 use runner::scene::{BladeCount, Scene, SceneKind};
 use shared::glam::{IVec2, Vec3, Vec3Swizzles};
-use shared::layout::TilePush;
-use shared::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, far_blade, kept, tile_blade};
+use shared::gpu::layout::TilePush;
+use shared::world::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, far_blade, kept, tile_blade};
 
 /// A renderer to run the tile passes with (its own field is a few blades of the plane).
 fn renderer(ctx: &std::sync::Arc<runner::vulkan::Context>) -> Renderer {
@@ -20,7 +20,7 @@ fn renderer(ctx: &std::sync::Arc<runner::vulkan::Context>) -> Renderer {
     Renderer::new(ctx, &scene.meshes(), FORMAT).unwrap()
 }
 
-/// `compute::generate_tile` against the host running `shared::tiles::tile_blade` on
+/// `compute::generate_tile` against the host running `shared::world::tiles::tile_blade` on
 /// the same tile: the same blades kept (at most 0.2 % decided differently, where a
 /// blade's rank lies within rounding of its density: the GPU's square root need not be
 /// correctly rounded), and each kept blade's control points, width and stiffness
@@ -87,7 +87,7 @@ fn the_gpu_generates_the_hosts_blades() {
     });
 }
 
-/// `compute::select_tiles` against the host running `shared::tiles::tile_in_view` on
+/// `compute::select_tiles` against the host running `shared::cull::tile::tile_in_view` on
 /// the same square of candidates (80 × 80 tiles of 32/3 units around the camera, reach
 /// 300): the same tiles, but where a corner lies within rounding of a plane of the
 /// view (at most 0.5 % of those selected; measured on lavapipe: none of the 678 and
@@ -95,10 +95,10 @@ fn the_gpu_generates_the_hosts_blades() {
 /// Planted fault: the GPU reaching half as far failed (856 tiles differ).
 #[test]
 fn the_gpu_selects_the_hosts_tiles() {
+    use shared::cull::tile::tile_in_view;
     use shared::glam::camera::rh;
     use shared::glam::{UVec2, Vec4};
-    use shared::layout::SelectPush;
-    use shared::tiles::tile_in_view;
+    use shared::gpu::layout::SelectPush;
     tests::with_device("the_gpu_selects_the_hosts_tiles", |ctx| {
         let renderer = renderer(&ctx);
         let params = TileParams::default();
@@ -120,7 +120,7 @@ fn the_gpu_selects_the_hosts_tiles() {
             let host: Vec<IVec2> = (-40..40)
                 .flat_map(|x| (-40..40).map(move |z| IVec2::new(x, z)))
                 .filter(|&t| {
-                    let span = shared::tiles::tile_box(t, &params, (0.0, 0.0), &[]);
+                    let span = shared::cull::tile::tile_box(t, &params, (0.0, 0.0), &[]);
                     tile_in_view(t, view_proj, eye, &params, span, 300.0)
                 })
                 .collect();
@@ -276,8 +276,9 @@ fn textured_world() -> (Scene, runner::tiles::TiledSpec) {
     let file = kind.read().unwrap();
     let mut scene = Scene::build(&kind, file, BladeCount::Total(64), 5, |_| Ok(())).unwrap();
     assert!(scene.surface.has_uvs());
-    let left_black = shared::paint::grey(&[0, 0, 0, 0, 255, 255, 255, 255]);
-    scene.paint = shared::paint::words(&[(shared::paint::DENSITY, 8, 1, &left_black)]);
+    let left_black = shared::world::paint::grey(&[0, 0, 0, 0, 255, 255, 255, 255]);
+    scene.paint =
+        shared::world::paint::words(&[(shared::world::paint::DENSITY, 8, 1, &left_black)]);
     let (_, mut spec) = mesh_world();
     spec.ground = scene.ground_range();
     spec.area = f64::from(scene.surface.area());
@@ -300,7 +301,7 @@ fn mesh_world() -> (Scene, runner::tiles::TiledSpec) {
     let (_, mut spec) = small_world(4, 8.0);
     spec.params.size = 2.0;
     spec.params.full_distance = 3.0;
-    spec.params.terrain = shared::tiles::TERRAIN_MESH;
+    spec.params.terrain = shared::world::tiles::TERRAIN_MESH;
     spec.pool_radius = 1.0;
     spec.ground = scene.ground_range();
     spec.area = f64::from(scene.surface.area());
@@ -316,14 +317,13 @@ fn tiled_frame_against_the_host(
     spec: &runner::tiles::TiledSpec,
     at: shared::glam::Vec2,
 ) {
-    use shared::layout::IDS_WORDS;
-    use shared::layout::{
-        COUNTER_COUNT, COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT, TILE_WORDS,
-        TILES_LIST,
+    use shared::cull::tile::{tile_box, tile_in_view};
+    use shared::gpu::counters::{
+        COUNTER_COUNT, COUNTER_TILE_BLADES, COUNTER_TILES, COUNTER_TILES_SHORT,
     };
-    use shared::tiles::{
-        blade_id, drawn_width, far_blade, far_count, pack_map_point, tile_box, tile_in_view,
-    };
+    use shared::gpu::layout::IDS_WORDS;
+    use shared::gpu::layout::{TILE_WORDS, TILES_LIST};
+    use shared::world::tiles::{blade_id, drawn_width, far_blade, far_count, pack_map_point};
     let params = spec.params;
     let map = &scene.paint;
     let size = (160, 120);
@@ -510,7 +510,7 @@ fn a_trail_survives_the_camera_leaving_and_fades_as_the_decay_says() {
         let settings = scene.settings();
         assert_eq!(settings.trample_decay, 0.25);
         let ball = Vec4::new(1.0, 0.6, 1.0, 1.0);
-        let trail = shared::tiles::tile_of(Vec2::new(ball.x, ball.z), &spec.params);
+        let trail = shared::world::tiles::tile_of(Vec2::new(ball.x, ball.z), &spec.params);
         // The camera's own tiles (six) and the ball's (nine) apart.
         let home = Vec2::new(1.0, 20.0);
         let mut states = Vec::new();
@@ -612,7 +612,8 @@ const DISK: shared::glam::Vec2 = shared::glam::Vec2::new(-10.0, -8.0);
 fn a_density_map_paints_where_grass_grows() {
     use runner::app::driver::FrameDriver;
     use runner::app::headless::Offscreen;
-    use shared::layout::{COUNTER_COUNT, COUNTER_TILES, TILE_WORDS, TILES_LIST};
+    use shared::gpu::counters::{COUNTER_COUNT, COUNTER_TILES};
+    use shared::gpu::layout::{TILE_WORDS, TILES_LIST};
     tests::with_device("a_density_map_paints_where_grass_grows", |ctx| {
         let (mut scene, mut spec) = small_world(8, 40.0);
         spec.params.per_side = 8;
@@ -630,8 +631,9 @@ fn a_density_map_paints_where_grass_grows() {
                 (255.0 * (1.0 - ((r - 16.0) / 4.0).clamp(0.0, 1.0))) as u8
             })
             .collect();
-        let texels = shared::paint::grey(&texels);
-        scene.paint = shared::paint::words(&[(shared::paint::DENSITY, side, side, &texels)]);
+        let texels = shared::world::paint::grey(&texels);
+        scene.paint =
+            shared::world::paint::words(&[(shared::world::paint::DENSITY, side, side, &texels)]);
         let (width, height) = (128, 128);
         let mut target = Offscreen::new(&ctx, width, height).unwrap();
         let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
@@ -745,7 +747,7 @@ fn a_density_map_paints_where_grass_grows() {
 /// mirrored (at −x) failed (0 % lower, 21.9 apart).
 #[test]
 fn height_and_colour_maps_paint_the_blades() {
-    use shared::paint::{COLOUR, HEIGHT, grey, words};
+    use shared::world::paint::{COLOUR, HEIGHT, grey, words};
     tests::with_device("height_and_colour_maps_paint_the_blades", |ctx| {
         let (mut scene, spec) = open_world();
         let heights = grey(&[64, 64, 64, 64, 255, 255, 255, 255]);
@@ -781,9 +783,10 @@ fn height_and_colour_maps_paint_the_blades() {
             let words_ = spec.tile_words() as usize;
             let tiles: Vec<u32> = r.download(r.field.tiles.as_ref().unwrap(), words_).unwrap();
             let counters: Vec<u32> = r
-                .download(&r.field.counters, shared::layout::COUNTER_COUNT)
+                .download(&r.field.counters, shared::gpu::counters::COUNTER_COUNT)
                 .unwrap();
-            use shared::layout::{COUNTER_TILES, TILE_WORDS, TILES_LIST};
+            use shared::gpu::counters::COUNTER_TILES;
+            use shared::gpu::layout::{TILE_WORDS, TILES_LIST};
             for t in 0..counters[COUNTER_TILES] as usize {
                 let at = TILES_LIST + TILE_WORDS * t;
                 let tile = IVec2::new(tiles[at] as i32, tiles[at + 1] as i32);
@@ -869,8 +872,8 @@ fn red_on_the_left(before: &[u8], after: &[u8], width: u32) -> (f64, f64) {
 /// drawing stages (the field's shape used) failed (17.1 against 14.1).
 #[test]
 fn a_type_map_grows_dandelions_and_bare_ground() {
-    use shared::paint::{TYPE, grey, words};
     use shared::settings::BladeShape;
+    use shared::world::paint::{TYPE, grey, words};
     tests::with_device("a_type_map_grows_dandelions_and_bare_ground", |ctx| {
         let (mut scene, _) = open_world();
         let (width, height) = (160, 160);
@@ -926,7 +929,7 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
 /// The painted maps on a stored field (the paper's, every blade simulated): a type map
 /// black on the left half leaves no blade there and grey on the right makes
 /// dandelions; a height map scales the right half's blades by twice its grey
-/// (`shared::paint::painted_blade`, host); a colour map red on the left half reddens
+/// (`shared::world::paint::painted_blade`, host); a colour map red on the left half reddens
 /// the natural look's blades there on the GPU and leaves the right half as it was
 /// (read at each root over the ground's square, `Scene::paint_square`). Measured on
 /// lavapipe: no blade left of −1 under the bare half, all 3,566 right of 1 dandelions
@@ -936,7 +939,7 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
 /// 14.5 apart).
 #[test]
 fn the_painted_maps_act_on_a_stored_field() {
-    use shared::paint::{COLOUR, HEIGHT, KIND_DANDELION, TYPE, grey, kind, words};
+    use shared::world::paint::{COLOUR, HEIGHT, KIND_DANDELION, TYPE, grey, kind, words};
     tests::with_device("the_painted_maps_act_on_a_stored_field", |ctx| {
         let grown = Scene::build(&SceneKind::Plane, None, BladeCount::Total(8192), 5, |_| {
             Ok(())
@@ -966,7 +969,10 @@ fn the_painted_maps_act_on_a_stored_field() {
         {
             let p = b.root().xz() - centre;
             assert_eq!(kind(&painted.paint, p, half), KIND_DANDELION);
-            assert!(b.orientation() >= shared::shape::DANDELION_TURNS, "{b:?}");
+            assert!(
+                b.orientation() >= shared::draw::shape::DANDELION_TURNS,
+                "{b:?}"
+            );
             assert!((b.height() - g.height() * 2.0 * 191.0 / 255.0).abs() < 1e-5);
         }
 
@@ -1051,7 +1057,7 @@ fn a_simulated_tile_stands_as_the_far_pose_and_returns_to_it() {
         };
         // The far pose at the driver's time: the end of its last frame's steps.
         let far = |driver: &FrameDriver, k: u32| {
-            let env = shared::simulate::Environment {
+            let env = shared::sim::simulate::Environment {
                 time: driver.clock.time(),
                 ..settings.environment(0)
             };

@@ -16,8 +16,8 @@ use crate::vulkan::Context;
 use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use anyhow::{Context as _, Result};
 use ash::vk;
-use shared::layout::{FrameUniforms, SimulatePush};
-use shared::simulate::SimClock;
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::sim::simulate::SimClock;
 use std::sync::Arc;
 
 /// Frames the CPU may record ahead of the GPU.

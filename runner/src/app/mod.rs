@@ -239,7 +239,8 @@ pub fn build_scene(
     let mut scene = Scene::build(&kind, file, count, common.seed, |n| {
         Field::check_limits(ctx, n)
     })?;
-    let _ = scene.rescale(scene.scale_for(common.look));
+    let scale = scene.scale_for(common.look);
+    let _ = scene.rescale(scale);
     if scene.degenerate > 0 {
         log::warn!(
             "scene {}: skipped {} degenerate (zero-area) triangles",
@@ -254,7 +255,7 @@ pub fn build_scene(
         common.type_map.as_deref(),
     )?;
     if tiled(common, &scene.kind) {
-        let mut spec = tiled_spec(&scene, ctx, scene.scale_for(common.look));
+        let mut spec = tiled_spec(&scene, ctx, scale);
         if let Some(distance) = common.full_distance {
             spec.params.full_distance = distance;
         }
@@ -309,7 +310,7 @@ pub fn tiled(common: &Common, kind: &SceneKind) -> bool {
 /// 65,536 far blades out to 120 (lavapipe's grass pass at 1280x720 took 41 ms for
 /// the 3,338 blades drawn when every blade was kept to 6 units, 21 ms for 895 at 3).
 pub fn tiled_spec(scene: &Scene, ctx: &Context, scale: f32) -> TiledSpec {
-    use shared::tiles::{TERRAIN_FLAT, TERRAIN_MESH, TERRAIN_VALLEY, TileParams};
+    use shared::world::tiles::{TERRAIN_FLAT, TERRAIN_MESH, TERRAIN_VALLEY, TileParams};
     let terrain = match scene.kind {
         SceneKind::Valley => TERRAIN_VALLEY,
         SceneKind::Plane => TERRAIN_FLAT,

@@ -398,8 +398,10 @@ fn detail(ui: &mut egui::Ui, s: &mut Settings) {
     });
     let lod = &mut s.lod;
     ui.checkbox(&mut lod.on, "level of detail (L)");
-    ui.add(egui::Slider::new(&mut lod.most, 1.0..=shared::lod::MAX_LEVEL).text("level near"));
-    ui.add(egui::Slider::new(&mut lod.fewest, 1.0..=shared::lod::MAX_LEVEL).text("level far"));
+    ui.add(egui::Slider::new(&mut lod.most, 1.0..=shared::cull::lod::MAX_LEVEL).text("level near"));
+    ui.add(
+        egui::Slider::new(&mut lod.fewest, 1.0..=shared::cull::lod::MAX_LEVEL).text("level far"),
+    );
     ui.add(
         egui::Slider::new(&mut lod.pixels_per_segment, 1.0..=200.0)
             .logarithmic(true)

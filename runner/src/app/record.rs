@@ -159,7 +159,7 @@ pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
     let progress = Progress::new(total as usize);
     for frame in 0..total {
         let recorded = frame >= args.settle;
-        run.frame(common, step, recorded)?;
+        run.frame(step, recorded)?;
         if recorded {
             run.driver.finish()?;
             let pixels = run.offscreen.pixels()?;

@@ -116,15 +116,33 @@ pub fn camera_path(
     })
 }
 
-/// The ball's sphere at simulated `time` along the command line's collider path, if
-/// there is one (and no `--no-ball`).
-pub fn ball_at(common: &Common, scene: &crate::scene::Scene, time: f32) -> Vec<glam::Vec4> {
-    let path = common.collider_path.as_ref().filter(|_| !common.no_ball);
-    let ball = path.and_then(|path| {
-        let travelled = common.collider_speed * time;
-        Ball::dropped(&scene.solid, path.at(travelled), common.collider_radius)
-    });
-    ball.iter().map(Ball::sphere).collect()
+/// The command line's ball, made once: the collider path it rolls along (none with
+/// `--no-ball`), its speed and radius.
+pub struct BallPath {
+    path: crate::collider::ColliderPath,
+    speed: f32,
+    radius: f32,
+}
+
+impl BallPath {
+    /// The ball `common` asks for, if any.
+    pub fn of(common: &Common) -> Option<Self> {
+        let path = common.collider_path.clone().filter(|_| !common.no_ball)?;
+        Some(Self {
+            path,
+            speed: common.collider_speed,
+            radius: common.collider_radius,
+        })
+    }
+
+    /// The ball's sphere at simulated `time`, dropped onto `scene`'s surface.
+    pub fn spheres_at(&self, scene: &crate::scene::Scene, time: f32) -> Vec<glam::Vec4> {
+        let at = self.path.at(self.speed * time);
+        Ball::dropped(&scene.solid, at, self.radius)
+            .iter()
+            .map(Ball::sphere)
+            .collect()
+    }
 }
 
 /// A headless run made ready: the scene and its settings, the frame driver, the
@@ -143,6 +161,8 @@ pub struct Headless {
     pub offscreen: Offscreen,
     /// The camera at a simulated time.
     pub eye_at: Box<dyn Fn(f32) -> shared::settings::Viewpoint>,
+    /// The ball, if the command line has one.
+    pub ball: Option<BallPath>,
 }
 
 impl Headless {
@@ -165,16 +185,22 @@ impl Headless {
             driver,
             offscreen,
             eye_at,
+            ball: BallPath::of(common),
         })
     }
 
     /// Runs one frame of `seconds`, the camera and the ball where they are at its
-    /// simulated time (`common`'s collider path), captured if `capture`.
-    pub fn frame(&mut self, common: &Common, seconds: f64, capture: bool) -> Result<()> {
+    /// simulated time, captured if `capture`.
+    pub fn frame(&mut self, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
         let count = scene.blade_count();
-        let uniforms =
-            |f: &Frame| settings.uniforms(&eye_at(f.time), count, &ball_at(common, scene, f.time));
+        let ball = self.ball.as_ref();
+        let uniforms = |f: &Frame| {
+            let balls = ball
+                .map(|b| b.spheres_at(scene, f.time))
+                .unwrap_or_default();
+            settings.uniforms(&eye_at(f.time), count, &balls)
+        };
         self.driver
             .run(&mut self.offscreen, seconds, uniforms, capture)
     }
@@ -185,7 +211,7 @@ pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
     let progress_every = (args.frames / 10).max(1);
     for frame in 0..args.frames {
-        run.frame(common, 1.0 / 60.0, frame + 1 == args.frames)?;
+        run.frame(1.0 / 60.0, frame + 1 == args.frames)?;
         if args.frames >= 100 && (frame + 1) % progress_every == 0 {
             log::info!("frame {}/{}", frame + 1, args.frames);
         }

@@ -146,7 +146,7 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
 pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     let mut s = *base;
     let p = phase as usize;
-    s.cull.tests = CullTests::from_mask(phase % (shared::cull::ALL + 1));
+    s.cull.tests = CullTests::from_mask(phase % (shared::cull::blade::ALL + 1));
     s.lod.on = phase.is_multiple_of(2);
     s.view = View::ALL[p % View::ALL.len()];
     s.wind.field = WindField::ALL[p % WindField::ALL.len()];

@@ -16,10 +16,10 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::layout::PIPELINE_MESH;
-use shared::look::LOOK_NATURAL;
-use shared::meshlet::BUCKETS;
-use shared::shade::{VIEW_LOD, VIEW_WIREFRAME};
+use shared::draw::look::LOOK_NATURAL;
+use shared::draw::meshlet::BUCKETS;
+use shared::draw::shade::{VIEW_LOD, VIEW_WIREFRAME};
+use shared::gpu::layout::PIPELINE_MESH;
 use std::sync::Arc;
 
 /// One pipeline's grass in each look and view: each view has its own fragment stage

@@ -10,8 +10,8 @@ use crate::vulkan::{Buffer, Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use glam::{Mat4, Vec4};
-use shared::layout::{GROUND_GRID, GROUND_MESH, SurfacePush, SurfaceVertex};
-use shared::mesh::SurfaceMesh;
+use shared::gpu::layout::{GROUND_GRID, GROUND_MESH, SurfacePush, SurfaceVertex};
+use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
 
 /// A range of the index buffer drawn with one call.
@@ -96,7 +96,8 @@ impl GroundPass {
         let ground = ground
             .iter()
             .filter(|(mesh, material)| {
-                !mesh.is_empty() && !(valley.is_some() && *material == shared::shade::MATERIAL_SOIL)
+                !mesh.is_empty()
+                    && !(valley.is_some() && *material == shared::draw::shade::MATERIAL_SOIL)
             })
             .map(|(mesh, material)| set.add(mesh, *material))
             .collect();
@@ -109,9 +110,9 @@ impl GroundPass {
             // From anywhere in the world to its farthest corner.
             let reach = 2.0 * std::f32::consts::SQRT_2 * half;
             let mesh = crate::scene::builtin::ground_grid(cells, GRID_SPACING, reach);
-            (set.add(&mesh, shared::shade::MATERIAL_SOIL), half)
+            (set.add(&mesh, shared::draw::shade::MATERIAL_SOIL), half)
         });
-        let ball = set.add(ball, shared::shade::MATERIAL_BALL);
+        let ball = set.add(ball, shared::draw::shade::MATERIAL_BALL);
         use vk::BufferUsageFlags as U;
         let vertices = Buffer::upload(
             ctx,

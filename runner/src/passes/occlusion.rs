@@ -9,8 +9,8 @@ use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::hiz::{HiZLayout, level_size};
-use shared::layout::{HIZ_WORKGROUP, HiZPush};
+use shared::cull::hiz::{HiZLayout, level_size};
+use shared::gpu::layout::{HIZ_WORKGROUP, HiZPush};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;

@@ -13,7 +13,7 @@ use ash::vk;
 use egui::epaint::{ImageDelta, Primitive, Vertex};
 use egui::{ClippedPrimitive, TextureId, TexturesDelta};
 use gpu_allocator::MemoryLocation;
-use shared::layout::OverlayPush;
+use shared::gpu::layout::OverlayPush;
 use std::collections::HashMap;
 use std::sync::Arc;
 

@@ -14,9 +14,10 @@ use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use shared::layout::{self, PreparePush};
-use shared::look::LOOK_NATURAL;
-use shared::shade::VIEW_LOD;
+use shared::draw::look::LOOK_NATURAL;
+use shared::draw::shade::VIEW_LOD;
+use shared::gpu::layout;
+use shared::gpu::layout::PreparePush;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;

@@ -1,6 +1,6 @@
 //! The sun's shadow map (natural look): the scene's surfaces, the collider balls and
 //! the visible grass at its fewest segments, depth only, from the sun
-//! (`shared::look::sun_view_proj`). Ground and grass fragments read it through
+//! (`shared::draw::look::shadow::sun_view_proj`). Ground and grass fragments read it through
 //! binding 8 of the field's set.
 //!
 //! The fragment stages read it with one fetch through a comparison sampler.
@@ -21,14 +21,14 @@ use crate::vulkan::{Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
 use glam::Vec4;
-use shared::layout::SurfaceVertex;
+use shared::gpu::layout::SurfaceVertex;
 use shared::settings::SHADOW_SIZES;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
-use shared::layout::{BINDING_SHADOW_MAP, BINDING_SHADOW_SAMPLER};
+use shared::gpu::layout::{BINDING_SHADOW_MAP, BINDING_SHADOW_SAMPLER};
 
 /// The shadow map and its pipelines.
 pub struct ShadowPass {

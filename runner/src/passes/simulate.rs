@@ -7,7 +7,7 @@ use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::layout::{
+use shared::gpu::layout::{
     CHUNK_WORKGROUP, COPY_WORKGROUP, ChunkPush, CopyPush, SIMULATE_WORKGROUP, SimulatePush,
 };
 use std::sync::Arc;

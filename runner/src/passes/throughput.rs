@@ -9,8 +9,8 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::layout::ThroughputPush;
-use shared::meshlet::{mesh_grid, strip_segments};
+use shared::draw::meshlet::{mesh_grid, strip_segments};
+use shared::gpu::layout::ThroughputPush;
 use std::sync::Arc;
 
 /// The reference pipelines: tessellated, and mesh where the device has it.

@@ -15,7 +15,7 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::glam::{IVec2, UVec2, UVec4, Vec2};
-use shared::layout::{
+use shared::gpu::layout::{
     EMPTY_SLOT, FrameUniforms, POOL_WORDS, SIMULATE_WORKGROUP, SelectPush, TILES_DISPATCH,
     TILES_POOL, TilePush,
 };
@@ -44,7 +44,7 @@ pub struct PoolStats {
 }
 
 /// Seconds a pool tile nobody needs takes to go back to the far tiles' pose
-/// (`shared::tiles::fade_to_far`): by then it can leave the pool without a jump, and
+/// (`shared::world::tiles::fade_to_far`): by then it can leave the pool without a jump, and
 /// the least recently needed, which leave first, have.
 pub const FADE_SECONDS: f32 = 1.0;
 
@@ -200,7 +200,7 @@ impl TilesPass {
         );
 
         // The far tiles in view: a square of candidates around the camera's tile.
-        let centre = shared::tiles::tile_of(Vec2::new(camera.x, camera.z), &spec.params);
+        let centre = shared::world::tiles::tile_of(Vec2::new(camera.x, camera.z), &spec.params);
         let (reach_tiles, side) = (spec.reach_tiles(), spec.candidate_side());
         let push = SelectPush {
             view_proj: uniforms.camera.view_proj,

@@ -1,6 +1,6 @@
 //! The natural look's last pass: a grid of cells over the screen that puts the sky
 //! (or the meadow beyond the field) behind the scene in the HDR image, where its alpha
-//! leaves room, and tone-maps it into the sRGB target (`shared::look::tone_map`,
+//! leaves room, and tone-maps it into the sRGB target (`shared::draw::look::sky::tone_map`,
 //! Narkowicz's ACES fit). The sky is evaluated at the grid's corners and
 //! interpolated; the sun disc and the tone map run per pixel.
 
@@ -10,7 +10,7 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModu
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::layout::ToneMapPush;
+use shared::gpu::layout::{FrameUniforms, ToneMapPush};
 use std::sync::Arc;
 
 /// The tone map's own set: the HDR image.
@@ -62,15 +62,47 @@ impl ToneMapPass {
         self.set.write_sampled_image(0, hdr);
     }
 
-    /// Draws the sky and the tone-mapped image into `target`.
+    /// Puts the sky behind the HDR image `hdr` and tone-maps it into `target` (image,
+    /// view, extent), for the frame of `uniforms`: the HDR image from attachment to
+    /// sampled, the target from undefined to attachment.
     pub fn record(
         &self,
         rec: &Recorder,
-        target: vk::ImageView,
-        extent: vk::Extent2D,
-        push: &ToneMapPush,
+        hdr: vk::Image,
+        target: (vk::Image, vk::ImageView, vk::Extent2D),
+        uniforms: &FrameUniforms,
     ) {
-        rec.begin_rendering(Some((target, None)), None, extent);
+        use vk::AccessFlags2 as A;
+        use vk::PipelineStageFlags2 as S;
+        let color = vk::ImageAspectFlags::COLOR;
+        rec.image_barrier(
+            hdr,
+            color,
+            (
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+            (S::FRAGMENT_SHADER, A::SHADER_READ),
+        );
+        rec.image_barrier(
+            target.0,
+            color,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
+            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+        );
+        let camera = &uniforms.camera;
+        let push = ToneMapPush {
+            clip_to_world: camera.view_proj.inverse(),
+            camera: camera.position.extend(uniforms.look.exposure),
+            sun: uniforms.light.direction.extend(0.0),
+            ground: shared::draw::look::ground::horizon_ground(&uniforms.look),
+        };
+        rec.begin_rendering(Some((target.1, None)), None, target.2);
         let graphics = vk::PipelineBindPoint::GRAPHICS;
         rec.bind_pipeline(
             graphics,
@@ -81,9 +113,9 @@ impl ToneMapPass {
         rec.push_constants(
             self.layout.layout,
             PUSH_CONSTANTS.0,
-            bytemuck::bytes_of(push),
+            bytemuck::bytes_of(&push),
         );
-        rec.draw(0, shared::layout::TONEMAP_VERTICES);
+        rec.draw(0, shared::gpu::layout::TONEMAP_VERTICES);
         rec.end_rendering();
     }
 }

@@ -11,8 +11,8 @@ use super::{FrameQueries, Mark, Renderer};
 use crate::vulkan::{Attachments, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::cull::OCCLUSION;
-use shared::layout::{FrameUniforms, SimulatePush};
+use shared::cull::blade::OCCLUSION;
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
 
 /// Colour and depth images of a caller, in `COLOR_ATTACHMENT_OPTIMAL` and
 /// `DEPTH_ATTACHMENT_OPTIMAL`, single-sampled.

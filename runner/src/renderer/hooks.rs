@@ -11,7 +11,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
 use shared::glam::IVec2;
-use shared::layout::{FrameUniforms, SimulatePush};
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
 
 impl Renderer {
     /// Records only the compute part of a frame (simulate, cull, chunk draws), with
@@ -31,7 +31,7 @@ impl Renderer {
         self.tile_uniforms(&mut uniforms);
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
-        let mesh = uniforms.grass.pipeline == shared::layout::PIPELINE_MESH;
+        let mesh = uniforms.grass.pipeline == shared::gpu::layout::PIPELINE_MESH;
         self.record_compute(rec, self.simulate_push(push), false, mesh);
         self.copy_counters(rec, queries);
     }
@@ -61,7 +61,7 @@ impl Renderer {
         let target = buffer.map_or(self.field.visible.buffer, |b| b.buffer);
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let descriptors = &self.field.descriptors;
-        descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, target);
+        descriptors.write_buffer(shared::gpu::layout::BINDING_SCRATCH, storage, target);
         self.grass.current_mut().capturing = buffer.is_some();
         Ok(())
     }
@@ -74,7 +74,7 @@ impl Renderer {
 
     /// The blades of one tile as the GPU generates them (`compute::generate_tile`,
     /// `shared::tiles`): `per_side`² blades, width 0 where a blade's rank has left it.
-    pub fn generate_tile(&self, push: &shared::layout::TilePush) -> Result<Vec<Blade>> {
+    pub fn generate_tile(&self, push: &shared::gpu::layout::TilePush) -> Result<Vec<Blade>> {
         let count = (push.params.per_side * push.params.per_side) as usize;
         self.run_into_scratch(
             shaders::GENERATE_TILE,
@@ -86,7 +86,7 @@ impl Renderer {
 
     /// The tiles in view as the GPU selects them (`compute::select_tiles`), in the
     /// order its threads appended them.
-    pub fn select_tiles(&self, push: &shared::layout::SelectPush) -> Result<Vec<IVec2>> {
+    pub fn select_tiles(&self, push: &shared::gpu::layout::SelectPush) -> Result<Vec<IVec2>> {
         let candidates = (push.count.x * push.count.y) as usize;
         let words: Vec<u32> = self.run_into_scratch(
             shaders::SELECT_TILES,
@@ -122,9 +122,9 @@ impl Renderer {
         self.ctx.wait_idle()?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let descriptors = &self.field.descriptors;
-        descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, out.buffer);
+        descriptors.write_buffer(shared::gpu::layout::BINDING_SCRATCH, storage, out.buffer);
         let (layout, set) = (self.field.layout.layout, descriptors.set);
-        let groups = (threads as u32).div_ceil(shared::layout::SIMULATE_WORKGROUP);
+        let groups = (threads as u32).div_ceil(shared::gpu::layout::SIMULATE_WORKGROUP);
         use vk::AccessFlags2 as A;
         use vk::PipelineStageFlags2 as S;
         let result = self.pool.one_shot(|rec| {
@@ -148,7 +148,7 @@ impl Renderer {
         });
         // Back to the frame's own binding (the bandwidth reference binds its own).
         let frame_own = self.field.visible.buffer;
-        descriptors.write_buffer(shared::layout::BINDING_SCRATCH, storage, frame_own);
+        descriptors.write_buffer(shared::gpu::layout::BINDING_SCRATCH, storage, frame_own);
         result?;
         out.read(count)
     }

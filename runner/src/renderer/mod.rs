@@ -4,6 +4,7 @@
 //! renderer records a frame; the frame driver (`app::driver`) owns the slots,
 //! submits and reads each slot's counters and timestamps back.
 
+mod draw;
 pub mod external;
 mod hooks;
 pub mod readback;
@@ -31,12 +32,12 @@ use crate::vulkan::{Attachments, Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
-use shared::cull::OCCLUSION;
-use shared::layout::{FrameUniforms, PIPELINE_MESH, SimulatePush, ToneMapPush};
-use shared::look::LOOK_NATURAL;
-use shared::mesh::SurfaceMesh;
+use shared::cull::blade::OCCLUSION;
+use shared::draw::look::LOOK_NATURAL;
+use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
+use shared::gpu::layout::{FrameUniforms, PIPELINE_MESH, SimulatePush};
 use shared::settings::SHADOW_SIZES;
-use shared::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
+use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
 use targets::{DrawTargets, TargetSpec};
 
@@ -134,7 +135,7 @@ pub struct Renderer {
     pub tiles: Option<TilesPass>,
     /// Where a stored field reads its painted maps: the map square's centre and half
     /// side (a tiled field's layout has its own).
-    stored_maps: shared::tiles::TileParams,
+    stored_maps: shared::world::tiles::TileParams,
     occlusion: OcclusionPass,
     /// The scene has surfaces that can hide grass (else the pre-pass is skipped).
     pub has_occluders: bool,
@@ -210,7 +211,7 @@ impl Renderer {
             grass,
             raster,
             tiles,
-            stored_maps: shared::tiles::TileParams {
+            stored_maps: shared::world::tiles::TileParams {
                 centre: meshes.paint_square.0,
                 half_extent: meshes.paint_square.1,
                 ..Default::default()
@@ -248,7 +249,7 @@ impl Renderer {
 
     /// The depth pyramid's layout for the current target (empty before the first
     /// frame).
-    pub fn hiz(&self) -> shared::hiz::HiZLayout {
+    pub fn hiz(&self) -> shared::cull::hiz::HiZLayout {
         self.occlusion.hiz
     }
 
@@ -273,9 +274,9 @@ impl Renderer {
         }
         let targets = DrawTargets::new(&self.ctx, spec, self.color_format)?;
         let set = &self.field.descriptors;
-        set.write_sampled_image(shared::layout::BINDING_DEPTH_IMAGE, targets.depth.view);
+        set.write_sampled_image(shared::gpu::layout::BINDING_DEPTH_IMAGE, targets.depth.view);
         if let Some(ms) = &targets.depth_ms {
-            set.write_sampled_image(shared::layout::BINDING_DEPTH_IMAGE_MS, ms.view);
+            set.write_sampled_image(shared::gpu::layout::BINDING_DEPTH_IMAGE_MS, ms.view);
         }
         if let Some(hdr) = &targets.hdr {
             self.tonemap.set_source(hdr.view);
@@ -356,7 +357,9 @@ impl Renderer {
         stamp(Mark::Resolve);
         self.copy_counters(rec, queries);
         if natural {
-            self.record_tone_map(rec, targets, &target, &uniforms)?;
+            let hdr = targets.hdr.as_ref().context("HDR image")?;
+            let out = (target.image, target.view, target.extent);
+            self.tonemap.record(rec, hdr.image, out, &uniforms);
         }
         stamp(Mark::ToneMap);
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
@@ -411,7 +414,7 @@ impl Renderer {
         self.shadow
             .resize(&self.ctx, &self.pool, &self.field, side)?;
         self.tile_uniforms(uniforms);
-        uniforms.forces.time = shared::simulate::step_time(push.first_step + push.steps);
+        uniforms.forces.time = shared::sim::simulate::step_time(push.first_step + push.steps);
         self.ground.follow(uniforms.camera.position);
         uniforms.raster.width = extent.width;
         uniforms.raster.height = extent.height;
@@ -428,7 +431,7 @@ impl Renderer {
     ) -> Result<()> {
         match self.tiles.as_mut() {
             Some(tiles) => {
-                let seconds = push.steps as f32 * shared::simulate::STEP_SECONDS;
+                let seconds = push.steps as f32 * shared::sim::simulate::STEP_SECONDS;
                 tiles.record(rec, &self.field, uniforms, seconds)
             }
             None => Ok(()),
@@ -535,149 +538,6 @@ impl Renderer {
             field.counters.size,
         );
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
-    }
-
-    /// Grass, then ground, into the draw's colour (the target, the HDR image or the
-    /// multisampled one, see [`targets`]); [`Mark::Grass`] and [`Mark::Ground`]
-    /// after each, the grass's triangles counted into `triangles`. Grass first: the
-    /// ground under it then fails the early depth test instead of being shaded and
-    /// drawn over (performance notes, attempt 12); the blades that surfaces hide are
-    /// culled before (the occlusion test). With the compute rasterizer on, that scope
-    /// ends, the rasterizer reads its depth ([`Mark::Raster`]), and a second scope on
-    /// the same images resolves the far blades; the multisample resolve comes at the
-    /// end of the last scope.
-    fn record_draw(
-        &self,
-        rec: &Recorder,
-        targets: &DrawTargets,
-        target: &Target,
-        uniforms: &FrameUniforms,
-        stamp: &dyn Fn(Mark),
-        triangles: Option<vk::QueryPool>,
-    ) {
-        let single = targets
-            .hdr
-            .as_ref()
-            .map_or((target.image, target.view), |h| (h.image, h.view));
-        let (color, resolve) = match &targets.color_ms {
-            Some(ms) => ((ms.image, ms.view), Some(single)),
-            None => (single, None),
-        };
-        let far = uniforms.raster.below > 0.0;
-        let depth_image = targets.depth_ms.as_ref().unwrap_or(&targets.depth);
-        let depth = (depth_image.image, depth_image.view);
-        let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
-        let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
-        let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        for image in std::iter::once(color.0).chain(resolve.map(|r| r.0)) {
-            rec.image_barrier(
-                image,
-                vk::ImageAspectFlags::COLOR,
-                (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
-                color_out,
-            );
-        }
-        // After the pre-pass's copy (or the last frame's tests, copy and compute
-        // reads) is done with it.
-        rec.image_barrier(
-            depth.0,
-            vk::ImageAspectFlags::DEPTH,
-            (
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            ),
-            (
-                depth_tests | S::COPY | S::COMPUTE_SHADER,
-                A::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            ),
-            (depth_tests, depth_rw),
-        );
-        // The natural look's sky is drawn by the tone map where alpha leaves room.
-        let clear = if targets.hdr.is_some() { [0.0; 4] } else { SKY };
-        let extent = target.extent;
-        let hardware = Attachments {
-            color: Some((color.1, Some(clear))),
-            color_resolve: if far { None } else { resolve.map(|r| r.1) },
-            depth: Some((depth.1, true)),
-        };
-        rec.begin_rendering_with(&hardware, extent);
-        if let Some(pool) = triangles {
-            rec.begin_query(pool);
-        }
-        let (view, style) = (uniforms.grass.view, uniforms.look.style);
-        let pipeline = uniforms.grass.pipeline;
-        self.grass
-            .current()
-            .record(rec, &self.field, view, style, pipeline);
-        if let Some(pool) = triangles {
-            rec.end_query(pool);
-        }
-        stamp(Mark::Grass);
-        self.ground.record(rec, &self.field, used_balls(uniforms));
-        stamp(Mark::Ground);
-        if far {
-            rec.end_rendering();
-            let natural = uniforms.look.style == LOOK_NATURAL;
-            let samples = targets.spec.samples;
-            self.raster
-                .record(rec, &self.field, natural, depth_image, samples);
-            stamp(Mark::Raster);
-            let far_blades = Attachments {
-                color: Some((color.1, None)),
-                color_resolve: resolve.map(|r| r.1),
-                depth: Some((depth.1, false)),
-            };
-            rec.begin_rendering_with(&far_blades, extent);
-            self.raster.record_resolve(rec, &self.field, view, style);
-        } else {
-            stamp(Mark::Raster);
-        }
-        rec.end_rendering();
-    }
-
-    /// The sky behind the HDR image and the tone map into the target.
-    fn record_tone_map(
-        &self,
-        rec: &Recorder,
-        targets: &DrawTargets,
-        target: &Target,
-        uniforms: &FrameUniforms,
-    ) -> Result<()> {
-        let hdr = targets.hdr.as_ref().context("HDR image")?;
-        let color = vk::ImageAspectFlags::COLOR;
-        rec.image_barrier(
-            hdr.image,
-            color,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            ),
-            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
-            (S::FRAGMENT_SHADER, A::SHADER_READ),
-        );
-        rec.image_barrier(
-            target.image,
-            color,
-            (
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            ),
-            (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
-            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
-        );
-        let camera = &uniforms.camera;
-        let push = ToneMapPush {
-            clip_to_world: camera.view_proj.inverse(),
-            camera: camera.position.extend(uniforms.look.exposure),
-            sun: uniforms.light.direction.extend(0.0),
-            ground: shared::look::horizon_ground(&uniforms.look),
-        };
-        self.tonemap.record(rec, target.view, target.extent, &push);
-        Ok(())
     }
 
     /// Leaves the target in its final layout.

@@ -7,7 +7,8 @@ use crate::vulkan::{Buffer, Context};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use shared::layout::{self, COUNTER_COUNT};
+use shared::gpu::counters;
+use shared::gpu::counters::COUNTER_COUNT;
 use std::sync::Arc;
 
 /// The timestamps of a frame, in the order they are written: the start, then the end
@@ -82,19 +83,19 @@ pub struct CullCounts {
 impl CullCounts {
     fn from_counters(c: &[u32]) -> Self {
         Self {
-            drawn: c[layout::COUNTER_VISIBLE],
-            orientation: c[layout::COUNTER_ORIENTATION],
-            frustum: c[layout::COUNTER_FRUSTUM],
-            distance: c[layout::COUNTER_DISTANCE],
-            occlusion: c[layout::COUNTER_OCCLUSION],
-            examined: c[layout::COUNTER_EXAMINED],
-            compute: c[layout::COUNTER_FAR],
-            raster_covered: c[layout::COUNTER_RASTER_COVERED],
-            raster_written: c[layout::COUNTER_RASTER_WRITTEN],
-            far_tiles: c[layout::COUNTER_TILES],
-            far_blades: c[layout::COUNTER_TILE_BLADES],
-            tiles_short: c[layout::COUNTER_TILES_SHORT],
-            tiles_hidden: c[layout::COUNTER_TILES_HIDDEN],
+            drawn: c[counters::COUNTER_VISIBLE],
+            orientation: c[counters::COUNTER_ORIENTATION],
+            frustum: c[counters::COUNTER_FRUSTUM],
+            distance: c[counters::COUNTER_DISTANCE],
+            occlusion: c[counters::COUNTER_OCCLUSION],
+            examined: c[counters::COUNTER_EXAMINED],
+            compute: c[counters::COUNTER_FAR],
+            raster_covered: c[counters::COUNTER_RASTER_COVERED],
+            raster_written: c[counters::COUNTER_RASTER_WRITTEN],
+            far_tiles: c[counters::COUNTER_TILES],
+            far_blades: c[counters::COUNTER_TILE_BLADES],
+            tiles_short: c[counters::COUNTER_TILES_SHORT],
+            tiles_hidden: c[counters::COUNTER_TILES_HIDDEN],
         }
     }
     /// Blades removed by any test.
@@ -109,7 +110,7 @@ impl CullCounts {
             self.distance,
             self.occlusion,
         ];
-        std::array::from_fn(|i| (shared::cull::TEST_NAMES[i], removed[i]))
+        std::array::from_fn(|i| (shared::cull::blade::TEST_NAMES[i], removed[i]))
     }
 }
 

@@ -9,7 +9,7 @@ use crate::vulkan::{Buffer, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use shared::layout;
+use shared::gpu::layout;
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
@@ -61,7 +61,7 @@ impl Renderer {
             return Ok(None);
         }
         let depth = &self.targets.as_ref().context("draw targets")?.depth;
-        let push = shared::reference::push(level, target.extent.width, target.extent.height);
+        let push = shared::draw::reference::push(level, target.extent.width, target.extent.height);
         // Each image's barrier names its own kind of access only.
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let depth_tests = (

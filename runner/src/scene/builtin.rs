@@ -1,10 +1,10 @@
 //! The built-in surfaces: plane, hills, sphere, the walled field, and the valley.
 //!
 //! Each is a [`SurfaceMesh`] with unit vertex normals and triangles counter-clockwise
-//! seen from the normal side, ready for [`shared::mesh::scatter`].
+//! seen from the normal side, ready for [`shared::world::mesh::scatter`].
 
 use glam::Vec3;
-use shared::mesh::SurfaceMesh;
+use shared::world::mesh::SurfaceMesh;
 use std::collections::HashMap;
 use std::f32::consts::TAU;
 
@@ -69,11 +69,11 @@ pub fn hills(side: f32, cells: u32) -> SurfaceMesh {
 /// The valley (`shared::terrain`): its height field over the square of
 /// side `side` (metres) centred on the origin, as a grid of `cells`×`cells` quads
 /// (`cells` clamped to 1..=[`MAX_CELLS`]), normals from the analytic gradient. The
-/// ground the tiled field's blades will stand on (`shared::tiles::TERRAIN_VALLEY`);
+/// ground the tiled field's blades will stand on (`shared::world::tiles::TERRAIN_VALLEY`);
 /// not yet a scene.
 pub fn valley(side: f32, cells: u32) -> SurfaceMesh {
     use glam::Vec2;
-    use shared::terrain::{valley_height, valley_normal};
+    use shared::world::terrain::{valley_height, valley_normal};
     grid(
         side,
         cells,
@@ -82,12 +82,12 @@ pub fn valley(side: f32, cells: u32) -> SurfaceMesh {
     )
 }
 
-/// The valley's ground grid around the camera (`shared::terrain::grid_offset`):
+/// The valley's ground grid around the camera (`shared::world::terrain::grid_offset`):
 /// `cells`×`cells` quads, `spacing` wide at the centre and growing with the distance
 /// out to `reach` at the edge, flat at y = 0, its vertices placed on the valley by
 /// the vertex stage around the camera (`layout::SurfacePush::terrain`).
 pub fn ground_grid(cells: u32, spacing: f32, reach: f32) -> SurfaceMesh {
-    use shared::terrain::{grid_growth, grid_offset};
+    use shared::world::terrain::{grid_growth, grid_offset};
     let cells = cells.clamp(2, MAX_CELLS) & !1;
     let half = cells / 2;
     let growth = grid_growth(half, spacing, reach);
@@ -95,13 +95,13 @@ pub fn ground_grid(cells: u32, spacing: f32, reach: f32) -> SurfaceMesh {
     grid_over(cells, coordinate, |_, _| 0.0, |_, _| Vec3::Y)
 }
 
-/// The valley's rocks (`shared::terrain::rock_in_cell`) within the square of side
+/// The valley's rocks (`shared::world::terrain::rock_in_cell`) within the square of side
 /// `side`: each a sphere of its radius flattened to 0.6 of it in height and sunk a
 /// quarter of its radius into the ground, rough (its vertices pushed in and out by a
 /// hash), one subdivision (80 triangles).
 pub fn valley_rocks(side: f32) -> SurfaceMesh {
     use glam::{IVec2, Vec2};
-    use shared::terrain::{ROCK_CELL, rock_in_cell, valley_height};
+    use shared::world::terrain::{ROCK_CELL, rock_in_cell, valley_height};
     let cells = (0.5 * side / ROCK_CELL).ceil() as i32;
     let mut rocks = SurfaceMesh::default();
     for z in -cells..cells {
@@ -117,7 +117,7 @@ pub fn valley_rocks(side: f32) -> SurfaceMesh {
             let centre = Vec3::new(at.x, valley_height(at) - 0.25 * r, at.y);
             let mut mesh = sphere(Vec3::ZERO, 1.0, 1);
             for (i, (p, n)) in mesh.positions.iter_mut().zip(&mut mesh.normals).enumerate() {
-                let rough = 0.85 + 0.3 * shared::look::hash_unit(i as u32 ^ (x * 977 + z) as u32);
+                let rough = 0.85 + 0.3 * shared::noise::hash_unit(i as u32 ^ (x * 977 + z) as u32);
                 let scale = Vec3::new(r, 0.6 * r, r) * rough;
                 *p = centre + *p * scale;
                 *n = (*n / scale).normalize();
@@ -469,7 +469,7 @@ mod tests {
         }
         assert!(worst > 0.95, "face·normal down to {worst}");
         for p in &mesh.positions {
-            let h = shared::terrain::valley_height(glam::Vec2::new(p.x, p.z));
+            let h = shared::world::terrain::valley_height(glam::Vec2::new(p.x, p.z));
             assert_eq!(p.y, h);
         }
         let (lo, hi) = mesh.bounds().unwrap();

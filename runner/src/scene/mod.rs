@@ -10,10 +10,10 @@ use crate::tiles::TiledSpec;
 use anyhow::{Context as _, Result, bail};
 use glam::{Vec3, Vec3Swizzles};
 use shared::Blade;
-use shared::generate::{DENSITY, side_for};
-use shared::mesh::bvh::IndexedMesh;
-use shared::mesh::{SurfaceMesh, scatter_scaled};
 use shared::settings::Settings;
+use shared::world::generate::{DENSITY, side_for};
+use shared::world::mesh::bvh::IndexedMesh;
+use shared::world::mesh::{SurfaceMesh, scatter_scaled};
 use std::path::PathBuf;
 
 /// The project's own glTF scene, built into the binary (regenerate with
@@ -118,7 +118,7 @@ pub const VALLEY_CELLS: u32 = 256;
 /// 1.3 to 2.5 units), but never taller than 8 % of the scene's radius, so a small
 /// object (a torus of a metre) gets a lawn, not fur.
 pub fn natural_blade_scale(radius: f32) -> f32 {
-    let tallest = shared::generate::HEIGHT.1;
+    let tallest = shared::world::generate::HEIGHT.1;
     (0.08 * radius / tallest).clamp(1e-3, 0.28)
 }
 
@@ -215,7 +215,7 @@ impl Scene {
         }
         let blades = match count {
             BladeCount::Total(n) => u64::from(n),
-            BladeCount::Density(d) => shared::mesh::count_for_density(&surface, d).max(1),
+            BladeCount::Density(d) => shared::world::mesh::count_for_density(&surface, d).max(1),
         };
         check(blades)?;
         let blades = u32::try_from(blades)
@@ -229,7 +229,7 @@ impl Scene {
             .iter()
             .map(|p| p.distance(centre))
             .fold(0.0, f32::max);
-        let radius = reach + shared::generate::HEIGHT.1;
+        let radius = reach + shared::world::generate::HEIGHT.1;
         let natural_scale = if matches!(kind, SceneKind::Meadow | SceneKind::File(_)) {
             natural_blade_scale(reach)
         } else {
@@ -259,9 +259,11 @@ impl Scene {
     pub fn make_tiled(&mut self, spec: TiledSpec) {
         self.blades = Vec::new();
         self.tiles = Some(spec);
-        if spec.params.terrain == shared::tiles::TERRAIN_MESH {
-            let table = shared::surface::build(&self.surface, spec.params.size, spec.tile_blades());
-            self.paint = shared::paint::with_surface(std::mem::take(&mut self.paint), &table);
+        if spec.params.terrain == shared::world::tiles::TERRAIN_MESH {
+            let table =
+                shared::world::surface::build(&self.surface, spec.params.size, spec.tile_blades());
+            self.paint =
+                shared::world::paint::with_surface(std::mem::take(&mut self.paint), &table);
         }
     }
 
@@ -278,10 +280,10 @@ impl Scene {
     /// A stored field under its painted maps (`paint`, over [`Self::paint_square`]):
     /// each blade kept with the probability the density map reads at its root (by a
     /// hash of its index); then, under a type or height map, gone from bare ground,
-    /// made a dandelion, its height scaled (`shared::paint::painted_blade`). The colour
+    /// made a dandelion, its height scaled (`shared::world::paint::painted_blade`). The colour
     /// map is read on the GPU, at the same point.
     pub fn apply_paint(&mut self) {
-        use shared::paint::{HEADER_WORDS, HEIGHT, TYPE, has, painted_blade};
+        use shared::world::paint::{HEADER_WORDS, HEIGHT, TYPE, has, painted_blade};
         if self.paint.len() <= HEADER_WORDS || self.tiles.is_some() {
             return;
         }
@@ -291,8 +293,8 @@ impl Scene {
         let paint = &self.paint;
         self.blades.retain(|b| {
             index += 1;
-            shared::look::hash_unit(index.wrapping_mul(0x9e37_79b9))
-                < shared::paint::density(paint, at(b), half)
+            shared::noise::hash_unit(index.wrapping_mul(0x9e37_79b9))
+                < shared::world::paint::density(paint, at(b), half)
         });
         if has(paint, TYPE) || has(paint, HEIGHT) {
             self.blades = self
@@ -419,7 +421,7 @@ impl Scene {
 /// above the ground beside the path (over the blades, 2.5 at most), looking down the
 /// path and a little down, the far plane at the valley's far side.
 pub fn valley_camera(travelled: f32) -> OrbitCamera {
-    use shared::terrain::{path_centre, valley_height};
+    use shared::world::terrain::{path_centre, valley_height};
     let z = -travelled;
     let (x, slope) = path_centre(z);
     let eye = glam::Vec2::new(x + 3.0, z);
@@ -449,7 +451,7 @@ mod tests {
         assert!((natural_blade_scale(17.0) - 0.28).abs() < 1e-6);
         // A torus of a metre: blades at most 8 % of its radius.
         let torus = natural_blade_scale(1.4);
-        assert!((torus * shared::generate::HEIGHT.1 - 0.08 * 1.4).abs() < 1e-6);
+        assert!((torus * shared::world::generate::HEIGHT.1 - 0.08 * 1.4).abs() < 1e-6);
     }
 
     /// A stored field grows again once per new size; a tiled one stores no blades
@@ -462,10 +464,10 @@ mod tests {
         assert_eq!(scene.blades.len(), 64);
         assert!(!scene.rescale(0.5));
         let spec = TiledSpec {
-            params: shared::tiles::TileParams {
+            params: shared::world::tiles::TileParams {
                 size: 4.0,
                 per_side: 16,
-                terrain: shared::tiles::TERRAIN_FLAT,
+                terrain: shared::world::tiles::TERRAIN_FLAT,
                 half_extent: 8.0,
                 ..Default::default()
             },

@@ -314,8 +314,8 @@ impl Context {
     }
 
     /// What the renderer's choices depend on in this device.
-    pub fn capabilities(&self) -> super::probe::Capabilities {
-        super::probe::Capabilities {
+    pub fn capabilities(&self) -> Capabilities {
+        Capabilities {
             name: self.device_name(),
             software: self.is_software(),
             mesh_shader: self.mesh_shader.as_ref().map(|_| ()).map_err(Clone::clone),
@@ -528,4 +528,18 @@ unsafe extern "system" fn debug_callback(
         log::warn!("validation: {message}");
     }
     vk::FALSE
+}
+
+/// What the renderer's choices depend on in a device: the one it would use here (the
+/// probe's, `super::probe`), or the one a context holds ([`Context::capabilities`]).
+#[derive(Clone, Debug)]
+pub struct Capabilities {
+    /// Its name, as its driver reports it.
+    pub name: String,
+    /// A software rasteriser such as lavapipe.
+    pub software: bool,
+    /// `Ok` when the mesh path is available; else why not.
+    pub mesh_shader: Result<(), String>,
+    /// `Ok` when the compute rasterizer is available; else why not.
+    pub int64_atomics: Result<(), String>,
 }

@@ -171,7 +171,9 @@ fn mesh_shader_support(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
 ) -> Result<(), String> {
-    use shared::meshlet::{MESH_GRID_WIDTH, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES};
+    use shared::draw::meshlet::{
+        MESH_GRID_WIDTH, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES,
+    };
     let name = ext::mesh_shader::NAME;
     let extensions =
         unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();

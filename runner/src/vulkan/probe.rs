@@ -3,6 +3,7 @@
 //! Tests ask it once, before they run anything, whether they can run here
 //! ([`Probe::lacks`]); a run that then fails is a failure, never a skip.
 
+pub use super::context::Capabilities;
 use super::context::{VALIDATION_LAYER, pick_device};
 use super::features::{DeviceFeatures, name_of};
 use ash::{khr, vk};
@@ -19,20 +20,6 @@ pub enum Need {
     MeshShaders,
     /// 64-bit storage-buffer atomics (the compute rasterizer).
     Int64Atomics,
-}
-
-/// What the renderer's choices depend on in a device: the one it would use here (the
-/// probe's), or the one a context holds ([`super::Context::capabilities`]).
-#[derive(Clone, Debug)]
-pub struct Capabilities {
-    /// Its name, as its driver reports it.
-    pub name: String,
-    /// A software rasteriser such as lavapipe.
-    pub software: bool,
-    /// `Ok` when the mesh path is available; else why not.
-    pub mesh_shader: Result<(), String>,
-    /// `Ok` when the compute rasterizer is available; else why not.
-    pub int64_atomics: Result<(), String>,
 }
 
 /// What Vulkan offers on this machine.

@@ -8,6 +8,7 @@
 pub mod charts;
 pub mod report;
 pub mod stats;
+pub mod table;
 
 pub use stats::{Point, References, Spread, TriangleReference, compute_bytes, mean_difference};
 
@@ -23,9 +24,9 @@ use crate::vulkan::Context;
 use anyhow::{Context as _, Result};
 use glam::Vec3;
 use report::{print_looks, print_raster, print_references, print_table, write_csv};
-use shared::layout::FrameUniforms;
+use shared::gpu::layout::FrameUniforms;
 use shared::settings::{GrassPipeline, Look, Settings};
-use shared::simulate::SimClock;
+use shared::sim::simulate::SimClock;
 use std::time::Instant;
 
 /// Most blades swept by default on a software device (lavapipe draws about half a
@@ -364,7 +365,7 @@ fn still(
 
 /// Tessellation levels the throughput reference is timed at: the fewest and the most
 /// segments a blade gets.
-const REFERENCE_LEVELS: [f32; 2] = [1.0, shared::lod::MAX_LEVEL];
+const REFERENCE_LEVELS: [f32; 2] = [1.0, shared::cull::lod::MAX_LEVEL];
 
 /// The bandwidth reference and each of `pipelines`' triangle-throughput reference over
 /// a field of `blades`.
@@ -391,9 +392,9 @@ fn measure_references(
             };
             // Per patch or strip as counted, else as the rules give it.
             let rule = if mesh {
-                2 * shared::meshlet::strip_segments(level)
+                2 * shared::draw::meshlet::strip_segments(level)
             } else {
-                shared::reference::triangles_per_patch(level)
+                shared::draw::reference::triangles_per_patch(level)
             };
             let triangles = counted
                 .filter(|&t| t > 0)

@@ -20,7 +20,7 @@ pub fn print_references(blades: u32, r: &References, points: &[Point]) {
                 "{name} triangle reference: {:.0} M triangles/s at {} segments; {:.2} ns per \
                  blade + {:.3} ns per triangle",
                 t.triangles_per_s / 1e6,
-                shared::lod::MAX_SEGMENTS,
+                shared::cull::lod::MAX_SEGMENTS,
                 t.patch_ms * 1e6,
                 t.triangle_ms * 1e6
             ));

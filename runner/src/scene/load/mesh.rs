@@ -6,7 +6,7 @@
 use super::LoadedMesh;
 use super::error::{MAX_TRIANGLES, MAX_VERTICES, SceneError, SceneErrorKind};
 use glam::Vec3;
-use shared::mesh::SurfaceMesh;
+use shared::world::mesh::SurfaceMesh;
 
 /// True for material names that mean "no grass here".
 pub(super) fn is_bare_material(name: &str) -> bool {

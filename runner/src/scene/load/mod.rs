@@ -43,7 +43,7 @@ mod obj;
 pub use error::{MAX_TRIANGLES, MAX_VERTICES, SceneError, SceneErrorKind};
 pub use file::MAX_FILE_BYTES;
 
-use shared::mesh::SurfaceMesh;
+use shared::world::mesh::SurfaceMesh;
 use std::path::Path;
 
 /// A scene file's surfaces.

@@ -1,0 +1,247 @@
+//! The options of each command: soak, bench, render, record and the viewer.
+
+use super::common::*;
+use crate::parse::range;
+use clap::{Args, ValueEnum};
+use shared::cull::blade as cull;
+use shared::settings::{CullTests, Look};
+use std::path::PathBuf;
+
+/// Options of the soak run.
+#[derive(Args, Debug, Clone)]
+pub struct SoakArgs {
+    /// Frames to run.
+    #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u32).range(100..=100_000_000))]
+    pub frames: u32,
+    /// Frames between memory readings; the image alternates between two sizes at each
+    /// reading, and the switches change four times in between.
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u32).range(10..=1_000_000))]
+    pub every: u32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub height: u32,
+    /// Host memory (resident set) the run may gain, in MiB: the lowest reading of the
+    /// last third against the highest of the first third.
+    #[arg(long, default_value_t = 8.0, value_parser = range(0.0, 1e6))]
+    pub host_slack_mib: f32,
+    /// Run without the validation layer (where it is not installed).
+    #[arg(long)]
+    pub no_validation: bool,
+}
+
+/// Options of the benchmark.
+#[derive(Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Blade counts to sweep, comma-separated (`--blades N` runs one) [default: powers
+    /// of two from 1,024 to 4,194,304 that the device holds; up to 8,192 on a
+    /// software device].
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..=(1 << 26)))]
+    pub counts: Vec<u32>,
+    /// Configurations, comma-separated [default: all].
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub configs: Vec<BenchConfig>,
+    /// Looks to time, comma-separated; with both, the report sets the natural look's
+    /// frame against the paper's. Without --msaa the paper look is timed at one sample
+    /// per pixel (as the paper drew it), the natural one at the device's default
+    /// [default: the one --look names].
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub looks: Vec<Look>,
+    /// Grass pipelines to time, comma-separated, each at every point [default: the
+    /// one --pipeline names]
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub pipelines: Vec<PipelineChoice>,
+    /// Compute-rasterizer thresholds to time (pixels; 0 off), comma-separated, each at
+    /// every point [default: the one --compute-raster-below gives]
+    #[arg(long, value_delimiter = ',', value_parser = range(0.0, 1e4))]
+    pub compute_raster: Vec<f32>,
+    /// Camera preset.
+    #[arg(long, value_enum, default_value_t = CameraPreset::Edge)]
+    pub camera: CameraPreset,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1920, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 1080, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub height: u32,
+    /// Measured frames per point.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Frames run before measuring each point.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub warmup: u32,
+    /// CSV file of the results; the charts (`_frame`, `_passes`, `_configs`) and the
+    /// preset's picture (`.view.png`) are written next to it.
+    #[arg(long, default_value = "bench.csv")]
+    pub out: PathBuf,
+}
+
+/// What runs in a benchmark configuration.
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum BenchConfig {
+    /// No culling, no LOD.
+    None,
+    /// The orientation test alone.
+    Orientation,
+    /// The frustum test alone.
+    Frustum,
+    /// The distance test alone.
+    Distance,
+    /// The occlusion test alone.
+    Occlusion,
+    /// Orientation, frustum and distance.
+    Culls,
+    /// Those three and LOD.
+    CullsLod,
+    /// Every test and LOD.
+    CullsLodOcclusion,
+}
+
+impl BenchConfig {
+    /// Every configuration, in the order of the report.
+    pub const ALL: [BenchConfig; 8] = [
+        BenchConfig::None,
+        BenchConfig::Orientation,
+        BenchConfig::Frustum,
+        BenchConfig::Distance,
+        BenchConfig::Occlusion,
+        BenchConfig::Culls,
+        BenchConfig::CullsLod,
+        BenchConfig::CullsLodOcclusion,
+    ];
+
+    /// (enabled tests, LOD on).
+    pub fn switches(self) -> (CullTests, bool) {
+        let only = |mask| CullTests::from_mask(mask);
+        match self {
+            BenchConfig::None => (CullTests::NONE, false),
+            BenchConfig::Orientation => (only(cull::ORIENTATION), false),
+            BenchConfig::Frustum => (only(cull::FRUSTUM), false),
+            BenchConfig::Distance => (only(cull::DISTANCE), false),
+            BenchConfig::Occlusion => (only(cull::OCCLUSION), false),
+            BenchConfig::Culls => (CullTests::PAPER, false),
+            BenchConfig::CullsLod => (CullTests::PAPER, true),
+            BenchConfig::CullsLodOcclusion => (CullTests::ALL, true),
+        }
+    }
+}
+
+/// Where the benchmark's camera stands.
+#[derive(ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum CameraPreset {
+    /// At the field's edge, two units up, looking across it.
+    Edge,
+    /// High above, the whole field in view.
+    Overview,
+    /// On the valley: a walker's eye flying down the path, 6 units a second
+    /// (`scene::valley_camera`).
+    Flight,
+}
+
+/// Options of the viewer.
+#[derive(Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Window width in pixels.
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// Window height in pixels.
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub height: u32,
+    /// Quit after this many frames (for scripted runs).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Resize, minimise and restore the window by script while drawing (for tests).
+    #[arg(long)]
+    pub resize_storm: bool,
+    /// Take a screenshot (as the K key does) once this many frames are drawn; several
+    /// comma-separated.
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u64).range(1..))]
+    pub screenshot_at: Vec<u64>,
+    /// Where screenshots and saved settings go (`grass-<seconds since 1970>.png`, a
+    /// number added when two come in the same second): a folder that exists.
+    #[arg(long, default_value = ".")]
+    pub screenshot_dir: PathBuf,
+}
+
+impl Default for ViewArgs {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            frames: None,
+            resize_storm: false,
+            screenshot_at: Vec::new(),
+            screenshot_dir: PathBuf::from("."),
+        }
+    }
+}
+
+/// Options of the headless renderer.
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Frames to simulate and draw (1/60 s each); the last one is written.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+    pub frames: u32,
+    /// Output PNG.
+    #[arg(long, default_value = "shot.png")]
+    pub out: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub height: u32,
+    /// Where the camera stands and how it moves.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
+/// Options of a clip.
+#[derive(Args, Debug, Clone)]
+pub struct RecordArgs {
+    /// The clip: a `.gif` (encoded here), an `.mp4` (through `ffmpeg`, which must be
+    /// installed) or a folder of numbered PNGs.
+    #[arg(long, default_value = "clip.gif")]
+    pub out: PathBuf,
+    /// Frames of the clip, each one step of the fixed frame time (1 / --fps).
+    #[arg(long, default_value_t = 90, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Frames a second of the clip, and of the simulation's clock while recording.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
+    /// Frames simulated before the first recorded one (the blades settle).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub settle: u32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 480, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 270, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    pub height: u32,
+    /// Where the camera stands and how it moves.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
+/// The headless camera: the scene's framing changed by these.
+#[derive(Args, Debug, Clone)]
+pub struct CameraArgs {
+    /// Camera closer (above 1) or further (below 1) than the view framing the scene.
+    #[arg(long, default_value_t = 1.0, value_parser = range(0.05, 50.0))]
+    pub zoom: f32,
+    /// Camera angle around the vertical, degrees [default: the scene's framing].
+    #[arg(long, allow_hyphen_values = true, value_parser = range(-360.0, 360.0))]
+    pub yaw: Option<f32>,
+    /// Camera angle above the horizon, degrees, 1 to 85 [default: the scene's framing].
+    #[arg(long, value_parser = range(1.0, 85.0))]
+    pub pitch: Option<f32>,
+    /// Fly the valley's path at the bench's flight speed (6 units a second) over the
+    /// frames instead of standing still (`--scene valley`); the flight sets the camera.
+    #[arg(long, conflicts_with_all = ["zoom", "yaw", "pitch", "orbit"])]
+    pub flight: bool,
+    /// Turn the camera around the scene by this many degrees a second.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = range(-720.0, 720.0))]
+    pub orbit: f32,
+}

@@ -1,0 +1,11 @@
+//! The compute passes: reduce the occluders' depth into a pyramid, then simulate every
+//! blade, cull it, count each test's removals and compact the survivors, then write
+//! the indirect draw commands.
+
+pub mod clumps;
+pub mod draws;
+pub mod hiz;
+pub mod raster;
+pub mod reference;
+pub mod simulate;
+pub mod tiles;

@@ -1,0 +1,354 @@
+//! One thread per blade: this frame's simulation steps, the four culling tests and the
+//! compaction of the survivors into the visible list.
+
+use shared::Blade;
+use shared::cull::blade::{KEPT, cull_outcome};
+use shared::cull::lod::blade_level;
+use shared::draw::look::clump::{Clump, DressedBlade, dress};
+use shared::draw::look::coverage::unpack_coverage;
+use shared::draw::meshlet::{packed_bucket, visible_level};
+use shared::draw::raster::is_far;
+use shared::gpu::counters::COUNTER_TILE_BLADES;
+use shared::gpu::counters::strip_counter;
+use shared::gpu::counters::{
+    COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE, far_slot,
+};
+use shared::gpu::layout::{EMPTY_SLOT, IDS_WORDS, POOL_WORDS, TILES_POOL};
+use shared::gpu::layout::{
+    FrameUniforms, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush, flat_index,
+};
+use shared::sim::simulate::simulate;
+use shared::world::tiles::{drawn_width, fade_to_far, far_blade, kept, unpack_map_point};
+use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
+use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4};
+use spirv_std::memory::{Scope, Semantics};
+use spirv_std::spirv;
+
+/// The per-blade buffers the simulate-and-cull pass reads and writes.
+pub struct BladeBuffers<'a> {
+    blades: &'a mut [Blade],
+    visible: &'a mut [u32],
+    counters: &'a mut [u32],
+    strengths: &'a mut [f32],
+    pyramid: &'a [f32],
+    levels: &'a mut [f32],
+    ids: &'a [u32],
+    tiles: &'a [u32],
+    paint: &'a [u32],
+}
+
+/// One thread per blade: this frame's fixed steps of forces, collisions and validation
+/// (the blade and its collision strength η are read and written back), then the cull
+/// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
+/// device counter once; a visible blade's index (4 bytes, not its 64) lands at the
+/// workgroup's base (one device atomic) plus its place within the workgroup. On the
+/// mesh path each visible blade's level of detail goes to the same slot of the
+/// levels buffer and is counted by strip length, for [`bin_blades`]. The paper look's
+/// entry point: nothing of the natural look is compiled in.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn simulate_cull(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &SimulatePush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+) {
+    let buffers = BladeBuffers {
+        blades,
+        visible,
+        counters,
+        strengths,
+        pyramid,
+        levels,
+        ids,
+        tiles,
+        paint,
+    };
+    let mesh = frame.grass.pipeline == PIPELINE_MESH;
+    let prepare = |_: u32, _: u32, kept: &Blade, _: &[u32], _: Vec2| {
+        (
+            (),
+            if mesh {
+                blade_level(kept, &frame.lod, &frame.camera, frame.grass.shape)
+            } else {
+                0.0
+            },
+        )
+    };
+    simulate_and_cull(
+        id,
+        local,
+        workgroups,
+        frame,
+        push,
+        buffers,
+        tally,
+        prepare,
+        |_, _| {},
+    );
+}
+
+/// [`simulate_cull`] for the natural look: each visible blade as drawn
+/// (`shared::draw::look::clump::dress`, from its clump) also goes to its slot of the dressed buffer;
+/// its level of detail on the mesh path is the dressed blade's, 0 for a thin blade its
+/// coverage leaves out.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64)))]
+pub fn simulate_cull_natural(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(local_invocation_index)] local: u32,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &SimulatePush,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &mut [Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &mut [DressedBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+) {
+    let buffers = BladeBuffers {
+        blades,
+        visible,
+        counters,
+        strengths,
+        pyramid,
+        levels,
+        ids,
+        tiles,
+        paint,
+    };
+    let camera = frame.camera.position;
+    let half = push.tiles.half_extent;
+    let prepare = |index: u32, id: u32, kept: &Blade, paint: &[u32], at: Vec2| {
+        let clump = Clump::unpack(clumps[index as usize]);
+        let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
+        // The painted colour map (white where there is none).
+        let colour = shared::world::paint::sample(paint, shared::world::paint::COLOUR, at, half);
+        let tint = Vec4::new(
+            tint.x * colour.x,
+            tint.y * colour.y,
+            tint.z * colour.z,
+            tint.w,
+        );
+        let (mask, _) = unpack_coverage(tint.w);
+        let mesh = frame.grass.pipeline == PIPELINE_MESH;
+        let level = if mesh && mask != 0 {
+            blade_level(&blade, &frame.lod, &frame.camera, frame.grass.shape)
+        } else {
+            0.0
+        };
+        (DressedBlade { blade, tint }, level)
+    };
+    let store = |slot: usize, drawn: DressedBlade| dressed[slot] = drawn;
+    simulate_and_cull(
+        id, local, workgroups, frame, push, buffers, tally, prepare, store,
+    );
+}
+
+/// The body of both simulate-and-cull entry points: `prepare(index, id, blade, maps)` runs
+/// for each visible blade and gives what `store(slot, ..)` writes once its slot of the
+/// visible list is known, and its level of detail on the mesh path (0: not drawn).
+/// In a tiled field (`GrassParams::tiled`) only the pool's blades are simulated, the
+/// far tiles' blades count as far as this frame generated them, an empty blade
+/// (width 0: a free slot, a blade its rank left) is skipped, and a blade's name is
+/// its id (`tiles::blade_id`) rather than its index.
+#[allow(clippy::too_many_arguments)]
+fn simulate_and_cull<T: Copy + Default>(
+    id: UVec3,
+    local: u32,
+    workgroups: UVec3,
+    frame: &FrameUniforms,
+    push: &SimulatePush,
+    buffers: BladeBuffers,
+    tally: &mut [u32; COUNTER_COUNT],
+    mut prepare: impl FnMut(u32, u32, &Blade, &[u32], Vec2) -> (T, f32),
+    mut store: impl FnMut(usize, T),
+) {
+    let BladeBuffers {
+        blades,
+        visible,
+        counters,
+        strengths,
+        pyramid,
+        levels,
+        ids,
+        tiles,
+        paint,
+    } = buffers;
+    if local < COUNTER_COUNT as u32 {
+        tally[local as usize] = 0;
+    }
+    workgroup_memory_barrier_with_group_sync();
+
+    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    let grass = &frame.grass;
+    let tiled = grass.tiled != 0;
+    let simulated = index < grass.simulated;
+    let mut in_field = index < grass.blades
+        && (simulated || (tiled && index - grass.simulated < counters[COUNTER_TILE_BLADES]));
+    let mesh = grass.pipeline == PIPELINE_MESH;
+    let mut outcome = KEPT;
+    let mut far = false;
+    let mut place = 0;
+    let mut prepared = T::default();
+    let mut level = 0.0;
+    let mut name = index;
+    // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`; a
+    // stored one's: its root over the map square).
+    let mut map_at = Vec2::ZERO;
+    // A pool blade's width as its distance thins it, like a far one's: a blade its
+    // rank has left is still simulated (its trail decays as if seen) but not drawn.
+    let mut pool_width = 0.0;
+    // A tile nobody needs goes back to its far pose (`tiles::fade_to_far`).
+    let mut fade = 0.0;
+    let mut rest_tile = IVec2::ZERO;
+    if in_field && tiled {
+        let i = index as usize;
+        name = ids[IDS_WORDS * i];
+        map_at = unpack_map_point(ids[IDS_WORDS * i + 1], &push.tiles);
+        if simulated {
+            let params = &push.tiles;
+            let per_tile = params.per_side * params.per_side;
+            let slot = TILES_POOL + POOL_WORDS * (index / per_tile) as usize;
+            let tile = IVec2::new(tiles[slot] as i32, tiles[slot + 1] as i32);
+            let blade = &blades[i];
+            let root = blade.root();
+            let k = index % per_tile;
+            // A blade of a held tile that grows there (its width at the root).
+            in_field = tile.x != EMPTY_SLOT
+                && blade.height() > 0.0
+                && drawn_width(tile, k, root, root, params, paint) > 0.0;
+            if in_field {
+                pool_width = drawn_width(tile, k, root, frame.camera.position, params, paint);
+                fade = f32::from_bits(tiles[slot + 2]);
+                rest_tile = tile;
+            }
+        } else {
+            in_field = kept(&blades[i]);
+        }
+    } else if in_field {
+        // A stored blade reads the maps at its root, over the map square.
+        map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
+    }
+    let mut drawn = in_field;
+    let mut blade = Blade::default();
+    if in_field {
+        let i = index as usize;
+        blade = blades[i];
+        if tiled && simulated {
+            blade = blade.with_width(pool_width);
+            drawn = pool_width > 0.0;
+        }
+        if simulated {
+            let strength;
+            (blade, strength) = simulate(
+                (blade, strengths[i]),
+                &frame.forces,
+                &frame.colliders,
+                push.first_step,
+                push.steps,
+            );
+            if fade > 0.0 {
+                let k = index % (push.tiles.per_side * push.tiles.per_side);
+                let params = &push.tiles;
+                let far = far_blade(rest_tile, k, blade.root(), params, paint, &frame.forces);
+                blade = fade_to_far(&blade, &far, fade);
+            }
+            blades[i] = blade;
+            strengths[i] = strength;
+        }
+    }
+    if drawn {
+        outcome = cull_outcome(
+            &blade,
+            name,
+            frame.camera.position,
+            frame.camera.view_proj,
+            &frame.cull,
+            pyramid,
+            &frame.hiz,
+        );
+        // A visible blade short on screen goes to the compute rasterizer's list.
+        let camera = &frame.camera;
+        far =
+            outcome == KEPT && is_far(&blade, camera.position, camera.focal_pixels, &frame.raster);
+        let counter = if far { COUNTER_FAR } else { outcome as usize };
+        place = unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[counter],
+            )
+        };
+        unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[COUNTER_EXAMINED],
+            );
+        }
+        if outcome == KEPT {
+            (prepared, level) = prepare(index, name, &blade, paint, map_at);
+            if mesh && !far && level > 0.0 {
+                // Its bucket: its strip length, and near the camera its band, from
+                // the level as the binning pass reads it back.
+                level = visible_level(level, &blade, frame.camera.position);
+                let bucket = packed_bucket(level, frame.lod.most);
+                unsafe {
+                    atomic_i_increment::<
+                        u32,
+                        { Scope::Workgroup as u32 },
+                        { Semantics::NONE.bits() },
+                    >(&mut tally[strip_counter(bucket)]);
+                }
+            }
+        }
+    }
+    workgroup_memory_barrier_with_group_sync();
+
+    // Thread k adds tally k to the device counter k; the visible and far ones keep
+    // the base of the workgroup's slots in the tally for the others.
+    if local < COUNTER_COUNT as u32 {
+        let k = local as usize;
+        let count = tally[k];
+        if count > 0 {
+            let base = unsafe {
+                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut counters[k],
+                    count,
+                )
+            };
+            if k == COUNTER_VISIBLE || k == COUNTER_FAR {
+                tally[k] = base;
+            }
+        }
+    }
+    workgroup_memory_barrier_with_group_sync();
+
+    if drawn && outcome == KEPT {
+        let slot = if far {
+            far_slot(tally[COUNTER_FAR] + place, frame.grass.blades)
+        } else {
+            tally[COUNTER_VISIBLE] + place
+        } as usize;
+        visible[slot] = index;
+        store(slot, prepared);
+        if mesh && !far {
+            levels[slot] = level;
+        }
+    }
+}

@@ -1,0 +1,90 @@
+//! Sun shadows: a shadow map fitted to the shadowed region, read with bilinear
+//! percentage-closer filtering (Williams 1978; Reeves et al. 1987).
+
+use crate::Blade;
+use crate::blade::tangent_frame;
+use spirv_std::glam::{Mat4, Vec3, Vec4};
+
+/// The sun's shadow map: an orthographic view along −`to_sun` of the sphere
+/// (`centre`, `radius`), depth 0..1 front to back (Vulkan).
+pub fn sun_view_proj(to_sun: Vec3, centre: Vec3, radius: f32) -> Mat4 {
+    let dir = to_sun.normalize_or_zero();
+    let (side, _) = tangent_frame(dir);
+    let up = dir.cross(side);
+    let eye = centre + dir * (2.0 * radius);
+    let forward = -dir;
+    let far = 4.0 * radius;
+    // Rows: x and y across the light's view scaled to ±1, z from the eye to `far`.
+    let row = |axis: Vec3, scale: f32| (axis / scale).extend(-axis.dot(eye) / scale);
+    Mat4::from_cols(
+        row(side, radius),
+        row(up, radius),
+        row(forward, far),
+        Vec4::W,
+    )
+    .transpose()
+}
+
+/// True when `blade` casts a shadow worth drawing: its root within `reach` of the
+/// camera, and some of it (its root, midpoint or tip) inside the shadow map of
+/// `view_proj` (the others cast no shadow anyone reads).
+pub fn casts_shadow(view_proj: Mat4, blade: &Blade, camera: Vec3, reach: f32) -> bool {
+    (blade.root() - camera).length_squared() <= reach * reach && in_shadow_map(view_proj, blade)
+}
+
+/// True when some of `blade` (its root, midpoint or tip) falls inside the shadow map
+/// of `view_proj`.
+pub fn in_shadow_map(view_proj: Mat4, blade: &Blade) -> bool {
+    let inside = |p: Vec3| {
+        let c = shadow_coord(view_proj, p);
+        c.x >= 0.0 && c.x <= 1.0 && c.y >= 0.0 && c.y <= 1.0
+    };
+    inside(blade.root()) || inside(blade.midpoint()) || inside(blade.tip())
+}
+
+/// Where `p` falls in the shadow map: (u, v) in 0..1 and its depth, from the map's
+/// `view_proj`.
+pub fn shadow_coord(view_proj: Mat4, p: Vec3) -> Vec3 {
+    let clip: Vec4 = view_proj * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    Vec3::new(0.5 * ndc.x + 0.5, 0.5 * ndc.y + 0.5, ndc.z)
+}
+
+/// True when a shadow coordinate (`shadow_coord`) falls on the map: outside it
+/// everything is lit.
+pub fn on_shadow_map(coord: Vec3) -> bool {
+    coord.x > 0.0 && coord.y > 0.0 && coord.x < 1.0 && coord.y < 1.0 && coord.z < 1.0
+}
+
+/// The depth bias of a shadow lookup in a map of `size` texels: two texels' worth of
+/// depth (the map is 4 radii deep and 2 radii wide).
+pub fn shadow_bias(size: u32) -> f32 {
+    2.0 / size as f32
+}
+
+/// Share of the four nearest texels (bilinear weights) whose stored depth is at or
+/// behind `depth − bias`: 1 lit, 0 in shadow. `texel(x, y)` reads the map, `size`
+/// texels a side; outside the map everything is lit. This is what the shaders' one
+/// fetch through a comparison sampler (compare op LESS_OR_EQUAL, linear filter)
+/// computes in the texture unit; the host runs it here.
+pub fn shadow_factor(coord: Vec3, size: u32, bias: f32, texel: impl Fn(i32, i32) -> f32) -> f32 {
+    if !on_shadow_map(coord) {
+        return 1.0;
+    }
+    let p = Vec3::new(
+        coord.x * size as f32 - 0.5,
+        coord.y * size as f32 - 0.5,
+        0.0,
+    );
+    let base = p.floor();
+    let f = p - base;
+    let (x, y) = (base.x as i32, base.y as i32);
+    let max = size as i32 - 1;
+    let lit = |dx: i32, dy: i32| {
+        let d = texel((x + dx).clamp(0, max), (y + dy).clamp(0, max));
+        if coord.z - bias <= d { 1.0 } else { 0.0 }
+    };
+    let top = lit(0, 0) * (1.0 - f.x) + lit(1, 0) * f.x;
+    let bottom = lit(0, 1) * (1.0 - f.x) + lit(1, 1) * f.x;
+    top * (1.0 - f.y) + bottom * f.y
+}

@@ -1,0 +1,338 @@
+//! One simulation step: forces on `v2` (gravity and wind explicit, the recovery
+//! semi-implicit), then validation.
+
+use crate::Blade;
+use crate::sim::collide;
+use crate::sim::collide::MAX_COLLIDERS;
+use crate::sim::forces;
+use crate::sim::validate;
+use crate::sim::wind;
+use spirv_std::glam::{Vec3, Vec4};
+
+/// Fixed simulation step in seconds: the simulation runs the same at any frame rate.
+/// The recovery is taken semi-implicitly ([`semi_implicit_tip`]), so no stiffness
+/// makes the step overshoot.
+pub const STEP_SECONDS: f32 = 1.0 / STEPS_PER_SECOND as f32;
+
+/// Fixed steps per simulated second.
+pub const STEPS_PER_SECOND: u32 = 120;
+
+/// Most steps run in one frame (two seconds of simulated time): a frame slower than
+/// that loses the excess time instead of stalling the GPU for ever longer.
+pub const MAX_STEPS_PER_FRAME: u32 = 240;
+
+/// The forces' environment, as the frame block carries it: the paper's 4-vectors D
+/// (gravity direction and acceleration) and C (gravity centre and acceleration), the
+/// wind, and the scalars of the step.
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Environment {
+    /// Gravity direction D (xyz) and acceleration (w).
+    pub gravity: Vec4,
+    /// Gravity centre C (xyz) and its acceleration (w).
+    pub gravity_centre: Vec4,
+    /// Wind direction (xyz) and strength (w).
+    pub wind: Vec4,
+    /// Blend t between D (0) and C (1).
+    pub centre_blend: f32,
+    /// Wind field, one of `wind::WIND_*`.
+    pub wind_kind: u32,
+    /// Linear decay of the collision strength, per second.
+    pub strength_decay: f32,
+    /// Factor on every blade's stiffness s (1: as generated).
+    pub stiffness_scale: f32,
+    /// Sphere colliders in use (the first of the collider array).
+    pub colliders: u32,
+    /// Simulated time at the end of the frame's steps: when the far blades' wind pose
+    /// is taken (`sway::settled`). The renderer sets it from the frame's steps.
+    pub time: f32,
+    /// 1: the far blades sway (`tiles::far_blade`); 0: they stand at rest.
+    pub far_sway: u32,
+    /// Pads the block to 16 bytes.
+    pub padding: u32,
+}
+
+impl Default for Environment {
+    /// No forces but recovery at the blades' own stiffness, no colliders.
+    fn default() -> Self {
+        Self {
+            gravity: Vec4::ZERO,
+            gravity_centre: Vec4::ZERO,
+            centre_blend: 0.0,
+            wind: Vec4::ZERO,
+            wind_kind: 0,
+            strength_decay: 0.0,
+            stiffness_scale: 1.0,
+            colliders: 0,
+            time: 0.0,
+            far_sway: 1,
+            padding: 0,
+        }
+    }
+}
+
+/// A blade and its collision strength η.
+pub type BladeState = (Blade, f32);
+
+/// The tip after a step that moves it by `pushed` (gravity and wind times Δt, taken
+/// explicitly) and pulls it towards `rest` with the recovery at `k` = rate·Δt taken
+/// implicitly (backward Euler): v2' = v2 + pushed + k·(Iv2 − v2'), so
+/// v2' = (v2 + pushed + k·Iv2) / (1 + k). The paper's explicit step
+/// v2 + pushed + k·(Iv2 − v2) overshoots the rest position once k > 1 and grows
+/// without end once k > 2; this one only ever moves a fraction k / (1 + k) < 1 of the
+/// way, so a blade settles at every stiffness. For the default stiffnesses (k ≤ 0.11)
+/// the two differ by k²/(1 + k) of the recovery's pull, about 1 %. Written as
+/// Iv2 + (v2 + pushed − Iv2) / (1 + k): from the rest position, so that f32 rounds the
+/// small offset, not the blade's world coordinates (which would leave a settled tip
+/// wandering by an ulp of its coordinates over k).
+pub fn semi_implicit_tip(tip: Vec3, rest: Vec3, pushed: Vec3, k: f32) -> Vec3 {
+    // One division, not one per component.
+    rest + (tip + pushed - rest) * (1.0 / (1.0 + k))
+}
+
+/// One step of length `dt` at time `time` (paper section 5): gravity and wind move
+/// v2 explicitly, the recovery (weakened by η) semi-implicitly
+/// ([`semi_implicit_tip`]), then the sphere collisions (which grow η; η decays
+/// linearly), then the three validation steps.
+pub fn step(
+    (blade, strength): BladeState,
+    env: &Environment,
+    spheres: &[Vec4; MAX_COLLIDERS],
+    time: f32,
+    dt: f32,
+) -> BladeState {
+    let g_env = forces::environment_gravity_with_centre(
+        env.gravity,
+        env.gravity_centre,
+        env.centre_blend,
+        blade.tip(),
+    );
+    let wi = wind_at(env, blade.root(), time);
+    let pushed = (forces::gravity_from(&blade, g_env) + forces::wind_force(&blade, wi)) * dt;
+    let k = forces::recovery_rate(&blade, strength) * env.stiffness_scale * dt;
+    let tip = semi_implicit_tip(blade.tip(), forces::rest_tip(&blade), pushed, k);
+    let moved = blade.with_curve(blade.guide(), tip);
+    let (pushed, displacement) = collide::collide(&moved, spheres, env.colliders);
+    let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
+    (validate::validate(&pushed), strength)
+}
+
+/// The wind w_i at a blade's `root` at `time` (paper eq. 9's field), along the
+/// ground there: what the simulation steps and the settled pose (`sway`) both push
+/// with.
+pub fn wind_at(env: &Environment, root: Vec3, time: f32) -> Vec3 {
+    let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
+    wind::along_surface(wi, root, env.gravity_centre.truncate(), env.centre_blend)
+}
+
+/// Simulated time at the start of step number `index`.
+pub fn step_time(index: u32) -> f32 {
+    index as f32 * STEP_SECONDS
+}
+
+/// Steps `first_step .. first_step + steps`: what the compute pass runs per frame.
+/// Times come from the step index, so every split into frames computes the same.
+pub fn simulate(
+    state: BladeState,
+    env: &Environment,
+    spheres: &[Vec4; MAX_COLLIDERS],
+    first_step: u32,
+    steps: u32,
+) -> BladeState {
+    let mut s = state;
+    let mut i = 0;
+    while i < steps {
+        s = step(s, env, spheres, step_time(first_step + i), STEP_SECONDS);
+        i += 1;
+    }
+    s
+}
+
+/// The host side of fixed steps: turns frame times into a whole number of steps and
+/// the simulated time at which they start. Counts in whole steps so that any sequence
+/// of frames adding up to the same time runs exactly the same steps.
+#[cfg(not(target_arch = "spirv"))]
+#[derive(Copy, Clone, Debug, Default)]
+pub struct SimClock {
+    steps_done: u32,
+    accumulator: f64,
+}
+
+#[cfg(not(target_arch = "spirv"))]
+impl SimClock {
+    /// Advances by a frame of `frame_seconds`; returns (first step index, steps to run).
+    pub fn advance(&mut self, frame_seconds: f64) -> (u32, u32) {
+        // The accumulator counts steps; the epsilon keeps a sum of frame times that
+        // should make a whole step (0.1 + 0.2 s) from counting as 0.9999… of one.
+        self.accumulator += frame_seconds.max(0.0) * f64::from(STEPS_PER_SECOND);
+        let whole = (self.accumulator + 1e-6).floor();
+        let steps = (whole as u32).min(MAX_STEPS_PER_FRAME);
+        let first = self.steps_done;
+        self.steps_done = self.steps_done.wrapping_add(steps);
+        // A frame slower than the cap drops the time it could not simulate.
+        self.accumulator = (self.accumulator - f64::from(steps)).clamp(0.0, 1.0);
+        (first, steps)
+    }
+
+    /// Simulated time of the next step, in seconds.
+    pub fn time(&self) -> f32 {
+        step_time(self.steps_done)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
+
+    fn env() -> Environment {
+        Environment {
+            gravity: Vec4::new(0.0, -1.0, 0.0, 9.8),
+            wind: Vec4::new(1.0, 0.0, 0.3, 6.0),
+            wind_kind: wind::WIND_BREEZE,
+            strength_decay: 0.5,
+            ..Default::default()
+        }
+    }
+
+    /// Runs `steps` steps from rest without colliders.
+    fn settle(b: Blade, env: &Environment, steps: u32) -> Blade {
+        simulate((b, 0.0), env, &NO_SPHERES, 0, steps).0
+    }
+
+    fn run(frame_seconds: f64, total: f64) -> Blade {
+        let mut b = Blade::at_rest(Vec3::new(1.0, 0.0, 2.0), Vec3::Y, 0.4, 2.0, 0.12, 8.0);
+        let mut clock = SimClock::default();
+        let frames = (total / frame_seconds).round() as u32;
+        for _ in 0..frames {
+            let (t, n) = clock.advance(frame_seconds);
+            b = simulate((b, 0.0), &env(), &NO_SPHERES, t, n).0;
+        }
+        b
+    }
+
+    #[test]
+    fn same_motion_at_2_fps_and_500_fps() {
+        let slow = run(0.5, 3.0);
+        let fast = run(0.002, 3.0);
+        assert!(
+            (slow.tip() - fast.tip()).length() < 1e-5,
+            "{slow:?} vs {fast:?}"
+        );
+    }
+
+    #[test]
+    fn clock_counts_whole_steps_and_caps_long_frames() {
+        let mut c = SimClock::default();
+        let step = f64::from(STEP_SECONDS);
+        assert_eq!(c.advance(step * 2.5).1, 2);
+        assert_eq!(c.advance(step * 0.5).1, 1);
+        assert_eq!(c.advance(100.0).1, MAX_STEPS_PER_FRAME);
+        assert!(c.advance(0.0).1 <= 1);
+    }
+
+    /// Under gravity, a strong wind of each field and a ball rolling through the
+    /// field, every blade keeps a valid shape: finite, v2 above its ground, arc length
+    /// within 5 % of h (the tips never fold back onto the roots).
+    #[test]
+    fn long_runs_in_strong_wind_and_collisions_keep_length_and_ground() {
+        let mut worst: f32 = 0.0;
+        for kind in [wind::WIND_BREEZE, wind::WIND_GUSTS, wind::WIND_VORTEX] {
+            let windy = Environment {
+                wind: Vec4::new(0.6, 0.0, 0.8, 12.0),
+                wind_kind: kind,
+                colliders: 1,
+                ..env()
+            };
+            for b in crate::world::generate::square_field(64, 8.0, 3) {
+                let mut state = (b, 0.0);
+                for frame in 0..120 {
+                    // A ball crossing the field at 8 units/s.
+                    let mut spheres = NO_SPHERES;
+                    spheres[0] = Vec4::new(-4.0 + frame as f32 * 0.07, 0.8, 0.5, 1.5);
+                    state = simulate(state, &windy, &spheres, frame * 5, 5);
+                    let b = state.0;
+                    assert!(b.v1.is_finite() && b.v2.is_finite() && state.1.is_finite());
+                    let (v0, up) = (b.root(), b.up_dir());
+                    assert!(up.dot(b.tip() - v0) >= -1e-5);
+                    let len = crate::sim::validate::bezier_length(v0, b.guide(), b.tip(), 64);
+                    worst = worst.max((len - b.height()).abs() / b.height());
+                }
+            }
+        }
+        assert!(worst < 0.05, "worst relative length error {worst}");
+    }
+
+    #[test]
+    fn gravity_alone_bends_a_blade_but_it_stays_valid() {
+        let calm = Environment {
+            wind_kind: wind::WIND_CALM,
+            ..env()
+        };
+        let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 7.0);
+        let b = settle(b, &calm, 600);
+        assert!(b.tip().is_finite());
+        // It bends towards its front (−Z for θ = 0) and settles below its rest height.
+        assert!(b.tip().z < -0.1 && b.tip().y < 2.0 && b.tip().y > 0.0);
+    }
+
+    /// A ball resting on a blade holds it down; once it leaves, η decays linearly and
+    /// the blade stands back up to where the calm field alone puts it.
+    #[test]
+    fn a_ball_tramples_a_blade_which_recovers_after_it_leaves() {
+        let calm = Environment {
+            wind_kind: wind::WIND_CALM,
+            strength_decay: 0.5,
+            colliders: 1,
+            ..env()
+        };
+        let rest = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.3, 2.0, 0.1, 10.0);
+        let upright = settle(
+            rest,
+            &Environment {
+                colliders: 0,
+                ..calm
+            },
+            600,
+        );
+        let mut spheres = NO_SPHERES;
+        spheres[0] = Vec4::new(0.6, 1.2, 0.2, 1.0);
+        // One second under the ball.
+        let (held, strength) = simulate((rest, 0.0), &calm, &spheres, 0, 120);
+        let height = |b: &Blade| (b.tip() - b.root()).dot(b.up_dir());
+        assert!(held.tip().distance(spheres[0].truncate()) >= 1.0 - 1e-3);
+        assert!(height(&held) < 0.7 * height(&upright), "{held:?}");
+        assert!(strength > 0.5, "η {strength}");
+        // The ball leaves: η falls at 0.5/s, so it is gone after 2 s.
+        let gone = Environment {
+            colliders: 0,
+            ..calm
+        };
+        let (after, s1) = simulate((held, strength), &gone, &spheres, 120, 60);
+        assert!(
+            (s1 - (strength - 0.25)).abs() < 1e-4,
+            "linear decay: {strength} → {s1}"
+        );
+        let (stood, s2) = simulate((after, s1), &gone, &spheres, 180, 600);
+        assert_eq!(s2, 0.0);
+        assert!((height(&stood) - height(&upright)).abs() < 1e-3);
+        assert!(stood.tip().is_finite());
+    }
+
+    #[test]
+    fn a_gravity_centre_pulls_blades_towards_it() {
+        let planet = Environment {
+            gravity: Vec4::ZERO,
+            gravity_centre: Vec4::new(0.0, 0.0, 0.0, 9.8),
+            centre_blend: 1.0,
+            wind_kind: wind::WIND_CALM,
+            ..env()
+        };
+        // A blade on the "south pole" of a planet of radius 5: up is −Y.
+        let b = Blade::at_rest(Vec3::new(0.0, -5.0, 0.0), -Vec3::Y, 0.0, 2.0, 0.1, 7.0);
+        let b = settle(b, &planet, 600);
+        // Pulled back towards the centre (+Y), never through its own ground.
+        assert!(b.tip().y > -7.0 + 0.05 && b.tip().y < -5.0, "{b:?}");
+    }
+}

@@ -457,7 +457,7 @@ fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
 
 /// Every option a settings file can hold (the options every command takes), with a
 /// value other than its default, and what it acts on: `Settings` (the frame's
-/// settings, `app::settings` and `app::device_defaults`), `scene` (the field and what
+/// settings, `app::settings`), `scene` (the field and what
 /// it grows on), `ball` (the collider), or `run` (how the program runs). An option
 /// added without a line here fails [`every_command_s_options_act_or_are_refused`].
 const OPTIONS: &[(&str, Option<&str>, &str)] = &[
@@ -529,9 +529,7 @@ fn settings_of(args: &[&str]) -> [shared::settings::Settings; 2] {
             mesh_shader: Ok(()),
             int64_atomics: Ok(()),
         };
-        let mut settings = runner::app::settings(&cli.common, &scene);
-        runner::app::device_defaults(&mut settings, &cli.common, &device).expect("defaults");
-        settings
+        runner::app::settings(&cli.common, &scene, &device).expect("settings")
     })
 }
 

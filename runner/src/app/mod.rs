@@ -277,19 +277,9 @@ pub fn build_scene(
 }
 
 /// The settings the command line asks for on `scene`, with what it leaves to the
-/// device `ctx` decided ([`device_defaults`]).
+/// device `ctx` decided ([`settings`]).
 pub fn device_settings(common: &Common, scene: &Scene, ctx: &Context) -> Result<Settings> {
-    let mut settings = settings(common, scene);
-    device_defaults(&mut settings, common, &ctx.capabilities())?;
-    if scene.tiles.is_some() && ctx.is_software() && settings.cull.tests.occlusion {
-        // Lavapipe spent 15 ms of a 720p valley frame on the occluders' depth and
-        // pyramid, to remove 67 of 3,338 blades (README, "Grass to the horizon").
-        settings.cull.tests.occlusion = false;
-        log::info!(
-            "software device, tiled field: occlusion test off (its pre-pass costs more than it saves)"
-        );
-    }
-    Ok(settings)
+    settings(common, scene, &ctx.capabilities())
 }
 
 /// Whether the field is tiled: `--field`, else on the valley only. Every scene can
@@ -353,8 +343,9 @@ pub fn tiled_spec(scene: &Scene, ctx: &Context, scale: f32) -> TiledSpec {
     }
 }
 
-/// The settings the command line asks for, on `scene`.
-pub fn settings(common: &Common, scene: &Scene) -> Settings {
+/// The settings the command line asks for on `scene`, each made once: what it gives,
+/// and what it leaves to the `device` (`device_defaults`).
+pub fn settings(common: &Common, scene: &Scene, device: &Capabilities) -> Result<Settings> {
     let mut s = scene.settings();
     s.wind.field = common.wind;
     s.wind.strength = common.wind_strength;
@@ -380,17 +371,23 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
     s.lod.pixels_per_segment = cull.lod_pixels;
     s.view = cull.view;
     s.look.style = common.look;
-    s.look.shadows = !common.no_shadows;
     s.far_sway = !common.far_at_rest;
     s.look.exposure = common.exposure;
     s.look.fog_density = common.fog_density;
     if let Some(size) = common.clump_size {
         s.look.clump_size = size;
     }
-    s.look.msaa = common.msaa.unwrap_or(1);
-    s.look.shadow_size = common.shadow_size.unwrap_or(s.look.shadow_size);
     s.look.seed = common.seed as u32;
-    s
+    device_defaults(&mut s, common, device)?;
+    if scene.tiles.is_some() && device.software && s.cull.tests.occlusion {
+        // Lavapipe spent 15 ms of a 720p valley frame on the occluders' depth and
+        // pyramid, to remove 67 of 3,338 blades (docs/tiled-world.md).
+        s.cull.tests.occlusion = false;
+        log::info!(
+            "software device, tiled field: occlusion test off (its pre-pass costs more than it saves)"
+        );
+    }
+    Ok(s)
 }
 
 /// What the command line leaves to the device: the grass pipeline
@@ -399,11 +396,7 @@ pub fn settings(common: &Common, scene: &Scene) -> Settings {
 /// look's frame on them and would fall below the viewer's 20 fps) and the shadow
 /// map's side (`--shadow-size`, else `SHADOW_SIZE` on a GPU, `SHADOW_SIZE_SOFTWARE`
 /// on a software device).
-pub fn device_defaults(
-    settings: &mut Settings,
-    common: &Common,
-    device: &Capabilities,
-) -> Result<()> {
+fn device_defaults(settings: &mut Settings, common: &Common, device: &Capabilities) -> Result<()> {
     settings.pipeline = grass_pipeline(common.pipeline, device)?;
     settings.compute_raster_below = match (common.cull.compute_raster_below, &device.int64_atomics)
     {

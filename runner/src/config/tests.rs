@@ -119,10 +119,9 @@ fn gpu() -> crate::vulkan::probe::Capabilities {
 }
 
 /// The settings and viewer state `cli` asks for on `scene` and a GPU, as the
-/// program makes them (`app::settings`, `app::device_defaults`).
+/// program makes them (`app::settings`).
 fn loaded(cli: &Cli, scene: &crate::scene::Scene) -> (shared::settings::Settings, ViewerState) {
-    let mut settings = crate::app::settings(&cli.common, scene);
-    crate::app::device_defaults(&mut settings, &cli.common, &gpu()).unwrap();
+    let settings = crate::app::settings(&cli.common, scene, &gpu()).unwrap();
     let viewer = ViewerState {
         full_distance: cli.common.full_distance,
         ball: !cli.common.no_ball,

@@ -196,7 +196,7 @@ impl GrassField {
         let mut settings = scene.settings();
         settings.look.style = Look::Paper;
         // As the program's `--pipeline auto`: the mesh path wherever the device has it
-        // (the faster one on every device measured, README "Mesh shaders").
+        // (the faster one on every device measured, docs/pipelines.md, "Measured").
         if ctx.mesh_shader.is_ok() {
             settings.pipeline = GrassPipeline::Mesh;
         }

@@ -425,7 +425,7 @@ fn device_defaults(settings: &mut Settings, common: &Common, device: &Capabiliti
 
 /// The grass pipeline `choice` names on `device`: `mesh` is an error naming what the
 /// device lacks; `auto` takes the mesh path wherever the device has it, measured the
-/// faster on every device and look (README, "Mesh shaders": lavapipe 2.9 to 4.5 times,
+/// faster on every device and look (docs/pipelines.md, "Measured": lavapipe 2.9 to 4.5 times,
 /// the NVIDIA H100 1.6 to 1.7 times with the paper look at the edge camera and 1.1 to
 /// 1.2 times with the natural look), else tessellation. The log says which it took
 /// and why.
@@ -463,7 +463,7 @@ pub fn msaa(common: &Common, software: bool) -> u32 {
 /// that frame differs from itself with the camera turned by a third of a pixel, from
 /// 640x360 up (`tests/tests/raster.rs`: 1.83 and 1.42 against 3.37 and 3.59 in the
 /// paper and natural looks; 24 pixels gave 4.44). On the NVIDIA H100 it draws 4 M
-/// blades at the edge in 3.6 ms against 6.2 without (README, "Compute rasterizer").
+/// blades at the edge in 3.6 ms against 6.2 without (docs/compute-rasterizer.md).
 /// Off on a software device, where it gained nothing measured.
 pub const DEFAULT_COMPUTE_RASTER_BELOW_GPU: f32 = 16.0;
 

@@ -1,6 +1,6 @@
 //! The benchmark's references, measured with the renderer's own field and pipelines:
 //! how fast this device copies the blade buffer, and how fast it draws patches
-//! tessellated like a blade (`grass bench`, see the README's Performance section).
+//! tessellated like a blade (`grass bench`, docs/performance.md).
 
 use super::{FRAME_STAGES, Renderer, SKY, Target};
 use crate::passes::throughput::ThroughputPass;

@@ -169,7 +169,7 @@ impl<'a> Recorder<'a> {
                 .cmd_bind_pipeline(self.cmd, bind_point, pipeline);
         }
         // Binding the same set again is redundant (and costs lavapipe host memory
-        // while the frame block was a uniform buffer: README, "Reliability").
+        // while the frame block was a uniform buffer: docs/reliability.md, "Validation, core and synchronization").
         let point = usize::from(bind_point == vk::PipelineBindPoint::COMPUTE);
         let mut bound = self.bound.get();
         if bound[point] != Some((layout, set)) {

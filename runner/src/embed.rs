@@ -228,9 +228,9 @@ impl GrassField {
             bail!("targets of {}x{} pixels", extent.width, extent.height);
         }
         let (first_step, steps) = self.clock.advance(frame.seconds);
-        let uniforms = self
+        let (plan, uniforms) = self
             .settings
-            .uniforms(&frame.camera, self.blades, frame.colliders);
+            .planned(&frame.camera, self.blades, frame.colliders);
         let push = shared::gpu::layout::SimulatePush {
             first_step,
             steps,
@@ -238,6 +238,7 @@ impl GrassField {
         };
         let external = ExternalFrame {
             targets: frame.targets,
+            plan,
             uniforms,
             push,
             ground: self.draw_ground,

@@ -18,6 +18,8 @@ pub mod example;
 pub mod gpu;
 pub mod noise;
 #[cfg(not(target_arch = "spirv"))]
+pub mod plan;
+#[cfg(not(target_arch = "spirv"))]
 pub mod settings;
 pub mod sim;
 pub mod world;

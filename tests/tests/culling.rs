@@ -166,10 +166,12 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
             let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
             let eye = camera.viewpoint(target.size());
-            let mut uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            let (plan, mut uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
             // No time, no simulation step: the GPU culls the blades exactly as the host
             // holds them.
-            driver.run(&mut target, 0.0, |_| uniforms, false).unwrap();
+            driver
+                .run(&mut target, 0.0, |_| (plan, uniforms), false)
+                .unwrap();
             driver.finish().unwrap();
             let counts = driver.readback.counts.expect("counts");
             let renderer = &driver.renderer;

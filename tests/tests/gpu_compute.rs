@@ -11,6 +11,7 @@ use runner::scene::Scene;
 use shared::Blade;
 use shared::cull::blade as cull;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::plan::FramePlan;
 use shared::settings::WindField;
 use shared::sim::simulate::simulate;
 use std::collections::HashSet;
@@ -52,7 +53,7 @@ const BALLS: [Vec4; 2] = [
 
 /// A camera low over the field's edge, so that every test removes blades; the wind
 /// field `wind_kind`, two balls, and gravity blended towards a centre by `blend`.
-fn setup(wind: WindField, blend: f32) -> (Scene, FrameUniforms) {
+fn setup(wind: WindField, blend: f32) -> (Scene, (FramePlan, FrameUniforms)) {
     let scene = Scene::plane(BLADES, 11);
     let side = 2.0 * scene.bounds.1 / std::f32::consts::SQRT_2;
     let mut settings = scene.settings();
@@ -69,8 +70,8 @@ fn setup(wind: WindField, blend: f32) -> (Scene, FrameUniforms) {
         fov_y: 40f32.to_radians(),
         far: 0.0,
     };
-    let uniforms = settings.uniforms(&camera.viewpoint((256, 256)), scene.blade_count(), &BALLS);
-    (scene, uniforms)
+    let planned = settings.planned(&camera.viewpoint((256, 256)), scene.blade_count(), &BALLS);
+    (scene, planned)
 }
 
 /// True when `b` lies within [`THRESHOLD_EPSILON`] of a decision of an enabled test.
@@ -95,7 +96,7 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
 fn run_both(
     ctx: &std::sync::Arc<runner::vulkan::Context>,
     scene: &Scene,
-    uniforms: &FrameUniforms,
+    (plan, uniforms): &(FramePlan, FrameUniforms),
 ) -> (FrameDriver, Vec<Blade>, Vec<Blade>) {
     let renderer = Renderer::new(ctx, &scene.meshes(), FORMAT).expect("renderer");
     let mut driver = FrameDriver::new(ctx, renderer).expect("frame driver");
@@ -107,7 +108,9 @@ fn run_both(
             steps: STEPS_PER_FRAME,
             ..Default::default()
         };
-        driver.compute_frame(uniforms, push).expect("compute frame");
+        driver
+            .compute_frame(plan, uniforms, push)
+            .expect("compute frame");
         for state in &mut host {
             *state = simulate(
                 *state,
@@ -197,8 +200,8 @@ fn compute_pass_matches_the_host_in_gusts_and_a_vortex() {
         "compute_pass_matches_the_host_in_gusts_and_a_vortex",
         |ctx| {
             for (wind, blend) in [(WindField::Gusts, 0.0), (WindField::Vortex, 0.5)] {
-                let (scene, uniforms) = setup(wind, blend);
-                run_both(&ctx, &scene, &uniforms);
+                let (scene, planned) = setup(wind, blend);
+                run_both(&ctx, &scene, &planned);
             }
         },
     );
@@ -209,8 +212,9 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
     with_device(
         "compute_pass_matches_the_host_and_culls_the_same_blades",
         |ctx| {
-            let (scene, uniforms) = setup(WindField::Breeze, 0.0);
-            let (driver, host, gpu) = run_both(&ctx, &scene, &uniforms);
+            let (scene, planned) = setup(WindField::Breeze, 0.0);
+            let (driver, host, gpu) = run_both(&ctx, &scene, &planned);
+            let uniforms = planned.1;
             let renderer = &driver.renderer;
 
             // The visible set: the GPU's compacted survivors' indices.

@@ -160,11 +160,13 @@ fn mesh_stage_vertices_equal_the_hosts() {
         // From many pixels a segment (every blade at 1) to few (the near ones at 9).
         for pixels in [24.0, 8.0, 4.0, 2.5, 1.6, 1.1] {
             settings.lod.pixels_per_segment = pixels;
-            let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+            let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
             // NaN marks what the draw did not write.
             capture.write(&vec![Vec4::NAN; entries]).unwrap();
             // No time, no simulation step: the blades are the host's.
-            driver.run(&mut target, 0.0, |_| uniforms, false).unwrap();
+            driver
+                .run(&mut target, 0.0, |_| (plan, uniforms), false)
+                .unwrap();
             driver.finish().unwrap();
             let renderer = &driver.renderer;
             let field = &renderer.field;

@@ -93,8 +93,10 @@ fn equal_to_the_hosts(
     let mut camera = scene.camera();
     camera.distance /= nearer;
     let eye = camera.viewpoint(target.size());
-    let mut uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
-    driver.run(&mut target, 0.0, |_| uniforms, false).unwrap();
+    let (plan, mut uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
+    driver
+        .run(&mut target, 0.0, |_| (plan, uniforms), false)
+        .unwrap();
     driver.finish().unwrap();
     let counts = driver.readback.counts.expect("counts");
     let renderer = &driver.renderer;
@@ -366,9 +368,11 @@ fn frame_to_frame(
     let mut frames: Vec<Vec<u8>> = Vec::new();
     for _ in 0..6 {
         let eye = camera.viewpoint(target.size());
-        let uniforms = settings.uniforms(&eye, scene.blade_count(), &[]);
+        let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
         // No time: no simulation step, the blades stand still.
-        driver.run(&mut target, 0.0, |_| uniforms, true).unwrap();
+        driver
+            .run(&mut target, 0.0, |_| (plan, uniforms), true)
+            .unwrap();
         driver.finish().unwrap();
         frames.push(target.pixels().unwrap());
         camera.yaw += step;

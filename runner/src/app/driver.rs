@@ -17,6 +17,7 @@ use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::plan::FramePlan;
 use shared::sim::simulate::SimClock;
 use std::sync::Arc;
 
@@ -70,7 +71,9 @@ impl Frame {
 
 /// What a client asks of one frame.
 pub struct FrameSpec<'a> {
-    /// The frame's uniform block.
+    /// What the frame does.
+    pub plan: FramePlan,
+    /// The frame's uniform block, from the same settings.
     pub uniforms: FrameUniforms,
     /// The overlay drawn over it.
     pub overlay: Option<OverlayFrame<'a>>,
@@ -79,9 +82,10 @@ pub struct FrameSpec<'a> {
 }
 
 impl FrameSpec<'_> {
-    /// A frame of `uniforms`, no overlay, no capture.
-    pub fn plain(uniforms: FrameUniforms) -> Self {
+    /// A frame of `plan` and `uniforms` (`Settings::planned`), no overlay, no capture.
+    pub fn plain((plan, uniforms): (FramePlan, FrameUniforms)) -> Self {
         Self {
+            plan,
             uniforms,
             overlay: None,
             capture: false,
@@ -201,6 +205,7 @@ impl FrameDriver {
         let acquired = &frame.acquired;
         let input = FrameInput {
             target: acquired.target,
+            plan: spec.plan,
             uniforms: spec.uniforms,
             push: frame.push,
             capture: acquired.capture.filter(|_| spec.capture),
@@ -218,13 +223,13 @@ impl FrameDriver {
         target.present(acquired)
     }
 
-    /// One frame of `seconds` showing `uniforms`, captured if `capture`; nothing when
-    /// the target has no image this time.
+    /// One frame of `seconds` showing what `planned` gives (`Settings::planned`),
+    /// captured if `capture`; nothing when the target has no image this time.
     pub fn run(
         &mut self,
         target: &mut dyn FrameTarget,
         seconds: f64,
-        uniforms: impl FnOnce(&Frame) -> FrameUniforms,
+        planned: impl FnOnce(&Frame) -> (FramePlan, FrameUniforms),
         capture: bool,
     ) -> Result<()> {
         let Some(frame) = self.begin(target, seconds)? else {
@@ -232,19 +237,25 @@ impl FrameDriver {
         };
         let spec = FrameSpec {
             capture,
-            ..FrameSpec::plain(uniforms(&frame))
+            ..FrameSpec::plain(planned(&frame))
         };
         self.submit(frame, target, spec)
     }
 
     /// Only the compute part of a frame (simulate, cull, chunk draws), then waits for
     /// it and reads its counters: what the GPU-against-host tests run.
-    pub fn compute_frame(&mut self, uniforms: &FrameUniforms, push: SimulatePush) -> Result<()> {
+    #[cfg(feature = "test-hooks")]
+    pub fn compute_frame(
+        &mut self,
+        plan: &FramePlan,
+        uniforms: &FrameUniforms,
+        push: SimulatePush,
+    ) -> Result<()> {
         let index = self.next_slot()?;
         let slot = &mut self.slots[index];
         let rec = slot.pool.begin(slot.cmd)?;
         self.renderer
-            .record_compute_only(&rec, &slot.queries, uniforms, push);
+            .record_compute_only(&rec, &slot.queries, plan, uniforms, push);
         slot.pool.submit(slot.cmd, None, None, &slot.fence)?;
         slot.submitted = true;
         self.next = (index + 1) % self.slots.len();

@@ -199,7 +199,7 @@ impl Headless {
             let balls = ball
                 .map(|b| b.spheres_at(scene, f.time))
                 .unwrap_or_default();
-            settings.uniforms(&eye_at(f.time), count, &balls)
+            settings.planned(&eye_at(f.time), count, &balls)
         };
         self.driver
             .run(&mut self.offscreen, seconds, uniforms, capture)

@@ -209,7 +209,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
                 .iter()
                 .map(Ball::sphere)
                 .collect();
-            settings.uniforms(&camera.viewpoint(size), scene.blade_count(), &balls)
+            settings.planned(&camera.viewpoint(size), scene.blade_count(), &balls)
         };
         driver.run(offscreen, dt, uniforms, false)
     };

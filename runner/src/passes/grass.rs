@@ -16,10 +16,8 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::draw::look::LOOK_NATURAL;
 use shared::draw::meshlet::BUCKETS;
-use shared::draw::shade::{VIEW_LOD, VIEW_WIREFRAME};
-use shared::gpu::layout::PIPELINE_MESH;
+use shared::settings::{GrassPipeline, Look, View};
 use std::sync::Arc;
 
 /// One pipeline's grass in each look and view: each view has its own fragment stage
@@ -64,14 +62,14 @@ impl Looks {
         })
     }
 
-    fn pick(&self, view: u32, style: u32) -> &Pipeline {
-        match (style == LOOK_NATURAL, view) {
-            (false, VIEW_WIREFRAME) => &self.wireframe,
-            (false, VIEW_LOD) => &self.lod,
-            (false, _) => &self.filled,
-            (true, VIEW_WIREFRAME) => &self.natural_wireframe,
-            (true, VIEW_LOD) => &self.natural_lod,
-            (true, _) => &self.natural,
+    fn pick(&self, view: View, look: Look) -> &Pipeline {
+        match (look, view) {
+            (Look::Paper, View::Wireframe) => &self.wireframe,
+            (Look::Paper, View::Lod) => &self.lod,
+            (Look::Paper, View::Shaded) => &self.filled,
+            (Look::Natural, View::Wireframe) => &self.natural_wireframe,
+            (Look::Natural, View::Lod) => &self.natural_lod,
+            (Look::Natural, View::Shaded) => &self.natural,
         }
     }
 }
@@ -151,17 +149,24 @@ impl GrassPass {
     /// Records the draw inside the frame's rendering scope, in `view`
     /// (`shade::VIEW_*`), the look `style` (`look::LOOK_*`) and through `pipeline`
     /// (`layout::PIPELINE_*`; tessellation where the device has no mesh stages).
-    pub fn record(&self, rec: &Recorder, field: &Field, view: u32, style: u32, pipeline: u32) {
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        field: &Field,
+        view: View,
+        look: Look,
+        pipeline: GrassPipeline,
+    ) {
         match &self.mesh {
-            Some((looks, commands)) if pipeline == PIPELINE_MESH => {
+            Some((looks, commands)) if pipeline == GrassPipeline::Mesh => {
                 let picked = match &self.capture {
                     Some(capture) if self.capturing => capture,
-                    _ => looks.pick(view, style),
+                    _ => looks.pick(view, look),
                 };
                 bind(rec, picked, field);
                 rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, BUCKETS);
             }
-            _ => self.record_with(self.tess.pick(view, style), rec, field),
+            _ => self.record_with(self.tess.pick(view, look), rec, field),
         }
     }
 

@@ -14,10 +14,9 @@ use crate::vulkan::{Buffer, Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use shared::draw::look::LOOK_NATURAL;
-use shared::draw::shade::VIEW_LOD;
 use shared::gpu::layout;
 use shared::gpu::layout::PreparePush;
+use shared::settings::{Look, View};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -234,11 +233,11 @@ impl RasterPass {
 
     /// Records the resolve inside its rendering scope, in `view` and the look
     /// `style`.
-    pub fn record_resolve(&self, rec: &Recorder, field: &Field, view: u32, style: u32) {
+    pub fn record_resolve(&self, rec: &Recorder, field: &Field, view: View, look: Look) {
         let Some(resolve) = self.resolve.as_ref().map(ByTarget::current) else {
             return;
         };
-        let pipeline = match (view == VIEW_LOD, style == LOOK_NATURAL) {
+        let pipeline = match (view == View::Lod, look == Look::Natural) {
             (true, _) => &resolve.lod,
             (false, true) => &resolve.natural,
             (false, false) => &resolve.paper,

@@ -16,12 +16,13 @@ impl Renderer {
     pub(super) fn record_draw(
         &self,
         rec: &Recorder,
-        targets: &DrawTargets,
         target: &Target,
-        uniforms: &FrameUniforms,
+        plan: &FramePlan,
+        balls: &[glam::Vec4],
         stamp: &dyn Fn(Mark),
         triangles: Option<vk::QueryPool>,
-    ) {
+    ) -> Result<()> {
+        let targets = self.targets.as_ref().context("draw targets")?;
         let single = targets
             .hdr
             .as_ref()
@@ -30,7 +31,7 @@ impl Renderer {
             Some(ms) => ((ms.image, ms.view), Some(single)),
             None => (single, None),
         };
-        let far = uniforms.raster.below > 0.0;
+        let far = plan.far;
         let depth_image = targets.depth_ms.as_ref().unwrap_or(&targets.depth);
         let depth = (depth_image.image, depth_image.view);
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
@@ -75,23 +76,20 @@ impl Renderer {
         if let Some(pool) = triangles {
             rec.begin_query(pool);
         }
-        let (view, style) = (uniforms.grass.view, uniforms.look.style);
-        let pipeline = uniforms.grass.pipeline;
         self.grass
             .current()
-            .record(rec, &self.field, view, style, pipeline);
+            .record(rec, &self.field, plan.view, plan.look, plan.pipeline);
         if let Some(pool) = triangles {
             rec.end_query(pool);
         }
         stamp(Mark::Grass);
-        self.ground.record(rec, &self.field, used_balls(uniforms));
+        self.ground.record(rec, &self.field, balls);
         stamp(Mark::Ground);
         if far {
             rec.end_rendering();
-            let natural = uniforms.look.style == LOOK_NATURAL;
             let samples = targets.spec.samples;
             self.raster
-                .record(rec, &self.field, natural, depth_image, samples);
+                .record(rec, &self.field, plan.natural(), depth_image, samples);
             stamp(Mark::Raster);
             let far_blades = Attachments {
                 color: Some((color.1, None)),
@@ -99,10 +97,12 @@ impl Renderer {
                 depth: Some((depth.1, false)),
             };
             rec.begin_rendering_with(&far_blades, extent);
-            self.raster.record_resolve(rec, &self.field, view, style);
+            self.raster
+                .record_resolve(rec, &self.field, plan.view, plan.look);
         } else {
             stamp(Mark::Raster);
         }
         rec.end_rendering();
+        Ok(())
     }
 }

@@ -30,7 +30,10 @@ pub struct ExternalTargets {
 pub struct ExternalFrame {
     /// Where it draws.
     pub targets: ExternalTargets,
-    /// The frame's uniform block.
+    /// What the frame does (the renderer draws it at one sample, without occlusion
+    /// or far blades, whatever it asks).
+    pub plan: shared::plan::FramePlan,
+    /// The frame's uniform block, from the same settings.
     pub uniforms: FrameUniforms,
     /// The simulation steps to run.
     pub push: SimulatePush,
@@ -52,11 +55,16 @@ impl Renderer {
         // The renderer's own depth image stays the compute passes' bound (unread)
         // depth: the descriptor set must hold one.
         self.ensure_targets(extent, false, 1)?;
+        // The caller's own depth makes no pyramid here, and its targets take one
+        // sample and no far blades.
+        let plan = shared::plan::FramePlan {
+            samples: 1,
+            ..frame.plan.within(false, false)
+        };
         uniforms.cull.enabled &= !OCCLUSION;
         uniforms.hiz = Default::default();
         uniforms.look.samples = 1;
-        uniforms.raster.below = 0.0;
-        self.complete_uniforms(&mut uniforms, frame.push, extent)?;
+        self.complete_uniforms(&mut uniforms, &plan, frame.push, extent)?;
         let stamp = super::stamper(rec, queries);
         stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a
@@ -65,21 +73,16 @@ impl Renderer {
         self.record_tiles(rec, &uniforms, frame.push)?;
         stamp(Mark::Pyramid);
         // The caller draws its own colliders: none in the shadow map.
-        self.record_simulation(rec, &uniforms, frame.push, &[], &stamp);
+        self.record_simulation(rec, &plan, frame.push, &[], &stamp);
         let loaded = Attachments {
             color: Some((frame.targets.color, None)),
             color_resolve: None,
             depth: Some((frame.targets.depth, false)),
         };
         rec.begin_rendering_with(&loaded, extent);
-        let grass = &uniforms.grass;
-        self.grass.current().record(
-            rec,
-            &self.field,
-            grass.view,
-            uniforms.look.style,
-            grass.pipeline,
-        );
+        self.grass
+            .current()
+            .record(rec, &self.field, plan.view, plan.look, plan.pipeline);
         stamp(Mark::Grass);
         if frame.ground {
             self.ground.record(rec, &self.field, &[]);

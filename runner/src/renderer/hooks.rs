@@ -21,6 +21,7 @@ impl Renderer {
         &self,
         rec: &Recorder,
         queries: &FrameQueries,
+        plan: &shared::plan::FramePlan,
         uniforms: &FrameUniforms,
         push: SimulatePush,
     ) {
@@ -31,8 +32,7 @@ impl Renderer {
         self.tile_uniforms(&mut uniforms);
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
-        let mesh = uniforms.grass.pipeline == shared::gpu::layout::PIPELINE_MESH;
-        self.record_compute(rec, self.simulate_push(push), false, mesh);
+        self.record_compute(rec, self.simulate_push(push), false, plan.mesh());
         self.copy_counters(rec, queries);
     }
 

@@ -6,6 +6,7 @@
 
 mod draw;
 pub mod external;
+#[cfg(feature = "test-hooks")]
 mod hooks;
 pub mod readback;
 mod references;
@@ -32,10 +33,9 @@ use crate::vulkan::{Attachments, Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
-use shared::cull::blade::OCCLUSION;
-use shared::draw::look::LOOK_NATURAL;
 use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
-use shared::gpu::layout::{FrameUniforms, PIPELINE_MESH, SimulatePush};
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::plan::FramePlan;
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
@@ -88,7 +88,10 @@ pub struct Target {
 pub struct FrameInput<'a> {
     /// Where it renders.
     pub target: Target,
-    /// The frame's uniform block (the renderer fills in the depth pyramid's layout).
+    /// What the frame does: the renderer branches on this.
+    pub plan: FramePlan,
+    /// The frame's uniform block, from the same settings (the renderer fills in the
+    /// depth pyramid's layout, a tiled field's part, the time and the target's size).
     pub uniforms: FrameUniforms,
     /// The simulation steps to run.
     pub push: SimulatePush,
@@ -317,24 +320,24 @@ impl Renderer {
         input: &FrameInput,
     ) -> Result<()> {
         let target = input.target;
-        let natural = input.uniforms.look.style == LOOK_NATURAL;
-        self.ensure_targets(target.extent, natural, input.uniforms.look.samples)?;
+        let plan = input
+            .plan
+            .within(self.has_occluders, self.raster.supported());
+        let natural = plan.natural();
+        self.ensure_targets(target.extent, natural, plan.samples)?;
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             pass.update_textures(&self.pool, frame.textures)?;
         }
         let mut uniforms = input.uniforms;
         // Without the occlusion test, or anything to hide grass, the pyramid is
         // neither built nor read.
-        let occlusion = uniforms.cull.enabled & OCCLUSION != 0 && self.has_occluders;
+        let occlusion = plan.occlusion;
         uniforms.hiz = if occlusion {
             self.occlusion.hiz
         } else {
             Default::default()
         };
-        self.complete_uniforms(&mut uniforms, input.push, target.extent)?;
-        if !self.raster.supported() {
-            uniforms.raster.below = 0.0;
-        }
+        self.complete_uniforms(&mut uniforms, &plan, input.push, target.extent)?;
         let stamp = stamper(rec, queries);
         let triangles = queries.triangles.as_ref().map(|t| t.pool);
         if let Some(pool) = triangles {
@@ -351,9 +354,9 @@ impl Renderer {
         self.record_tiles(rec, &uniforms, input.push)?;
         stamp(Mark::Pyramid);
         let balls = used_balls(&uniforms);
-        self.record_simulation(rec, &uniforms, input.push, balls, &stamp);
+        self.record_simulation(rec, &plan, input.push, balls, &stamp);
+        self.record_draw(rec, &target, &plan, balls, &stamp, triangles)?;
         let targets = self.targets.as_ref().context("draw targets")?;
-        self.record_draw(rec, targets, &target, &uniforms, &stamp, triangles);
         stamp(Mark::Resolve);
         self.copy_counters(rec, queries);
         if natural {
@@ -402,17 +405,23 @@ impl Renderer {
     }
 
     /// What the renderer fills in of every frame's block: a tiled field's part, the
-    /// simulated time after `push`'s steps and the target's `extent`; the shadow map
-    /// takes the block's size and the ground's grid follows the camera.
+    /// simulated time after `push`'s steps, the target's `extent`, no far blades where
+    /// `plan` has none; the shadow map takes the plan's size and the ground's grid
+    /// follows the camera.
     fn complete_uniforms(
         &mut self,
         uniforms: &mut FrameUniforms,
+        plan: &FramePlan,
         push: SimulatePush,
         extent: vk::Extent2D,
     ) -> Result<()> {
-        let side = uniforms.look.shadow_size;
-        self.shadow
-            .resize(&self.ctx, &self.pool, &self.field, side)?;
+        if let Some(side) = plan.shadows {
+            self.shadow
+                .resize(&self.ctx, &self.pool, &self.field, side)?;
+        }
+        if !plan.far {
+            uniforms.raster.below = 0.0;
+        }
         self.tile_uniforms(uniforms);
         uniforms.forces.time = shared::sim::simulate::step_time(push.first_step + push.steps);
         self.ground.follow(uniforms.camera.position);
@@ -444,21 +453,19 @@ impl Renderer {
     fn record_simulation(
         &mut self,
         rec: &Recorder,
-        uniforms: &FrameUniforms,
+        plan: &FramePlan,
         push: SimulatePush,
         balls: &[glam::Vec4],
         stamp: &dyn Fn(Mark),
     ) {
-        let natural = uniforms.look.style == LOOK_NATURAL;
-        let clumps = (uniforms.look.seed, uniforms.look.clump_size);
-        if natural && self.clumped != Some(clumps) {
+        let natural = plan.natural();
+        if natural && self.clumped != Some(plan.clumps) {
             self.simulate.record_clumps(rec, &self.field);
-            self.clumped = Some(clumps);
+            self.clumped = Some(plan.clumps);
         }
-        let mesh = uniforms.grass.pipeline == PIPELINE_MESH;
-        self.record_compute(rec, self.simulate_push(push), natural, mesh);
+        self.record_compute(rec, self.simulate_push(push), natural, plan.mesh());
         stamp(Mark::SimulateCull);
-        if natural && uniforms.look.shadows != 0 {
+        if natural && plan.shadows.is_some() {
             self.shadow
                 .record(rec, &self.field, &self.ground, self.grass.current(), balls);
         }

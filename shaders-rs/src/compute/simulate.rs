@@ -13,12 +13,13 @@ use shared::gpu::counters::strip_counter;
 use shared::gpu::counters::{
     COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE, far_slot,
 };
-use shared::gpu::layout::{EMPTY_SLOT, IDS_WORDS, POOL_WORDS, TILES_POOL};
+use shared::gpu::layout::IDS_WORDS;
 use shared::gpu::layout::{
     FrameUniforms, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush, flat_index,
 };
 use shared::sim::simulate::simulate;
-use shared::world::tiles::{drawn_width, fade_to_far, far_blade, kept, unpack_map_point};
+use shared::world::pool::pool_blade;
+use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4};
 use spirv_std::memory::{Scope, Semantics};
@@ -214,8 +215,8 @@ fn simulate_and_cull<T: Copy + Default>(
     // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`; a
     // stored one's: its root over the map square).
     let mut map_at = Vec2::ZERO;
-    // A pool blade's width as its distance thins it, like a far one's: a blade its
-    // rank has left is still simulated (its trail decays as if seen) but not drawn.
+    // A pool blade's width as its distance thins it, like a far one's
+    // (`world::pool::pool_blade`).
     let mut pool_width = 0.0;
     // A tile nobody needs goes back to its far pose (`tiles::fade_to_far`).
     let mut fade = 0.0;
@@ -225,21 +226,13 @@ fn simulate_and_cull<T: Copy + Default>(
         name = ids[IDS_WORDS * i];
         map_at = unpack_map_point(ids[IDS_WORDS * i + 1], &push.tiles);
         if simulated {
-            let params = &push.tiles;
-            let per_tile = params.per_side * params.per_side;
-            let slot = TILES_POOL + POOL_WORDS * (index / per_tile) as usize;
-            let tile = IVec2::new(tiles[slot] as i32, tiles[slot + 1] as i32);
-            let blade = &blades[i];
-            let root = blade.root();
-            let k = index % per_tile;
-            // A blade of a held tile that grows there (its width at the root).
-            in_field = tile.x != EMPTY_SLOT
-                && blade.height() > 0.0
-                && drawn_width(tile, k, root, root, params, paint) > 0.0;
+            let camera = frame.camera.position;
+            let pool = pool_blade(index, &blades[i], tiles, &push.tiles, paint, camera);
+            in_field = pool.grows;
             if in_field {
-                pool_width = drawn_width(tile, k, root, frame.camera.position, params, paint);
-                fade = f32::from_bits(tiles[slot + 2]);
-                rest_tile = tile;
+                pool_width = pool.width;
+                fade = pool.fade;
+                rest_tile = pool.tile;
             }
         } else {
             in_field = kept(&blades[i]);

@@ -242,7 +242,8 @@ pub const PIPELINE_MESH: u32 = 1;
 /// Per-frame values, one block read by every stage (a read-only storage buffer, std430
 /// layout: every member that holds a vector starts on 16 bytes, and the SPIR-V
 /// reflection test compares each offset with this struct's). Built in one place,
-/// `settings::Settings::uniforms`; the renderer fills in `hiz`.
+/// `settings::Settings::uniforms`, beside the frame's plan (`plan::FramePlan`); the
+/// renderer fills in `hiz`, a tiled field's part, the time and the target's size.
 #[repr(C)]
 #[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct FrameUniforms {

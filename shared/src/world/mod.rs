@@ -7,6 +7,7 @@ pub mod generate;
 #[cfg(not(target_arch = "spirv"))]
 pub mod mesh;
 pub mod paint;
+pub mod pool;
 pub mod surface;
 pub mod terrain;
 pub mod tiles;

@@ -25,6 +25,7 @@ use anyhow::{Context as _, Result};
 use glam::Vec3;
 use report::{print_looks, print_raster, print_references, print_table, write_csv};
 use shared::gpu::layout::FrameUniforms;
+use shared::plan::FramePlan;
 use shared::settings::{GrassPipeline, Look, Settings};
 use shared::sim::simulate::SimClock;
 use std::time::Instant;
@@ -191,7 +192,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                     settings.compute_raster_below = below;
                 }
                 configure(&mut settings, config);
-                settings.uniforms(&eye(frame), scene.blade_count(), &[])
+                settings.planned(&eye(frame), scene.blade_count(), &[])
             };
             let first = points.len();
             for &config in &configs {
@@ -274,7 +275,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
 /// warm-up runs the first's).
 fn measure(
     (driver, offscreen): (&mut FrameDriver, &mut Offscreen),
-    uniforms: &dyn Fn(u32) -> FrameUniforms,
+    uniforms: &dyn Fn(u32) -> (FramePlan, FrameUniforms),
     args: &BenchArgs,
     config: BenchConfig,
     blades: u32,
@@ -329,7 +330,7 @@ fn measure(
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,
-        compute_below: uniforms(0).raster.below,
+        compute_below: uniforms(0).1.raster.below,
         compute_drawn: Spread::of(&compute_drawn).median,
         raster_covered: Spread::of(&covered).median,
         raster_written: Spread::of(&written).median,
@@ -356,9 +357,9 @@ fn measure(
 fn still(
     driver: &mut FrameDriver,
     offscreen: &mut Offscreen,
-    uniforms: FrameUniforms,
+    planned: (FramePlan, FrameUniforms),
 ) -> Result<Vec<u8>> {
-    driver.run(offscreen, 0.0, |_| uniforms, true)?;
+    driver.run(offscreen, 0.0, |_| planned, true)?;
     driver.finish()?;
     offscreen.pixels()
 }

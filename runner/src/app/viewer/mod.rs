@@ -338,10 +338,12 @@ impl Running {
             .map(Ball::sphere)
             .collect();
         let eye = self.camera.viewpoint(frame.extent());
+        let (plan, uniforms) = self
+            .settings
+            .planned(&eye, self.scene.blade_count(), &balls);
         let spec = FrameSpec {
-            uniforms: self
-                .settings
-                .uniforms(&eye, self.scene.blade_count(), &balls),
+            plan,
+            uniforms,
             overlay: painted.as_ref().map(|p| OverlayFrame {
                 primitives: &p.primitives,
                 textures: &p.textures,

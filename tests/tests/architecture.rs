@@ -286,14 +286,15 @@ fn product_files() -> Vec<PathBuf> {
     out
 }
 
-/// "issue 16", "issues 19 and 20", "issue-3": numbers that mean nothing to a reader.
+/// A tracker's word followed by a number (with an `s`, a space, `#` or `-` between):
+/// numbers that mean nothing to a reader.
 fn tracker_numbers(text: &str) -> Vec<String> {
     let lower = text.to_lowercase();
     let mut out = Vec::new();
     for (at, _) in lower.match_indices("issue") {
         let rest = lower[at + 5..]
             .trim_start_matches('s')
-            .trim_start_matches([' ', '#']);
+            .trim_start_matches([' ', '#', '-']);
         if rest.starts_with(|c: char| c.is_ascii_digit()) {
             let end = (at + 20).min(text.len());
             out.push(text[at..text.floor_char_boundary(end)].to_owned());
@@ -305,8 +306,8 @@ fn tracker_numbers(text: &str) -> Vec<String> {
 #[test]
 fn the_product_cites_no_tracker_numbers() {
     assert_eq!(
-        tracker_numbers("see issue 16, issues #19 and the issue"),
-        ["issue 16, issues #19", "issues #19 and the i"]
+        tracker_numbers(&"see T 16, Ts #19 and the T-3 tT".replace('T', "issue")),
+        ["T 16, Ts #19", "Ts #19 and the i", "T-3 tissue"].map(|e| e.replace('T', "issue"))
     );
     let mut found = Vec::new();
     for file in product_files() {

@@ -35,8 +35,8 @@ fn main() -> anyhow::Result<()> {
     let eye = scene.camera().viewpoint(target.size());
     // Two seconds at 60 frames a second, the last one captured.
     for frame in 0..120 {
-        let planned = settings.planned(&eye, scene.blade_count(), &[]);
-        driver.run(&mut target, 1.0 / 60.0, |_| planned, frame == 119)?;
+        let request = settings.request(&eye, &[]);
+        driver.run(&mut target, 1.0 / 60.0, |_| request, frame == 119)?;
     }
     driver.finish()?;
     let rgba = target.pixels()?;

@@ -228,9 +228,7 @@ impl GrassField {
             bail!("targets of {}x{} pixels", extent.width, extent.height);
         }
         let (first_step, steps) = self.clock.advance(frame.seconds);
-        let (plan, uniforms) = self
-            .settings
-            .planned(&frame.camera, self.blades, frame.colliders);
+        let request = self.settings.request(&frame.camera, frame.colliders);
         let push = shared::gpu::layout::SimulatePush {
             first_step,
             steps,
@@ -238,8 +236,7 @@ impl GrassField {
         };
         let external = ExternalFrame {
             targets: frame.targets,
-            plan,
-            uniforms,
+            request,
             push,
             ground: self.draw_ground,
         };

@@ -7,9 +7,10 @@
 //! simulation clock, read-back) and the shells that use it (window viewer, `render`,
 //! `bench`, `soak`); [`tiles`] the tiled field's host side and [`paint`]
 //! its painted maps; [`embed`] the field in someone else's frame.
-//! The settings are typed (`shared::settings`) and become the frame's plan
-//! (`shared::plan::FramePlan`, which the renderer branches on) and the shaders'
-//! numbers in one place, `Settings::planned`.
+//! The settings are typed (`shared::settings`); a frame is asked for with them
+//! (`shared::plan::FrameRequest`), the renderer plans it (`shared::plan::FramePlan`,
+//! which it branches on) and builds the shaders' numbers in one place,
+//! `Settings::uniforms`.
 //!
 //! # Rendering from your own program
 //!
@@ -42,8 +43,8 @@
 //! let eye = scene.camera().viewpoint(target.size());
 //! // Two seconds at 60 frames a second, the last one captured.
 //! for frame in 0..120 {
-//!     let planned = settings.planned(&eye, scene.blade_count(), &[]);
-//!     driver.run(&mut target, 1.0 / 60.0, |_| planned, frame == 119)?;
+//!     let request = settings.request(&eye, &[]);
+//!     driver.run(&mut target, 1.0 / 60.0, |_| request, frame == 119)?;
 //! }
 //! driver.finish()?;
 //! let rgba: Vec<u8> = target.pixels()?; // 640 x 360, sRGB, row by row

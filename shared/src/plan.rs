@@ -1,12 +1,105 @@
-//! The frame planned once: what the renderer does in a frame (the look, the view, the
-//! pipeline, the samples, the shadow map, the occlusion test, the far blades, the
-//! clumps), decided from the settings and what the renderer has. The renderer
-//! branches on the plan, never on numbers of the frame's GPU block, which the same
-//! settings make (`Settings::uniforms`).
+//! The frame planned once. A caller asks for a frame ([`FrameRequest`]: the settings,
+//! the viewpoint, the colliders); the renderer plans it ([`FramePlan`]: the look, the
+//! view, the pipeline, the samples, the shadow map, the occlusion test, the far blades,
+//! the clumps) from the settings and what it has, and builds the frame's GPU block in
+//! one call from the request, the plan and what it knows of the frame
+//! ([`FrameFacts`]: the target, its depth pyramid, the field, the time). The renderer
+//! branches on the plan, never on numbers of the block, and nothing changes the block
+//! once built.
 
-use crate::gpu::layout::FrameUniforms;
-use crate::settings::{GrassPipeline, Look, Settings, View, Viewpoint};
+use crate::camera::CameraParams;
+use crate::cull::blade::{CullParams, OCCLUSION};
+use crate::cull::hiz::HiZLayout;
+use crate::cull::lod::{LodParams, focal_pixels};
+use crate::draw::look::LookParams;
+use crate::draw::raster::RasterParams;
+use crate::gpu::layout::{FrameUniforms, GrassParams};
+use crate::settings::{
+    GrassPipeline, Look, RASTER_SEGMENTS, Settings, View, Viewpoint, shadow_sphere,
+};
+use crate::sim::collide::MAX_COLLIDERS;
+use crate::sim::simulate::Environment;
 use spirv_std::glam::Vec4;
+
+/// What a caller asks of one frame: the settings, where it is seen from and the
+/// sphere colliders (centre xyz, radius w).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FrameRequest {
+    /// The settings the frame is drawn with.
+    pub settings: Settings,
+    /// Where it is seen from.
+    pub eye: Viewpoint,
+    colliders: [Vec4; MAX_COLLIDERS],
+    used: u32,
+}
+
+impl FrameRequest {
+    /// A frame of `settings` seen from `eye` with the colliders `balls` (the first
+    /// `MAX_COLLIDERS` of them).
+    pub fn new(settings: &Settings, eye: &Viewpoint, balls: &[Vec4]) -> Self {
+        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
+        let used = balls.len().min(MAX_COLLIDERS);
+        colliders[..used].copy_from_slice(&balls[..used]);
+        Self {
+            settings: *settings,
+            eye: *eye,
+            colliders,
+            used: used as u32,
+        }
+    }
+
+    /// The colliders in use.
+    pub fn balls(&self) -> &[Vec4] {
+        &self.colliders[..self.used as usize]
+    }
+
+    /// The frame the settings ask for, before the renderer's means narrow it.
+    pub fn plan(&self) -> FramePlan {
+        FramePlan::of(&self.settings)
+    }
+
+    /// The whole GPU block of this frame drawn as `plan` says, with `facts`
+    /// ([`Settings::uniforms`]).
+    pub fn uniforms(&self, plan: &FramePlan, facts: &FrameFacts) -> FrameUniforms {
+        self.settings.uniforms(plan, &self.eye, self.balls(), facts)
+    }
+}
+
+/// What the renderer knows of a frame that the settings do not.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct FrameFacts {
+    /// The target's size in pixels, (width, height).
+    pub extent: (u32, u32),
+    /// The depth pyramid's layout for that target (read where the plan has the
+    /// occlusion test).
+    pub hiz: HiZLayout,
+    /// The field's blades.
+    pub field: FieldPart,
+    /// Simulated time after the frame's steps, seconds.
+    pub time: f32,
+}
+
+/// Which blades a field holds and how many of them are simulated.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct FieldPart {
+    /// Blades in the field (a tiled field's: its pool's and its far blades' room).
+    pub blades: u32,
+    /// Blades below this index are simulated.
+    pub simulated: u32,
+    /// A tiled field: the blades from `simulated` on are generated each frame.
+    pub tiled: bool,
+}
+
+impl FieldPart {
+    /// A stored field of `blades`, every one simulated.
+    pub fn stored(blades: u32) -> Self {
+        Self {
+            blades,
+            simulated: blades,
+            tiled: false,
+        }
+    }
+}
 
 /// What one frame does.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -69,21 +162,199 @@ impl FramePlan {
 }
 
 impl Settings {
-    /// The plan and the GPU block of a frame of a field of `blades` seen from `eye`,
-    /// with the sphere colliders `balls` ([`Settings::uniforms`]).
-    pub fn planned(
+    /// A frame of these settings seen from `eye`, with the sphere colliders `balls`.
+    pub fn request(&self, eye: &Viewpoint, balls: &[Vec4]) -> FrameRequest {
+        FrameRequest::new(self, eye, balls)
+    }
+}
+
+impl Settings {
+    /// The whole frame block, built once: these settings drawn as `plan` says (its
+    /// look, view, pipeline, shadow map, occlusion test and far blades), seen from
+    /// `eye`, with the sphere colliders `balls` (centre xyz, radius w; the first
+    /// `MAX_COLLIDERS` are used) and what the renderer knows of the frame (`facts`).
+    pub fn uniforms(
         &self,
+        plan: &FramePlan,
         eye: &Viewpoint,
-        blades: u32,
         balls: &[Vec4],
-    ) -> (FramePlan, FrameUniforms) {
-        (FramePlan::of(self), self.uniforms(eye, blades, balls))
+        facts: &FrameFacts,
+    ) -> FrameUniforms {
+        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
+        let used = balls.len().min(MAX_COLLIDERS);
+        colliders[..used].copy_from_slice(&balls[..used]);
+        let cull = &self.cull;
+        let lod = &self.lod;
+        let field = &facts.field;
+        let (width, height) = facts.extent;
+        // Without the pyramid, the occlusion test is off and reads none.
+        let unplanned = if plan.occlusion { 0 } else { OCCLUSION };
+        FrameUniforms {
+            camera: CameraParams {
+                view_proj: eye.view_proj,
+                position: eye.position,
+                focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
+            },
+            light: self.look_light(plan.look),
+            forces: Environment {
+                time: facts.time,
+                ..self.environment(used as u32)
+            },
+            colliders,
+            hiz: if plan.occlusion {
+                facts.hiz
+            } else {
+                HiZLayout::default()
+            },
+            lod: LodParams {
+                pixels_per_segment: lod.pixels_per_segment,
+                most: lod.most,
+                fewest: if lod.on { lod.fewest } else { lod.most },
+            },
+            grass: GrassParams {
+                blades: field.blades,
+                shape: self.shape as u32,
+                tip_start: self.tip_start,
+                view: plan.view as u32,
+                pipeline: plan.pipeline as u32,
+                simulated: field.simulated,
+                tiled: u32::from(field.tiled),
+                padding: 0,
+            },
+            cull: CullParams {
+                orientation_threshold: cull.orientation_threshold,
+                frustum_tolerance: cull.frustum_tolerance,
+                max_distance: cull.max_distance,
+                buckets: cull.buckets,
+                enabled: cull.tests.mask() & !unplanned,
+            },
+            look: self.look_params(plan, eye),
+            raster: RasterParams {
+                width,
+                height,
+                below: if plan.far {
+                    self.compute_raster_below
+                } else {
+                    0.0
+                },
+                segments: RASTER_SEGMENTS,
+            },
+        }
+    }
+
+    /// The look's block as `plan` draws it: the shadow map around what the camera
+    /// sees.
+    pub fn look_params(&self, plan: &FramePlan, eye: &Viewpoint) -> LookParams {
+        let look = &self.look;
+        let (centre, radius) = shadow_sphere(look.scene, eye.position, eye.forward);
+        LookParams {
+            shadow_view_proj: crate::draw::look::shadow::sun_view_proj(look.sun, centre, radius),
+            style: plan.look as u32,
+            shadows: u32::from(plan.shadows.is_some()),
+            seed: look.seed,
+            shadow_size: plan.shadows.unwrap_or(look.shadow_size),
+            fog_density: look.fog_density,
+            field_distance: self.cull.max_distance,
+            pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,
+            clump_size: look.clump_size,
+            caster_distance: look.caster_distance,
+            padding: [0; 4],
+            exposure: look.exposure,
+            ground_level: look.ground_level.unwrap_or(0.0),
+            ground_to_horizon: u32::from(look.ground_level.is_some()),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cull::blade::{FRUSTUM, ORIENTATION};
+    use crate::draw::shape::SHAPE_QUADRATIC;
+    use spirv_std::glam::{Mat4, Vec3};
+
+    #[test]
+    fn the_block_by_hand() {
+        let mut s = Settings::default();
+        s.lod.on = false;
+        s.cull.tests.distance = false;
+        s.gravity.centre = Vec3::new(0.0, -30.0, 0.0);
+        s.wind.direction = 90.0;
+        let eye = Viewpoint {
+            view_proj: Mat4::IDENTITY,
+            position: Vec3::new(1.0, 2.0, 3.0),
+            fov_y: std::f32::consts::FRAC_PI_2,
+            height: 200,
+            forward: Vec3::Z,
+        };
+        let balls = [Vec4::ONE; MAX_COLLIDERS + 3];
+        let facts = FrameFacts {
+            extent: (320, 200),
+            field: FieldPart::stored(1234),
+            time: 2.5,
+            ..Default::default()
+        };
+        let plan = FramePlan::of(&s);
+        let u = s.uniforms(&plan, &eye, &balls, &facts);
+        // tan(45°) = 1: the focal length is half the height.
+        assert!((u.camera.focal_pixels - 100.0).abs() < 1e-4);
+        assert_eq!(u.camera.position, eye.position);
+        // LOD off: the fewest segments are the most.
+        assert_eq!((u.lod.most, u.lod.fewest), (7.0, 7.0));
+        assert_eq!(u.cull.enabled, ORIENTATION | FRUSTUM | OCCLUSION);
+        assert_eq!(u.forces.colliders, MAX_COLLIDERS as u32);
+        assert_eq!(u.forces.gravity_centre, Vec4::new(0.0, -30.0, 0.0, 9.8));
+        assert!((u.forces.wind - Vec4::new(0.0, 0.0, 1.0, 7.0)).length() < 1e-6);
+        assert_eq!(
+            (u.grass.blades, u.grass.simulated, u.grass.tiled),
+            (1234, 1234, 0)
+        );
+        assert_eq!(u.grass.shape, SHAPE_QUADRATIC);
+        assert_eq!((u.raster.width, u.raster.height), (320, 200));
+        assert_eq!(u.forces.time, 2.5);
+        assert!(u.hiz.is_empty());
+    }
+
+    #[test]
+    fn the_plan_decides_what_the_block_turns_on() {
+        let mut s = Settings::default();
+        s.look.style = Look::Natural;
+        s.look.shadows = true;
+        s.compute_raster_below = 12.0;
+        let eye = Viewpoint {
+            view_proj: Mat4::IDENTITY,
+            position: Vec3::ZERO,
+            fov_y: 1.0,
+            height: 100,
+            forward: Vec3::Z,
+        };
+        let facts = FrameFacts {
+            extent: (64, 32),
+            hiz: crate::cull::hiz::HiZLayout::new(64, 32),
+            field: FieldPart {
+                blades: 100,
+                simulated: 40,
+                tiled: true,
+            },
+            time: 0.0,
+        };
+        let plan = FramePlan::of(&s);
+        let full = s.uniforms(&plan, &eye, &[], &facts);
+        assert_eq!(full.hiz, facts.hiz);
+        assert_eq!(full.cull.enabled & OCCLUSION, OCCLUSION);
+        assert_eq!(full.raster.below, 12.0);
+        assert_eq!(
+            (full.look.shadows, full.look.shadow_size),
+            (1, s.look.shadow_size)
+        );
+        assert_eq!((full.grass.simulated, full.grass.tiled), (40, 1));
+        // Without occluders or a compute rasterizer: no pyramid, no occlusion test, no
+        // far blades, whatever the settings say.
+        let narrowed = s.uniforms(&plan.within(false, false), &eye, &[], &facts);
+        assert!(narrowed.hiz.is_empty());
+        assert_eq!(narrowed.cull.enabled & OCCLUSION, 0);
+        assert_eq!(narrowed.raster.below, 0.0);
+    }
 
     #[test]
     fn the_plan_is_the_settings_within_the_renderer_s_means() {

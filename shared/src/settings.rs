@@ -1,18 +1,14 @@
 //! The user's settings, typed: what the command line parses, the overlay and the keys
-//! edit, and what [`Settings::uniforms`] turns into the frame's GPU block, the one
-//! place where enums and switches become the shaders' numbers.
+//! edit, and what `Settings::uniforms` (in [`crate::plan`]) turns into the frame's GPU
+//! block, the one place where enums and switches become the shaders' numbers.
 
-use crate::camera::CameraParams;
-use crate::cull::blade::{CullParams, DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
-use crate::cull::lod::{LodParams, PIXELS_PER_SEGMENT, focal_pixels};
-use crate::draw::look::{LOOK_NATURAL, LOOK_PAPER, LookParams};
-use crate::draw::raster::RasterParams;
+use crate::cull::blade::{DISTANCE, FRUSTUM, OCCLUSION, ORIENTATION, TEST_NAMES};
+use crate::cull::lod::PIXELS_PER_SEGMENT;
+use crate::draw::look::{LOOK_NATURAL, LOOK_PAPER};
 use crate::draw::shade::{Light, VIEW_LOD, VIEW_SHADED, VIEW_WIREFRAME};
 use crate::draw::shape::{
     SHAPE_DANDELION, SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP,
 };
-use crate::gpu::layout::{FrameUniforms, GrassParams};
-use crate::sim::collide::MAX_COLLIDERS;
 use crate::sim::simulate::Environment;
 use crate::sim::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};
 use spirv_std::glam::{Mat4, Vec3, Vec4};
@@ -491,91 +487,14 @@ impl Settings {
         }
     }
 
-    /// The frame block of a field of `blades` seen from `eye`, with the sphere
-    /// colliders `balls` (centre xyz, radius w; at most `MAX_COLLIDERS` are used).
-    /// The depth pyramid's layout is left empty for the renderer, which knows the
-    /// target.
-    pub fn uniforms(&self, eye: &Viewpoint, blades: u32, balls: &[Vec4]) -> FrameUniforms {
-        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
-        let used = balls.len().min(MAX_COLLIDERS);
-        colliders[..used].copy_from_slice(&balls[..used]);
-        let cull = &self.cull;
-        let lod = &self.lod;
-        FrameUniforms {
-            camera: CameraParams {
-                view_proj: eye.view_proj,
-                position: eye.position,
-                focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
-            },
-            light: self.look_light(),
-            forces: self.environment(used as u32),
-            colliders,
-            hiz: Default::default(),
-            lod: LodParams {
-                pixels_per_segment: lod.pixels_per_segment,
-                most: lod.most,
-                fewest: if lod.on { lod.fewest } else { lod.most },
-            },
-            grass: GrassParams {
-                blades,
-                shape: self.shape as u32,
-                tip_start: self.tip_start,
-                view: self.view as u32,
-                pipeline: self.pipeline as u32,
-                // A stored field: every blade simulated (the renderer fills in a
-                // tiled field's).
-                simulated: blades,
-                tiled: 0,
-                padding: 0,
-            },
-            cull: CullParams {
-                orientation_threshold: cull.orientation_threshold,
-                frustum_tolerance: cull.frustum_tolerance,
-                max_distance: cull.max_distance,
-                buckets: cull.buckets,
-                enabled: cull.tests.mask(),
-            },
-            look: self.look_params(eye),
-            raster: RasterParams {
-                width: 0,
-                height: 0,
-                below: self.compute_raster_below,
-                segments: RASTER_SEGMENTS,
-            },
-        }
-    }
-
-    /// The light of the look: the paper's, or the natural look's sun.
-    pub fn look_light(&self) -> Light {
-        match self.look.style {
+    /// The light of `look`: the paper's, or the natural look's sun.
+    pub fn look_light(&self, look: Look) -> Light {
+        match look {
             Look::Paper => self.light,
             Look::Natural => Light {
                 direction: self.look.sun,
                 ..self.light
             },
-        }
-    }
-
-    /// The natural look's block: the shadow map around what the camera sees.
-    pub fn look_params(&self, eye: &Viewpoint) -> LookParams {
-        let look = &self.look;
-        let (centre, radius) = shadow_sphere(look.scene, eye.position, eye.forward);
-        LookParams {
-            shadow_view_proj: crate::draw::look::shadow::sun_view_proj(look.sun, centre, radius),
-            style: look.style as u32,
-            shadows: u32::from(look.shadows && look.style == Look::Natural),
-            seed: look.seed,
-            shadow_size: look.shadow_size,
-            fog_density: look.fog_density,
-            field_distance: self.cull.max_distance,
-            pixel_angle: 2.0 * (0.5 * eye.fov_y).tan() / eye.height.max(1) as f32,
-            clump_size: look.clump_size,
-            caster_distance: look.caster_distance,
-            padding: [0; 3],
-            samples: look.msaa,
-            exposure: look.exposure,
-            ground_level: look.ground_level.unwrap_or(0.0),
-            ground_to_horizon: u32::from(look.ground_level.is_some()),
         }
     }
 }

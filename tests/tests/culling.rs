@@ -166,16 +166,14 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
             let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
             let eye = camera.viewpoint(target.size());
-            let (plan, mut uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
+            let request = settings.request(&eye, &[]);
             // No time, no simulation step: the GPU culls the blades exactly as the host
             // holds them.
-            driver
-                .run(&mut target, 0.0, |_| (plan, uniforms), false)
-                .unwrap();
+            driver.run(&mut target, 0.0, |_| request, false).unwrap();
             driver.finish().unwrap();
             let counts = driver.readback.counts.expect("counts");
             let renderer = &driver.renderer;
-            uniforms.hiz = renderer.hiz();
+            let uniforms = *renderer.block();
             let layout = uniforms.hiz;
             let pyramid: Vec<f32> = renderer
                 .download(&renderer.field.pyramid, layout.len as usize)

@@ -11,7 +11,7 @@ use runner::scene::Scene;
 use shared::Blade;
 use shared::cull::blade as cull;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
-use shared::plan::FramePlan;
+use shared::plan::FrameRequest;
 use shared::settings::WindField;
 use shared::sim::simulate::simulate;
 use std::collections::HashSet;
@@ -53,7 +53,7 @@ const BALLS: [Vec4; 2] = [
 
 /// A camera low over the field's edge, so that every test removes blades; the wind
 /// field `wind_kind`, two balls, and gravity blended towards a centre by `blend`.
-fn setup(wind: WindField, blend: f32) -> (Scene, (FramePlan, FrameUniforms)) {
+fn setup(wind: WindField, blend: f32) -> (Scene, FrameRequest) {
     let scene = Scene::plane(BLADES, 11);
     let side = 2.0 * scene.bounds.1 / std::f32::consts::SQRT_2;
     let mut settings = scene.settings();
@@ -70,8 +70,8 @@ fn setup(wind: WindField, blend: f32) -> (Scene, (FramePlan, FrameUniforms)) {
         fov_y: 40f32.to_radians(),
         far: 0.0,
     };
-    let planned = settings.planned(&camera.viewpoint((256, 256)), scene.blade_count(), &BALLS);
-    (scene, planned)
+    let request = settings.request(&camera.viewpoint((256, 256)), &BALLS);
+    (scene, request)
 }
 
 /// True when `b` lies within [`THRESHOLD_EPSILON`] of a decision of an enabled test.
@@ -96,11 +96,10 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
 fn run_both(
     ctx: &std::sync::Arc<runner::vulkan::Context>,
     scene: &Scene,
-    (plan, uniforms): &(FramePlan, FrameUniforms),
+    request: &FrameRequest,
 ) -> (FrameDriver, Vec<Blade>, Vec<Blade>) {
     let renderer = Renderer::new(ctx, &scene.meshes(), FORMAT).expect("renderer");
     let mut driver = FrameDriver::new(ctx, renderer).expect("frame driver");
-    let env = uniforms.forces;
     let mut host: Vec<(Blade, f32)> = scene.blades.iter().map(|b| (*b, 0.0)).collect();
     for frame in 0..FRAMES {
         let push = SimulatePush {
@@ -108,14 +107,14 @@ fn run_both(
             steps: STEPS_PER_FRAME,
             ..Default::default()
         };
-        driver
-            .compute_frame(plan, uniforms, push)
-            .expect("compute frame");
+        driver.compute_frame(request, push).expect("compute frame");
+        // The block the GPU read.
+        let block = *driver.renderer.block();
         for state in &mut host {
             *state = simulate(
                 *state,
-                &env,
-                &uniforms.colliders,
+                &block.forces,
+                &block.colliders,
                 push.first_step,
                 push.steps,
             );
@@ -200,8 +199,8 @@ fn compute_pass_matches_the_host_in_gusts_and_a_vortex() {
         "compute_pass_matches_the_host_in_gusts_and_a_vortex",
         |ctx| {
             for (wind, blend) in [(WindField::Gusts, 0.0), (WindField::Vortex, 0.5)] {
-                let (scene, planned) = setup(wind, blend);
-                run_both(&ctx, &scene, &planned);
+                let (scene, request) = setup(wind, blend);
+                run_both(&ctx, &scene, &request);
             }
         },
     );
@@ -212,10 +211,10 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
     with_device(
         "compute_pass_matches_the_host_and_culls_the_same_blades",
         |ctx| {
-            let (scene, planned) = setup(WindField::Breeze, 0.0);
-            let (driver, host, gpu) = run_both(&ctx, &scene, &planned);
-            let uniforms = planned.1;
+            let (scene, request) = setup(WindField::Breeze, 0.0);
+            let (driver, host, gpu) = run_both(&ctx, &scene, &request);
             let renderer = &driver.renderer;
+            let uniforms = *renderer.block();
 
             // The visible set: the GPU's compacted survivors' indices.
             let count = driver.readback.visible().expect("visible count") as usize;

@@ -123,15 +123,13 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
             let eye = camera.viewpoint((256, 256));
             for frame in 0..FRAMES {
                 let balls = balls(frame, half, radius);
-                let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &balls);
+                let request = settings.request(&eye, &balls);
                 let push = SimulatePush {
                     first_step: frame * MAX_STEPS_PER_FRAME,
                     steps: MAX_STEPS_PER_FRAME,
                     ..Default::default()
                 };
-                driver
-                    .compute_frame(&plan, &uniforms, push)
-                    .expect("compute frame");
+                driver.compute_frame(&request, push).expect("compute frame");
             }
             let blades = download(&driver);
             let moved = blades
@@ -151,7 +149,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
 
             // Calm: no wind, no ball; ten seconds, then one step at a time.
             settings.wind.field = Calm;
-            let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
+            let request = settings.request(&eye, &[]);
             let mut step = FRAMES * MAX_STEPS_PER_FRAME;
             for _ in 0..CALM_FRAMES {
                 let push = SimulatePush {
@@ -159,9 +157,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                     steps: MAX_STEPS_PER_FRAME,
                     ..Default::default()
                 };
-                driver
-                    .compute_frame(&plan, &uniforms, push)
-                    .expect("calm frame");
+                driver.compute_frame(&request, push).expect("calm frame");
                 step += MAX_STEPS_PER_FRAME;
             }
             let mut before = download(&driver);
@@ -172,9 +168,7 @@ fn extreme_settings_keep_every_blade_valid_on_the_device() {
                     steps: 1,
                     ..Default::default()
                 };
-                driver
-                    .compute_frame(&plan, &uniforms, push)
-                    .expect("one step");
+                driver.compute_frame(&request, push).expect("one step");
                 step += 1;
                 let after = download(&driver);
                 worst_move = worst_move.max(largest_move(&before, &after));

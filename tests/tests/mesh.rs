@@ -160,15 +160,14 @@ fn mesh_stage_vertices_equal_the_hosts() {
         // From many pixels a segment (every blade at 1) to few (the near ones at 9).
         for pixels in [24.0, 8.0, 4.0, 2.5, 1.6, 1.1] {
             settings.lod.pixels_per_segment = pixels;
-            let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
+            let request = settings.request(&eye, &[]);
             // NaN marks what the draw did not write.
             capture.write(&vec![Vec4::NAN; entries]).unwrap();
             // No time, no simulation step: the blades are the host's.
-            driver
-                .run(&mut target, 0.0, |_| (plan, uniforms), false)
-                .unwrap();
+            driver.run(&mut target, 0.0, |_| request, false).unwrap();
             driver.finish().unwrap();
             let renderer = &driver.renderer;
+            let uniforms = *renderer.block();
             let field = &renderer.field;
             let counters: Vec<u32> = renderer.download(&field.counters, COUNTER_COUNT).unwrap();
             let drawn = driver.readback.visible().unwrap() as usize;

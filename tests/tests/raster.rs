@@ -93,10 +93,8 @@ fn equal_to_the_hosts(
     let mut camera = scene.camera();
     camera.distance /= nearer;
     let eye = camera.viewpoint(target.size());
-    let (plan, mut uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
-    driver
-        .run(&mut target, 0.0, |_| (plan, uniforms), false)
-        .unwrap();
+    let request = settings.request(&eye, &[]);
+    driver.run(&mut target, 0.0, |_| request, false).unwrap();
     driver.finish().unwrap();
     let counts = driver.readback.counts.expect("counts");
     let renderer = &driver.renderer;
@@ -110,8 +108,7 @@ fn equal_to_the_hosts(
     let hardware: Vec<f32> = renderer
         .download(renderer.hardware_depth().expect("depth buffer"), pixels)
         .unwrap();
-    uniforms.raster.width = width;
-    uniforms.raster.height = height;
+    let uniforms = *renderer.block();
     let mut host = vec![EMPTY; pixels];
     let (mut covered_host, mut in_front_host, mut wide) = (0u32, 0u32, 0u32);
     let camera = &uniforms.camera;
@@ -368,11 +365,9 @@ fn frame_to_frame(
     let mut frames: Vec<Vec<u8>> = Vec::new();
     for _ in 0..6 {
         let eye = camera.viewpoint(target.size());
-        let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
+        let request = settings.request(&eye, &[]);
         // No time: no simulation step, the blades stand still.
-        driver
-            .run(&mut target, 0.0, |_| (plan, uniforms), true)
-            .unwrap();
+        driver.run(&mut target, 0.0, |_| request, true).unwrap();
         driver.finish().unwrap();
         frames.push(target.pixels().unwrap());
         camera.yaw += step;

@@ -534,7 +534,6 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(LookParams, clump_size),
                 offset_of!(LookParams, caster_distance),
                 offset_of!(LookParams, padding),
-                offset_of!(LookParams, samples),
                 offset_of!(LookParams, exposure),
                 offset_of!(LookParams, ground_level),
                 offset_of!(LookParams, ground_to_horizon),

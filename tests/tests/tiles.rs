@@ -189,10 +189,8 @@ fn still_frame(
     let renderer = Renderer::new(ctx, &scene.meshes(), FORMAT).unwrap();
     let mut driver = runner::app::driver::FrameDriver::new(ctx, renderer).unwrap();
     let eye = camera.viewpoint(target.size());
-    let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
-    driver
-        .run(&mut target, 0.0, |_| (plan, uniforms), true)
-        .unwrap();
+    let request = settings.request(&eye, &[]);
+    driver.run(&mut target, 0.0, |_| request, true).unwrap();
     driver.finish().unwrap();
     (target.pixels().unwrap(), driver)
 }
@@ -522,9 +520,9 @@ fn a_trail_survives_the_camera_leaving_and_fades_as_the_decay_says() {
             let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
             let mut frame = |driver: &mut FrameDriver, at: Vec2, balls: &[Vec4]| {
                 let eye = camera_at(at).viewpoint(target.size());
-                let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), balls);
+                let request = settings.request(&eye, balls);
                 driver
-                    .run(&mut target, 1.0 / 60.0, |_| (plan, uniforms), false)
+                    .run(&mut target, 1.0 / 60.0, |_| request, false)
                     .unwrap();
             };
             for _ in 0..30 {
@@ -583,10 +581,10 @@ fn a_larger_world_takes_no_more_device_memory() {
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
             let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
             let eye = camera_at(shared::glam::Vec2::ZERO).viewpoint(target.size());
-            let (plan, uniforms) = scene.settings().planned(&eye, scene.blade_count(), &[]);
+            let request = scene.settings().request(&eye, &[]);
             for _ in 0..3 {
                 driver
-                    .run(&mut target, 1.0 / 60.0, |_| (plan, uniforms), false)
+                    .run(&mut target, 1.0 / 60.0, |_| request, false)
                     .unwrap();
             }
             driver.finish().unwrap();
@@ -649,10 +647,8 @@ fn a_density_map_paints_where_grass_grows() {
         let mut settings = scene.settings();
         settings.look.style = shared::settings::Look::Paper;
         settings.cull.tests = shared::settings::CullTests::NONE;
-        let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
-        driver
-            .run(&mut target, 0.0, |_| (plan, uniforms), true)
-            .unwrap();
+        let request = settings.request(&eye, &[]);
+        driver.run(&mut target, 0.0, |_| request, true).unwrap();
         driver.finish().unwrap();
         let image = image::RgbaImage::from_raw(width, height, target.pixels().unwrap()).unwrap();
         let r = &driver.renderer;
@@ -1034,9 +1030,9 @@ fn a_simulated_tile_stands_as_the_far_pose_and_returns_to_it() {
         let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
         let mut frame = |driver: &mut FrameDriver, at: Vec2| {
             let eye = camera_at(at).viewpoint(target.size());
-            let (plan, uniforms) = settings.planned(&eye, scene.blade_count(), &[]);
+            let request = settings.request(&eye, &[]);
             driver
-                .run(&mut target, 1.0 / 60.0, |_| (plan, uniforms), false)
+                .run(&mut target, 1.0 / 60.0, |_| request, false)
                 .unwrap();
         };
         let eye = camera_at(home).viewpoint((96, 64)).position;

@@ -6,9 +6,9 @@
 //!
 //! A client (the viewer, `render`, `soak`, `bench`, the GPU tests) says what each
 //! frame shows: [`FrameDriver::begin`] waits for the next slot, reads back what its
-//! last frame left and acquires the target's image; the client builds the frame's
-//! uniforms from [`Frame`] and [`FrameDriver::readback`]; [`FrameDriver::submit`]
-//! records, submits and presents.
+//! last frame left and acquires the target's image; the client asks for the frame
+//! (`shared::plan::FrameRequest`) from [`Frame`] and [`FrameDriver::readback`];
+//! [`FrameDriver::submit`] records, submits and presents.
 
 use crate::passes::overlay::OverlayFrame;
 use crate::renderer::{FrameInput, FrameQueries, Readback, Renderer, Target};
@@ -16,8 +16,8 @@ use crate::vulkan::Context;
 use crate::vulkan::commands::{CommandPool, Fence, Semaphore};
 use anyhow::{Context as _, Result};
 use ash::vk;
-use shared::gpu::layout::{FrameUniforms, SimulatePush};
-use shared::plan::FramePlan;
+use shared::gpu::layout::SimulatePush;
+use shared::plan::FrameRequest;
 use shared::sim::simulate::SimClock;
 use std::sync::Arc;
 
@@ -71,10 +71,8 @@ impl Frame {
 
 /// What a client asks of one frame.
 pub struct FrameSpec<'a> {
-    /// What the frame does.
-    pub plan: FramePlan,
-    /// The frame's uniform block, from the same settings.
-    pub uniforms: FrameUniforms,
+    /// What the frame shows.
+    pub request: FrameRequest,
     /// The overlay drawn over it.
     pub overlay: Option<OverlayFrame<'a>>,
     /// Copy its pixels to the target's capture buffer.
@@ -82,11 +80,10 @@ pub struct FrameSpec<'a> {
 }
 
 impl FrameSpec<'_> {
-    /// A frame of `plan` and `uniforms` (`Settings::planned`), no overlay, no capture.
-    pub fn plain((plan, uniforms): (FramePlan, FrameUniforms)) -> Self {
+    /// A frame of `request` (`Settings::request`), no overlay, no capture.
+    pub fn plain(request: FrameRequest) -> Self {
         Self {
-            plan,
-            uniforms,
+            request,
             overlay: None,
             capture: false,
         }
@@ -205,8 +202,7 @@ impl FrameDriver {
         let acquired = &frame.acquired;
         let input = FrameInput {
             target: acquired.target,
-            plan: spec.plan,
-            uniforms: spec.uniforms,
+            request: spec.request,
             push: frame.push,
             capture: acquired.capture.filter(|_| spec.capture),
             overlay: spec.overlay,
@@ -223,13 +219,13 @@ impl FrameDriver {
         target.present(acquired)
     }
 
-    /// One frame of `seconds` showing what `planned` gives (`Settings::planned`),
+    /// One frame of `seconds` showing what `request` asks (`Settings::request`),
     /// captured if `capture`; nothing when the target has no image this time.
     pub fn run(
         &mut self,
         target: &mut dyn FrameTarget,
         seconds: f64,
-        planned: impl FnOnce(&Frame) -> (FramePlan, FrameUniforms),
+        request: impl FnOnce(&Frame) -> FrameRequest,
         capture: bool,
     ) -> Result<()> {
         let Some(frame) = self.begin(target, seconds)? else {
@@ -237,7 +233,7 @@ impl FrameDriver {
         };
         let spec = FrameSpec {
             capture,
-            ..FrameSpec::plain(planned(&frame))
+            ..FrameSpec::plain(request(&frame))
         };
         self.submit(frame, target, spec)
     }
@@ -245,17 +241,12 @@ impl FrameDriver {
     /// Only the compute part of a frame (simulate, cull, chunk draws), then waits for
     /// it and reads its counters: what the GPU-against-host tests run.
     #[cfg(feature = "test-hooks")]
-    pub fn compute_frame(
-        &mut self,
-        plan: &FramePlan,
-        uniforms: &FrameUniforms,
-        push: SimulatePush,
-    ) -> Result<()> {
+    pub fn compute_frame(&mut self, request: &FrameRequest, push: SimulatePush) -> Result<()> {
         let index = self.next_slot()?;
         let slot = &mut self.slots[index];
         let rec = slot.pool.begin(slot.cmd)?;
         self.renderer
-            .record_compute_only(&rec, &slot.queries, plan, uniforms, push);
+            .record_compute_only(&rec, &slot.queries, request, push)?;
         slot.pool.submit(slot.cmd, None, None, &slot.fence)?;
         slot.submitted = true;
         self.next = (index + 1) % self.slots.len();

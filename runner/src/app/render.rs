@@ -193,16 +193,15 @@ impl Headless {
     /// simulated time, captured if `capture`.
     pub fn frame(&mut self, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
-        let count = scene.blade_count();
         let ball = self.ball.as_ref();
-        let uniforms = |f: &Frame| {
+        let request = |f: &Frame| {
             let balls = ball
                 .map(|b| b.spheres_at(scene, f.time))
                 .unwrap_or_default();
-            settings.planned(&eye_at(f.time), count, &balls)
+            settings.request(&eye_at(f.time), &balls)
         };
         self.driver
-            .run(&mut self.offscreen, seconds, uniforms, capture)
+            .run(&mut self.offscreen, seconds, request, capture)
     }
 }
 

@@ -201,7 +201,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
                 camera: &crate::camera::OrbitCamera,
                 dt: f64| {
         let size = offscreen.size();
-        let uniforms = |f: &Frame| {
+        let request = |f: &Frame| {
             let angle = f.time * 0.7;
             let around = camera.target.xz() + Vec2::from_angle(angle) * circle;
             let balls: Vec<_> = Ball::dropped(&scene.solid, around, common.collider_radius)
@@ -209,9 +209,9 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
                 .iter()
                 .map(Ball::sphere)
                 .collect();
-            settings.planned(&camera.viewpoint(size), scene.blade_count(), &balls)
+            settings.request(&camera.viewpoint(size), &balls)
         };
-        driver.run(offscreen, dt, uniforms, false)
+        driver.run(offscreen, dt, request, false)
     };
     // Warm-up, before the first frame counted: at each size, one frame of every phase
     // the run will meet, and the same with every blade drawn at the most segments (no

@@ -13,30 +13,73 @@
 //! 3. [`shadow`]: the sun's shadow map (natural look, shadows on): surfaces, balls and
 //!    the visible grass at its fewest segments (reads what `ground` and `grass` read;
 //!    writes the shadow map).
-//! 4. [`ground`]: the surfaces and the collider ball (reads the surface meshes and
-//!    the frame block; writes colour and depth).
-//! 5. [`grass`]: the visible blades as tessellated patches (reads the visible
-//!    indices, the blades, the draws and the frame block; writes colour and depth).
-//!    In the natural look both draw into a linear HDR target (multisampled with
-//!    `--msaa`, resolved when the scope ends).
-//! 6. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
+//! 4. [`draw`]: the main draw, which records these in one rendering scope:
+//!    - [`grass`]: the visible blades as tessellated patches or mesh strips (reads
+//!      the visible indices, the blades, the draws and the frame block; writes colour
+//!      and depth);
+//!    - [`ground`]: the surfaces and the collider ball (reads the surface meshes and
+//!      the frame block; writes colour and depth);
+//!    - [`raster`]: the far blades of the compute rasterizer, then resolved into the
+//!      same images in a second scope.
+//!
+//!    In the natural look they draw into a linear HDR target (multisampled with
+//!    `--msaa`, resolved when the last scope ends).
+//! 5. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
 //!    image; writes the target).
-//! 7. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
+//! 6. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
 //!    colour).
 //!
-//! [`throughput`] is no part of a frame: the benchmark's triangle reference.
+//! [`reference`](mod@reference) is no part of a frame: the benchmark's bandwidth and triangle
+//! references.
 
 pub mod by_target;
+pub mod draw;
 pub mod grass;
 pub mod ground;
 pub mod occlusion;
 pub mod overlay;
 pub mod raster;
+pub mod reference;
 pub mod shadow;
 pub mod simulate;
-pub mod throughput;
 pub mod tiles;
 pub mod tonemap;
+
+/// The timestamps of a frame, in the order they are written: the start, then the end
+/// of each pass of `renderer::PassTimes`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Mark {
+    /// Before anything.
+    Start,
+    /// After the uniform upload, the counter reset and the depth pyramid.
+    Pyramid,
+    /// After simulate, cull and the draw commands.
+    SimulateCull,
+    /// After the sun's shadow map (natural look with shadows).
+    Shadow,
+    /// After the grass, drawn first so that the ground it covers fails the early
+    /// depth test.
+    Grass,
+    /// After the ground and the ball (inside the rendering scope: before its
+    /// resolve).
+    Ground,
+    /// After the compute rasterizer (`passes::raster`): the hardware's rendering scope
+    /// ended, its depth copied, the far blades drawn; at once without it.
+    Raster,
+    /// After the last rendering scope ended: the compute rasterizer's resolve and the
+    /// multisample resolve, when there are any.
+    Resolve,
+    /// After the sky and the tone map (natural look).
+    ToneMap,
+    /// After the overlay.
+    Overlay,
+}
+
+impl Mark {
+    /// Timestamps per frame.
+    pub const COUNT: u32 = 10;
+}
 
 /// Depth format of every pass.
 pub const DEPTH_FORMAT: ash::vk::Format = ash::vk::Format::D32_SFLOAT;

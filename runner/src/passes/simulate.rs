@@ -7,9 +7,7 @@ use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::gpu::layout::{
-    CHUNK_WORKGROUP, COPY_WORKGROUP, ChunkPush, CopyPush, SIMULATE_WORKGROUP, SimulatePush,
-};
+use shared::gpu::layout::{CHUNK_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SimulatePush};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -22,7 +20,6 @@ pub struct SimulatePass {
     simulate_natural: Pipeline,
     write_draws: Pipeline,
     bin_blades: Pipeline,
-    copy: Pipeline,
     clumps: Pipeline,
 }
 
@@ -40,7 +37,6 @@ impl SimulatePass {
             )?,
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             bin_blades: Pipeline::compute(ctx, &field.layout, module, shaders::BIN_BLADES)?,
-            copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
         })
     }
@@ -50,24 +46,6 @@ impl SimulatePass {
         let groups = items.div_ceil(size).max(1);
         let x = groups.min(self.ctx.properties.limits.max_compute_work_group_count[0]);
         (x, groups.div_ceil(x))
-    }
-
-    /// Records the bandwidth reference: every blade copied into the buffer at
-    /// `layout::BINDING_SCRATCH`.
-    pub fn record_copy(&self, rec: &Recorder, field: &Field) {
-        let (layout, set) = (field.layout.layout, field.descriptors.set);
-        rec.bind_pipeline(
-            vk::PipelineBindPoint::COMPUTE,
-            self.copy.pipeline,
-            layout,
-            set,
-        );
-        // Four vec4 per blade.
-        let push = CopyPush {
-            count: field.blade_count * 4,
-        };
-        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        rec.dispatch(self.workgroups(push.count, COPY_WORKGROUP));
     }
 
     /// Records the clump pass: every blade's clump from the frame block's seed and

@@ -8,11 +8,12 @@
 //! depth test hides what its scene hides.
 
 use super::{FrameQueries, Mark, Renderer};
-use crate::vulkan::{Attachments, Recorder};
+use crate::passes::draw::LoadedImages;
+use crate::vulkan::Recorder;
 use anyhow::Result;
 use ash::vk;
-use shared::cull::blade::OCCLUSION;
-use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::gpu::layout::SimulatePush;
+use shared::plan::{FramePlan, FrameRequest};
 
 /// Colour and depth images of a caller, in `COLOR_ATTACHMENT_OPTIMAL` and
 /// `DEPTH_ATTACHMENT_OPTIMAL`, single-sampled.
@@ -30,11 +31,9 @@ pub struct ExternalTargets {
 pub struct ExternalFrame {
     /// Where it draws.
     pub targets: ExternalTargets,
-    /// What the frame does (the renderer draws it at one sample, without occlusion
-    /// or far blades, whatever it asks).
-    pub plan: shared::plan::FramePlan,
-    /// The frame's uniform block, from the same settings.
-    pub uniforms: FrameUniforms,
+    /// What the frame shows (drawn at one sample, without occlusion or far blades,
+    /// whatever its settings ask).
+    pub request: FrameRequest,
     /// The simulation steps to run.
     pub push: SimulatePush,
     /// Draw the ground the blades grow on (else only the blades).
@@ -50,21 +49,17 @@ impl Renderer {
         queries: &FrameQueries,
         frame: &ExternalFrame,
     ) -> Result<()> {
-        let mut uniforms = frame.uniforms;
         let extent = frame.targets.extent;
         // The renderer's own depth image stays the compute passes' bound (unread)
         // depth: the descriptor set must hold one.
         self.ensure_targets(extent, false, 1)?;
         // The caller's own depth makes no pyramid here, and its targets take one
         // sample and no far blades.
-        let plan = shared::plan::FramePlan {
+        let plan = FramePlan {
             samples: 1,
-            ..frame.plan.within(false, false)
+            ..frame.request.plan().within(false, false)
         };
-        uniforms.cull.enabled &= !OCCLUSION;
-        uniforms.hiz = Default::default();
-        uniforms.look.samples = 1;
-        self.complete_uniforms(&mut uniforms, &plan, frame.push, extent)?;
+        let uniforms = self.prepare(&frame.request, &plan, frame.push, extent)?;
         let stamp = super::stamper(rec, queries);
         stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a
@@ -74,21 +69,13 @@ impl Renderer {
         stamp(Mark::Pyramid);
         // The caller draws its own colliders: none in the shadow map.
         self.record_simulation(rec, &plan, frame.push, &[], &stamp);
-        let loaded = Attachments {
-            color: Some((frame.targets.color, None)),
-            color_resolve: None,
-            depth: Some((frame.targets.depth, false)),
+        let images = LoadedImages {
+            color: frame.targets.color,
+            depth: frame.targets.depth,
+            extent,
         };
-        rec.begin_rendering_with(&loaded, extent);
-        self.grass
-            .current()
-            .record(rec, &self.field, plan.view, plan.look, plan.pipeline);
-        stamp(Mark::Grass);
-        if frame.ground {
-            self.ground.record(rec, &self.field, &[]);
-        }
-        stamp(Mark::Ground);
-        rec.end_rendering();
+        self.draw
+            .record_over(rec, &self.field, &images, &plan, frame.ground, &stamp);
         // No compute rasterizer, resolve, tone map or overlay here.
         for mark in [Mark::Raster, Mark::Resolve, Mark::ToneMap] {
             stamp(mark);

@@ -11,29 +11,33 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
 use shared::glam::IVec2;
-use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::gpu::layout::SimulatePush;
+use shared::plan::{FrameFacts, FrameRequest};
 
 impl Renderer {
-    /// Records only the compute part of a frame (simulate, cull, chunk draws), with
-    /// its counters copied to `queries`. Without a target there is no pyramid: the
-    /// occlusion test keeps every blade.
+    /// Records only the compute part of `request`'s frame (simulate, cull, chunk
+    /// draws), with its counters copied to `queries`. Without a target there is no
+    /// pyramid: no occlusion test.
     pub fn record_compute_only(
-        &self,
+        &mut self,
         rec: &Recorder,
         queries: &FrameQueries,
-        plan: &shared::plan::FramePlan,
-        uniforms: &FrameUniforms,
+        request: &FrameRequest,
         push: SimulatePush,
-    ) {
-        let mut uniforms = FrameUniforms {
-            hiz: Default::default(),
-            ..*uniforms
+    ) -> Result<()> {
+        let plan = request.plan().within(false, self.draw.raster.supported());
+        let facts = FrameFacts {
+            field: self.field_part(),
+            time: shared::sim::simulate::step_time(push.first_step + push.steps),
+            ..Default::default()
         };
-        self.tile_uniforms(&mut uniforms);
+        self.block = request.uniforms(&plan, &facts);
+        let uniforms = self.block;
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
         self.record_compute(rec, self.simulate_push(push), false, plan.mesh());
         self.copy_counters(rec, queries);
+        Ok(())
     }
 
     /// Copies a device buffer into host memory and returns `count` values of `T`.
@@ -62,14 +66,14 @@ impl Renderer {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let descriptors = &self.field.descriptors;
         descriptors.write_buffer(shared::gpu::layout::BINDING_SCRATCH, storage, target);
-        self.grass.current_mut().capturing = buffer.is_some();
+        self.draw.grass.current_mut().capturing = buffer.is_some();
         Ok(())
     }
 
     /// The compute rasterizer's visibility buffer (`u64` per pixel of the target), once
     /// a frame sized it on a device that has it.
     pub fn visibility(&self) -> Option<&Buffer> {
-        self.raster.visibility()
+        self.draw.raster.visibility()
     }
 
     /// The blades of one tile as the GPU generates them (`compute::generate_tile`,
@@ -156,6 +160,6 @@ impl Renderer {
     /// The hardware's depth as the compute rasterizer read it (`f32` per pixel of the
     /// target), once a frame sized it on a device that has the rasterizer.
     pub fn hardware_depth(&self) -> Option<&Buffer> {
-        self.raster.hardware_depth()
+        self.draw.raster.hardware_depth()
     }
 }

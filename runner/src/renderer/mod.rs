@@ -4,23 +4,18 @@
 //! renderer records a frame; the frame driver (`app::driver`) owns the slots,
 //! submits and reads each slot's counters and timestamps back.
 
-mod draw;
 pub mod external;
 #[cfg(feature = "test-hooks")]
 mod hooks;
 pub mod readback;
-mod references;
 pub mod targets;
 
 pub use readback::{CullCounts, FrameQueries, Mark, PassTimes, Readback};
 
 use crate::field::{Field, FieldBlades};
-use crate::passes::by_target::ByTarget;
-use crate::passes::grass::GrassPass;
-use crate::passes::ground::GroundPass;
+use crate::passes::draw::DrawPass;
 use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
-use crate::passes::raster::RasterPass;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::simulate::SimulatePass;
 use crate::passes::tiles::TilesPass;
@@ -29,17 +24,17 @@ use crate::shaders;
 use crate::tiles::TiledSpec;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::pipeline::ShaderModules;
-use crate::vulkan::{Attachments, Context, Recorder};
+use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
 use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
-use shared::plan::FramePlan;
+use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
-use targets::{DrawTargets, TargetSpec};
+use targets::{DrawTargets, draw_images};
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
@@ -69,7 +64,7 @@ const SHADER_STAGES: S = S::from_raw(
 );
 
 /// Sky colour behind the field (linear).
-const SKY: [f32; 4] = [0.42, 0.62, 0.86, 1.0];
+pub(crate) const SKY: [f32; 4] = [0.42, 0.62, 0.86, 1.0];
 
 /// What a frame renders into.
 #[derive(Copy, Clone)]
@@ -88,11 +83,8 @@ pub struct Target {
 pub struct FrameInput<'a> {
     /// Where it renders.
     pub target: Target,
-    /// What the frame does: the renderer branches on this.
-    pub plan: FramePlan,
-    /// The frame's uniform block, from the same settings (the renderer fills in the
-    /// depth pyramid's layout, a tiled field's part, the time and the target's size).
-    pub uniforms: FrameUniforms,
+    /// What the frame shows: the renderer plans it and builds its block from it.
+    pub request: FrameRequest,
     /// The simulation steps to run.
     pub push: SimulatePush,
     /// Receives the rendered pixels (target left in TRANSFER_SRC_OPTIMAL).
@@ -131,9 +123,7 @@ pub struct Renderer {
     /// The field's buffers.
     pub field: Field,
     simulate: SimulatePass,
-    ground: GroundPass,
-    grass: ByTarget<GrassPass>,
-    raster: RasterPass,
+    draw: DrawPass,
     /// A tiled field's generation.
     pub tiles: Option<TilesPass>,
     /// Where a stored field reads its painted maps: the map square's centre and half
@@ -147,10 +137,10 @@ pub struct Renderer {
     overlay: Option<OverlayPass>,
     color_format: vk::Format,
     targets: Option<DrawTargets>,
-    /// (colour format, samples) the ground and grass pipelines draw into.
-    drawn_into: (vk::Format, u32),
     /// (seed, clump size) the clump buffer was made for; `None` when it is stale.
     clumped: Option<(u32, f32)>,
+    /// The newest frame's block.
+    block: FrameUniforms,
     pool: CommandPool,
     module: ShaderModules,
 }
@@ -186,7 +176,7 @@ impl Renderer {
             (meshes.surface, MATERIAL_SOIL),
             (meshes.bare, MATERIAL_ROCK),
         ];
-        let ground = GroundPass::new(
+        let draw = DrawPass::new(
             ctx,
             &pool,
             &module,
@@ -196,12 +186,6 @@ impl Renderer {
             meshes.ball,
             meshes.valley,
         )?;
-        let one = vk::SampleCountFlags::TYPE_1;
-        let raster = RasterPass::new(ctx, &module, &field, color_format, one)?;
-        let grass = ByTarget::new(
-            (color_format, one),
-            GrassPass::new(ctx, &module, &field, color_format, one)?,
-        );
         let occlusion = OcclusionPass::new(ctx, &module, &field)?;
         // The smallest map until the first frame names its size.
         let shadow = ShadowPass::new(ctx, &pool, &module, &field, SHADOW_SIZES[0])?;
@@ -210,9 +194,7 @@ impl Renderer {
             ctx: ctx.clone(),
             field,
             simulate,
-            ground,
-            grass,
-            raster,
+            draw,
             tiles,
             stored_maps: shared::world::tiles::TileParams {
                 centre: meshes.paint_square.0,
@@ -226,8 +208,8 @@ impl Renderer {
             overlay: None,
             color_format,
             targets: None,
-            drawn_into: (color_format, 1),
             clumped: None,
+            block: bytemuck::Zeroable::zeroed(),
             pool,
             module,
         })
@@ -250,63 +232,24 @@ impl Renderer {
         self.field.replace_blades(&self.ctx, &self.pool, blades)
     }
 
-    /// The depth pyramid's layout for the current target (empty before the first
-    /// frame).
-    pub fn hiz(&self) -> shared::cull::hiz::HiZLayout {
-        self.occlusion.hiz
+    /// The device.
+    pub(crate) fn context(&self) -> &Arc<Context> {
+        &self.ctx
     }
 
-    /// The draw's images and the depth pyramid for `extent`, the look and `samples`
-    /// (lowered to what the device has), and the pipelines that draw into them.
-    fn ensure_targets(&mut self, extent: vk::Extent2D, hdr: bool, samples: u32) -> Result<()> {
-        let spec = TargetSpec {
-            extent,
-            hdr,
-            samples: self.ctx.supported_samples(samples),
-        };
-        let old = self.targets.as_ref().map(|t| t.spec);
-        if old == Some(spec) {
-            return Ok(());
-        }
-        // The old images may still be in use by a frame in flight.
-        self.ctx.wait_idle()?;
-        self.targets = None;
-        if old.is_none_or(|o| o.extent != extent) {
-            self.occlusion.resize(&self.ctx, &mut self.field, extent)?;
-            self.raster.resize(&self.field, extent)?;
-        }
-        let targets = DrawTargets::new(&self.ctx, spec, self.color_format)?;
-        let set = &self.field.descriptors;
-        set.write_sampled_image(shared::gpu::layout::BINDING_DEPTH_IMAGE, targets.depth.view);
-        if let Some(ms) = &targets.depth_ms {
-            set.write_sampled_image(shared::gpu::layout::BINDING_DEPTH_IMAGE_MS, ms.view);
-        }
-        if let Some(hdr) = &targets.hdr {
-            self.tonemap.set_source(hdr.view);
-        }
-        let drawn_into = (
-            DrawTargets::draw_format(hdr, self.color_format),
-            spec.samples,
-        );
-        if drawn_into != self.drawn_into {
-            let samples = vk::SampleCountFlags::from_raw(spec.samples);
-            let (ctx, module, field) = (&self.ctx, &self.module, &self.field);
-            self.ground
-                .retarget(ctx, module, field, drawn_into.0, samples)?;
-            self.grass.select((drawn_into.0, samples), || {
-                GrassPass::new(ctx, module, field, drawn_into.0, samples)
-            })?;
-            self.raster.retarget(module, field, drawn_into.0, samples)?;
-            self.drawn_into = drawn_into;
-        }
-        if spec.samples != samples {
-            log::warn!(
-                "{samples} samples per pixel asked, the device has {} at most: using that",
-                spec.samples
-            );
-        }
-        self.targets = Some(targets);
-        Ok(())
+    /// The shader modules the pipelines are made from.
+    pub(crate) fn modules(&self) -> &ShaderModules {
+        &self.module
+    }
+
+    /// The colour format of the frame's target.
+    pub(crate) fn color_format(&self) -> vk::Format {
+        self.color_format
+    }
+
+    /// Records `record` into a one-time command buffer and waits for it.
+    pub(crate) fn one_shot(&self, record: impl FnOnce(&Recorder)) -> Result<()> {
+        self.pool.one_shot(record)
     }
 
     /// Records one whole frame into `rec`: uniforms and counters, the depth pyramid,
@@ -320,24 +263,18 @@ impl Renderer {
         input: &FrameInput,
     ) -> Result<()> {
         let target = input.target;
+        // Without anything to hide grass, the pyramid is neither built nor read.
         let plan = input
-            .plan
-            .within(self.has_occluders, self.raster.supported());
+            .request
+            .plan()
+            .within(self.has_occluders, self.draw.raster.supported());
         let natural = plan.natural();
         self.ensure_targets(target.extent, natural, plan.samples)?;
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             pass.update_textures(&self.pool, frame.textures)?;
         }
-        let mut uniforms = input.uniforms;
-        // Without the occlusion test, or anything to hide grass, the pyramid is
-        // neither built nor read.
+        let uniforms = self.prepare(&input.request, &plan, input.push, target.extent)?;
         let occlusion = plan.occlusion;
-        uniforms.hiz = if occlusion {
-            self.occlusion.hiz
-        } else {
-            Default::default()
-        };
-        self.complete_uniforms(&mut uniforms, &plan, input.push, target.extent)?;
         let stamp = stamper(rec, queries);
         let triangles = queries.triangles.as_ref().map(|t| t.pool);
         if let Some(pool) = triangles {
@@ -348,15 +285,17 @@ impl Renderer {
         if occlusion {
             let targets = self.targets.as_ref().context("draw targets")?;
             self.occlusion
-                .record(rec, &self.field, &self.ground, &targets.depth);
+                .record(rec, &self.field, &self.draw.ground, &targets.depth);
         }
         // After the pyramid: the far tiles are tested against it.
         self.record_tiles(rec, &uniforms, input.push)?;
         stamp(Mark::Pyramid);
         let balls = used_balls(&uniforms);
         self.record_simulation(rec, &plan, input.push, balls, &stamp);
-        self.record_draw(rec, &target, &plan, balls, &stamp, triangles)?;
         let targets = self.targets.as_ref().context("draw targets")?;
+        let images = draw_images(targets, &target);
+        self.draw
+            .record(rec, &self.field, &images, &plan, balls, &stamp, triangles);
         stamp(Mark::Resolve);
         self.copy_counters(rec, queries);
         if natural {
@@ -404,30 +343,45 @@ impl Renderer {
         Ok(())
     }
 
-    /// What the renderer fills in of every frame's block: a tiled field's part, the
-    /// simulated time after `push`'s steps, the target's `extent`, no far blades where
-    /// `plan` has none; the shadow map takes the plan's size and the ground's grid
-    /// follows the camera.
-    fn complete_uniforms(
+    /// The frame's whole block, built once from `request` drawn as `plan` says and
+    /// what the renderer knows ([`FrameFacts`]: the target's `extent`, its depth
+    /// pyramid, the field, the simulated time after `push`'s steps); the shadow map
+    /// takes the plan's size and the ground's grid follows the camera.
+    fn prepare(
         &mut self,
-        uniforms: &mut FrameUniforms,
+        request: &FrameRequest,
         plan: &FramePlan,
         push: SimulatePush,
         extent: vk::Extent2D,
-    ) -> Result<()> {
+    ) -> Result<FrameUniforms> {
         if let Some(side) = plan.shadows {
             self.shadow
                 .resize(&self.ctx, &self.pool, &self.field, side)?;
         }
-        if !plan.far {
-            uniforms.raster.below = 0.0;
+        self.draw.ground.follow(request.eye.position);
+        let facts = FrameFacts {
+            extent: (extent.width, extent.height),
+            hiz: self.occlusion.hiz,
+            field: self.field_part(),
+            time: shared::sim::simulate::step_time(push.first_step + push.steps),
+        };
+        self.block = request.uniforms(plan, &facts);
+        Ok(self.block)
+    }
+
+    /// The block of the newest frame recorded, as the GPU reads it.
+    pub fn block(&self) -> &FrameUniforms {
+        &self.block
+    }
+
+    /// The field's blades: all simulated in a stored field; a tiled field's pool
+    /// simulated and the rest generated (`GrassParams::tiled`).
+    fn field_part(&self) -> FieldPart {
+        FieldPart {
+            blades: self.field.blade_count,
+            simulated: self.field.simulated,
+            tiled: self.tiles.is_some(),
         }
-        self.tile_uniforms(uniforms);
-        uniforms.forces.time = shared::sim::simulate::step_time(push.first_step + push.steps);
-        self.ground.follow(uniforms.camera.position);
-        uniforms.raster.width = extent.width;
-        uniforms.raster.height = extent.height;
-        Ok(())
     }
 
     /// A tiled field's tiles for the frame of `push`'s steps (nothing for a stored
@@ -466,8 +420,8 @@ impl Renderer {
         self.record_compute(rec, self.simulate_push(push), natural, plan.mesh());
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
-            self.shadow
-                .record(rec, &self.field, &self.ground, self.grass.current(), balls);
+            let (ground, grass) = (&self.draw.ground, self.draw.grass.current());
+            self.shadow.record(rec, &self.field, ground, grass, balls);
         }
         stamp(Mark::Shadow);
     }
@@ -492,16 +446,6 @@ impl Renderer {
                 tiles: self.stored_maps,
                 ..push
             },
-        }
-    }
-
-    /// A tiled field's part of the frame block: its pool's blades simulated, the rest
-    /// generated (`GrassParams::tiled`).
-    fn tile_uniforms(&self, uniforms: &mut FrameUniforms) {
-        if self.tiles.is_some() {
-            uniforms.grass.blades = self.field.blade_count;
-            uniforms.grass.simulated = self.field.simulated;
-            uniforms.grass.tiled = 1;
         }
     }
 

@@ -2,6 +2,7 @@
 //! and the triangles the grass draw generated, each in per-slot objects the renderer
 //! writes and the frame driver reads once the slot's fence has signalled.
 
+pub use crate::passes::Mark;
 use crate::vulkan::query::{TimestampPool, TrianglePool};
 use crate::vulkan::{Buffer, Context};
 use anyhow::Result;
@@ -10,42 +11,6 @@ use gpu_allocator::MemoryLocation;
 use shared::gpu::counters;
 use shared::gpu::counters::COUNTER_COUNT;
 use std::sync::Arc;
-
-/// The timestamps of a frame, in the order they are written: the start, then the end
-/// of each pass of [`PassTimes`].
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-#[repr(u32)]
-pub enum Mark {
-    /// Before anything.
-    Start,
-    /// After the uniform upload, the counter reset and the depth pyramid.
-    Pyramid,
-    /// After simulate, cull and the draw commands.
-    SimulateCull,
-    /// After the sun's shadow map (natural look with shadows).
-    Shadow,
-    /// After the grass, drawn first so that the ground it covers fails the early
-    /// depth test.
-    Grass,
-    /// After the ground and the ball (inside the rendering scope: before its
-    /// resolve).
-    Ground,
-    /// After the compute rasterizer (`passes::raster`): the hardware's rendering scope
-    /// ended, its depth copied, the far blades drawn; at once without it.
-    Raster,
-    /// After the last rendering scope ended: the compute rasterizer's resolve and the
-    /// multisample resolve, when there are any.
-    Resolve,
-    /// After the sky and the tone map (natural look).
-    ToneMap,
-    /// After the overlay.
-    Overlay,
-}
-
-impl Mark {
-    /// Timestamps per frame.
-    pub const COUNT: u32 = 10;
-}
 
 /// How the compute pass sorted the blades of one frame: drawn, or removed by the
 /// first test that failed. Every blade lands in exactly one count.

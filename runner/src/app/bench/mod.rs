@@ -6,6 +6,7 @@
 //! and arithmetic, [`report`] the table and the CSV file, [`charts`] the PNG charts.
 
 pub mod charts;
+mod references;
 pub mod report;
 pub mod stats;
 pub mod table;
@@ -24,9 +25,8 @@ use crate::vulkan::Context;
 use anyhow::{Context as _, Result};
 use glam::Vec3;
 use report::{print_looks, print_raster, print_references, print_table, write_csv};
-use shared::gpu::layout::FrameUniforms;
-use shared::plan::FramePlan;
-use shared::settings::{GrassPipeline, Look, Settings};
+use shared::plan::FrameRequest;
+use shared::settings::{Look, Settings};
 use shared::sim::simulate::SimClock;
 use std::time::Instant;
 
@@ -183,7 +183,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 (Look::Paper, None) => 1,
                 _ => base.look.msaa,
             };
-            let uniforms = |config, pipeline, raster: Option<f32>, frame: u32| {
+            let request = |config, pipeline, raster: Option<f32>, frame: u32| {
                 let mut settings = base;
                 settings.look.style = look;
                 settings.look.msaa = msaa;
@@ -192,7 +192,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                     settings.compute_raster_below = below;
                 }
                 configure(&mut settings, config);
-                settings.planned(&eye(frame), scene.blade_count(), &[])
+                settings.request(&eye(frame), &[])
             };
             let first = points.len();
             for &config in &configs {
@@ -202,7 +202,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                             format!("{config:?}, {look:?} look, {pipeline:?}, at {n} blades");
                         progress.show(points.len(), &what);
                         let frames = (&mut driver, &mut offscreen);
-                        let frame = |f| uniforms(config, pipeline, raster, f);
+                        let frame = |f| request(config, pipeline, raster, f);
                         let mut point = measure(frames, &frame, args, config, n)?;
                         point.look = look;
                         point.pipeline = pipeline;
@@ -216,7 +216,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let unculled_by: Vec<_> = pipelines
                 .iter()
                 .map(|&p| {
-                    let frame = uniforms(BenchConfig::None, p, Some(0.0), 0);
+                    let frame = request(BenchConfig::None, p, Some(0.0), 0);
                     still(&mut driver, &mut offscreen, frame)
                 })
                 .collect::<Result<_>>()?;
@@ -226,7 +226,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 view = still(
                     &mut driver,
                     &mut offscreen,
-                    uniforms(point.config, point.pipeline, raster, 0),
+                    request(point.config, point.pipeline, raster, 0),
                 )?;
                 let at = pipelines.iter().position(|&p| p == point.pipeline);
                 let unculled = &unculled_by[at.unwrap_or(0)];
@@ -234,7 +234,12 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             }
             if at + 1 == counts.len() && look == looks[0] {
                 progress.show(points.len(), "references");
-                references = measure_references(&mut driver.renderer, &offscreen, n, &pipelines)?;
+                references = references::measure_references(
+                    &mut driver.renderer,
+                    &offscreen,
+                    n,
+                    &pipelines,
+                )?;
             }
         }
     }
@@ -271,11 +276,11 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
 }
 
 /// Warm-up, then `args.frames` frames of one configuration, each simulating 1/60 s
-/// from a clock started anew; `uniforms(k)` is the k-th measured frame's block (the
-/// warm-up runs the first's).
+/// from a clock started anew; `request(k)` is the k-th measured frame (the warm-up
+/// runs the first).
 fn measure(
     (driver, offscreen): (&mut FrameDriver, &mut Offscreen),
-    uniforms: &dyn Fn(u32) -> (FramePlan, FrameUniforms),
+    request: &dyn Fn(u32) -> FrameRequest,
     args: &BenchArgs,
     config: BenchConfig,
     blades: u32,
@@ -308,7 +313,7 @@ fn measure(
         }
         last = now;
         let measured = frame.saturating_sub(args.warmup);
-        driver.submit(started, offscreen, FrameSpec::plain(uniforms(measured)))?;
+        driver.submit(started, offscreen, FrameSpec::plain(request(measured)))?;
     }
     driver.finish()?;
     // Lavapipe counts no clipping invocations for mesh stages: none counted while
@@ -330,7 +335,7 @@ fn measure(
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,
-        compute_below: uniforms(0).1.raster.below,
+        compute_below: request(0).settings.compute_raster_below,
         compute_drawn: Spread::of(&compute_drawn).median,
         raster_covered: Spread::of(&covered).median,
         raster_written: Spread::of(&written).median,
@@ -352,72 +357,14 @@ fn measure(
     })
 }
 
-/// One frame of no time (no simulation step), captured: the picture of `uniforms`
+/// One frame of no time (no simulation step), captured: the picture of `request`
 /// with the blades exactly as they are.
 fn still(
     driver: &mut FrameDriver,
     offscreen: &mut Offscreen,
-    planned: (FramePlan, FrameUniforms),
+    request: FrameRequest,
 ) -> Result<Vec<u8>> {
-    driver.run(offscreen, 0.0, |_| planned, true)?;
+    driver.run(offscreen, 0.0, |_| request, true)?;
     driver.finish()?;
     offscreen.pixels()
-}
-
-/// Tessellation levels the throughput reference is timed at: the fewest and the most
-/// segments a blade gets.
-const REFERENCE_LEVELS: [f32; 2] = [1.0, shared::cull::lod::MAX_LEVEL];
-
-/// The bandwidth reference and each of `pipelines`' triangle-throughput reference over
-/// a field of `blades`.
-fn measure_references(
-    renderer: &mut Renderer,
-    offscreen: &Offscreen,
-    blades: u32,
-    pipelines: &[GrassPipeline],
-) -> Result<References> {
-    let repeats = 10;
-    let mut references = References {
-        copy_gbs: renderer.copy_bandwidth(repeats)?,
-        ..Default::default()
-    };
-    let target = offscreen.target();
-    for &pipeline in pipelines {
-        let mesh = pipeline == GrassPipeline::Mesh;
-        let mut timed = Vec::new();
-        for level in REFERENCE_LEVELS {
-            let Some((ms, counted)) =
-                renderer.triangle_throughput(&target, blades, level, repeats, mesh)?
-            else {
-                break;
-            };
-            // Per patch or strip as counted, else as the rules give it.
-            let rule = if mesh {
-                2 * shared::draw::meshlet::strip_segments(level)
-            } else {
-                shared::draw::reference::triangles_per_patch(level)
-            };
-            let triangles = counted
-                .filter(|&t| t > 0)
-                .map_or(f64::from(rule), |t| t as f64 / f64::from(blades));
-            log::info!(
-                "{pipeline:?} triangle reference at level {level}: {triangles} triangles per \
-                 blade, {ms:.3} ms"
-            );
-            timed.push((triangles, ms));
-        }
-        let [low, high] = timed[..] else { continue };
-        let patches = f64::from(blades);
-        let (patch_ms, triangle_ms) = TriangleReference::fit(patches, low, high);
-        let reference = Some(TriangleReference {
-            patch_ms,
-            triangle_ms,
-            triangles_per_s: patches * high.0 / (high.1 * 1e-3),
-        });
-        match pipeline {
-            GrassPipeline::Tess => references.tess = reference,
-            GrassPipeline::Mesh => references.mesh = reference,
-        }
-    }
-    Ok(references)
 }

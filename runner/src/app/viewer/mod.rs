@@ -338,12 +338,8 @@ impl Running {
             .map(Ball::sphere)
             .collect();
         let eye = self.camera.viewpoint(frame.extent());
-        let (plan, uniforms) = self
-            .settings
-            .planned(&eye, self.scene.blade_count(), &balls);
         let spec = FrameSpec {
-            plan,
-            uniforms,
+            request: self.settings.request(&eye, &balls),
             overlay: painted.as_ref().map(|p| OverlayFrame {
                 primitives: &p.primitives,
                 textures: &p.textures,

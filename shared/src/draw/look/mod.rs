@@ -54,9 +54,7 @@ pub struct LookParams {
     /// pixels of a few pixels' blade).
     pub caster_distance: f32,
     /// Padding to 16 bytes.
-    pub padding: [u32; 3],
-    /// Samples per pixel of the frame (the renderer picks its targets from it).
-    pub samples: u32,
+    pub padding: [u32; 4],
     /// Factor on the radiance before the tone map.
     pub exposure: f32,
     /// Height of the ground plane that carries the field to the horizon.

@@ -1,7 +1,8 @@
-//! The triangle-throughput references: patches tessellated like blades at a fixed
-//! level, or the mesh path's strips of that level, on a grid of small screen cells,
-//! shaded with one colour and timed, so the grass draw can be reported as a share of
-//! what this device draws at most through its pipeline.
+//! The benchmark's references, no part of a frame: the copy shader moving every blade
+//! (the device's bandwidth), and patches tessellated like blades at a fixed level, or
+//! the mesh path's strips of that level, on a grid of small screen cells, shaded with
+//! one colour (its triangle throughput), so the frame's passes can be reported as a
+//! share of what this device does at most.
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
@@ -10,17 +11,21 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use shared::draw::meshlet::{mesh_grid, strip_segments};
-use shared::gpu::layout::ThroughputPush;
+use shared::gpu::layout::{COPY_WORKGROUP, CopyPush, ThroughputPush};
 use std::sync::Arc;
 
-/// The reference pipelines: tessellated, and mesh where the device has it.
-pub struct ThroughputPass {
+/// The reference pipelines: the copy, tessellated patches, and mesh strips where the
+/// device has mesh stages.
+pub struct ReferencePass {
+    copy: Pipeline,
+    /// The device's most workgroups in x.
+    most_groups: u32,
     pipeline: Pipeline,
     mesh: Option<(Pipeline, ash::ext::mesh_shader::Device)>,
 }
 
-impl ThroughputPass {
-    /// The pipeline for a colour target of `color_format`.
+impl ReferencePass {
+    /// The pipelines, for a colour target of `color_format`.
     pub fn new(
         ctx: &Arc<Context>,
         module: &ShaderModules,
@@ -57,9 +62,31 @@ impl ThroughputPass {
             Err(_) => None,
         };
         Ok(Self {
+            copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
+            most_groups: ctx.properties.limits.max_compute_work_group_count[0],
             pipeline: Pipeline::graphics(ctx, &desc)?,
             mesh,
         })
+    }
+
+    /// Records the bandwidth reference: every blade copied into the buffer at
+    /// `layout::BINDING_SCRATCH`.
+    pub fn record_copy(&self, rec: &Recorder, field: &Field) {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        rec.bind_pipeline(
+            vk::PipelineBindPoint::COMPUTE,
+            self.copy.pipeline,
+            layout,
+            set,
+        );
+        // Four vec4 per blade.
+        let push = CopyPush {
+            count: field.blade_count * 4,
+        };
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        let groups = push.count.div_ceil(COPY_WORKGROUP).max(1);
+        let x = groups.min(self.most_groups);
+        rec.dispatch((x, groups.div_ceil(x)));
     }
 
     /// Whether the device draws the mesh path's reference.

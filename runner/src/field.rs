@@ -48,7 +48,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 23] = [
+pub const BINDINGS: [BindingSpec; 24] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -86,8 +86,12 @@ pub const BINDINGS: [BindingSpec; 23] = [
         ty: vk::DescriptorType::SAMPLER,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
-    // Each blade's clump, made by the clump pass, read by the compute pass.
-    storage(layout::BINDING_CLUMPS),
+    // Each blade's clump, made by the clump pass, read by the compute pass and by the
+    // shadow map's casters.
+    storage_in(
+        layout::BINDING_CLUMPS,
+        vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+    ),
     // The mesh path's indirect draws, written by the compute pass.
     storage(layout::BINDING_MESH_DRAW),
     // The mesh path's levels of detail, written and read by the compute pass.
@@ -115,10 +119,16 @@ pub const BINDINGS: [BindingSpec; 23] = [
         stages: vk::ShaderStageFlags::COMPUTE,
     },
     // A tiled field's tile words and blade ids (placeholders in a stored field).
+    // (The ids name the shadow map's casters too.)
     storage(layout::BINDING_TILES),
-    storage(layout::BINDING_IDS),
+    storage_in(
+        layout::BINDING_IDS,
+        vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+    ),
     // The painted density map (`shared::paint`).
     storage(layout::BINDING_PAINT),
+    // The shadow casters, read by the shadow map's vertex stage.
+    storage_in(layout::BINDING_CASTERS, vk::ShaderStageFlags::VERTEX),
 ];
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -220,8 +230,12 @@ pub struct Field {
     pub visible: Buffer,
     /// The counters (`layout::COUNTER_*`).
     pub counters: Buffer,
-    /// One `VkDrawIndirectCommand` per chunk.
+    /// One `VkDrawIndirectCommand` per chunk, then the shadow casters' (at
+    /// [`Field::casters_draw`]).
     pub draws: Buffer,
+    /// The shadow casters' indices (`u32`), compacted; read by the shadow map's
+    /// vertex stage.
+    pub casters: Buffer,
     /// The mesh path's indirect draws: one mesh grid per strip length
     /// (`meshlet::BUCKETS`).
     pub mesh_draw: Buffer,
@@ -246,9 +260,11 @@ pub struct Field {
     pub layout: PipelineLayout,
 }
 
-/// Device memory per blade: the blade, its collision strength, its index, its slot
-/// in the dressed buffer, its clump, and the mesh path's level and binned slot.
+/// Device memory per blade: the blade, its collision strength, its index in the
+/// visible and the casters' lists, its slot in the dressed buffer, its clump, and the
+/// mesh path's level and binned slot.
 pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64
+    + 4
     + 4
     + 4
     + size_of::<DressedBlade>() as u64
@@ -357,6 +373,7 @@ impl Field {
             u64::from(count) * 4,
             U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
+        let casters = device_buffer("shadow casters", u64::from(count) * 4, U::STORAGE_BUFFER)?;
         let dressed = device_buffer(
             "dressed blades",
             u64::from(count) * size_of::<DressedBlade>() as u64,
@@ -370,7 +387,7 @@ impl Field {
         )?;
         let draws = device_buffer(
             "draws",
-            u64::from(chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64,
+            u64::from(chunk_count + 1) * size_of::<vk::DrawIndirectCommand>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
         let mesh_draw = device_buffer(
@@ -418,6 +435,7 @@ impl Field {
         }
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         descriptors.write_buffer(layout::BINDING_DRESSED, storage, dressed.buffer);
+        descriptors.write_buffer(layout::BINDING_CASTERS, storage, casters.buffer);
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_LEVELS, storage, levels.buffer);
@@ -449,6 +467,7 @@ impl Field {
             visible,
             counters,
             draws,
+            casters,
             mesh_draw,
             raster_args,
             levels,
@@ -460,6 +479,12 @@ impl Field {
             descriptors,
             layout,
         })
+    }
+
+    /// Where in the draws buffer the shadow casters' draw command is: after the
+    /// chunks'.
+    pub fn casters_draw(&self) -> u64 {
+        u64::from(self.chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64
     }
 
     /// Replaces the blades by `blades` (as many as before) at rest, with no collision

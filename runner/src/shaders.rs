@@ -82,7 +82,9 @@ pub const PAPER_MESH: &str = "mesh::paper_mesh";
 pub const PAPER_MESH_CAPTURE: &str = "mesh::paper_mesh_capture";
 /// The natural look's mesh path: mesh stage.
 pub const NATURAL_MESH: &str = "mesh::natural_mesh";
-/// The grass from the sun (shadow map): tessellation control at the fewest segments.
+/// The grass from the sun (shadow map): the caster's index.
+pub const SHADOW_VS: &str = "grass::shadow_vs";
+/// The grass from the sun: tessellation control at the fewest segments.
 pub const GRASS_SHADOW_TCS: &str = "grass::shadow_tcs";
 /// The grass from the sun: tessellation evaluation into the shadow map.
 pub const GRASS_SHADOW_TES: &str = "grass::shadow_tes";

@@ -13,14 +13,13 @@
 use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
 use shared::cull::lod::{blade_level, tess_levels, tess_levels_if};
-use shared::draw::look::clump::{DressedBlade, blade_albedo};
+use shared::draw::look::clump::{Clump, DressedBlade, blade_albedo, caster_blade};
 use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
-use shared::draw::look::shadow::casts_shadow;
 use shared::draw::look::sky::fog;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
 use shared::draw::shape::surface_point;
-use shared::gpu::layout::FrameUniforms;
+use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
@@ -256,45 +255,64 @@ pub fn natural_view_fs(
     *out_color = blade_colour(view, facing, light, uv_level.y, uv_level.z).extend(1.0);
 }
 
-/// The sun's shadow map: the natural look's grass at its fewest segments (the
-/// tessellation level `lod.fewest`); a blade that covers no sample on screen, lies
-/// outside the map or farther than `look.caster_distance` is dropped (outer level 0).
+/// The index of the shadow caster this vertex stands for.
+#[spirv(vertex)]
+pub fn shadow_vs(
+    #[spirv(vertex_index)] vertex: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &[u32],
+    out_blade: &mut u32,
+) {
+    *out_blade = casters[vertex as usize];
+}
+
+/// Blade `index` as it casts its shadow (`clump::caster_blade`): read from the blade
+/// and clump buffers, named by its id in a tiled field.
+fn caster(
+    frame: &FrameUniforms,
+    blades: &[Blade],
+    clumps: &[Vec4],
+    ids: &[u32],
+    index: u32,
+) -> Blade {
+    let i = index as usize;
+    let id = if frame.grass.tiled != 0 {
+        ids[IDS_WORDS * i]
+    } else {
+        index
+    };
+    caster_blade(&blades[i], &Clump::unpack(clumps[i]), id, frame.look.seed)
+}
+
+/// The sun's shadow map: the natural look's casters (the compute pass's list, not the
+/// camera's) at their fewest segments (the tessellation level `lod.fewest`).
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn shadow_tcs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
-    in_slot: [u32; 1],
-    out_slot: &mut [u32; 1],
+    in_blade: [u32; 1],
+    out_blade: &mut [u32; 1],
     #[spirv(tess_level_outer)] outer: &mut [f32; 4],
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
-    out_slot[0] = in_slot[0];
-    let drawn = &dressed[in_slot[0] as usize];
-    let (mask, _) = unpack_coverage(drawn.tint.w);
-    let look = &frame.look;
-    let camera = frame.camera.position;
-    let casts = casts_shadow(
-        look.shadow_view_proj,
-        &drawn.blade,
-        camera,
-        look.caster_distance,
-    );
-    let (o, i) = tess_levels_if(frame.lod.fewest, mask != 0 && casts);
+    out_blade[0] = in_blade[0];
+    let (o, i) = tess_levels(frame.lod.fewest);
     *outer = o;
     *inner = i;
 }
 
-/// The blade surface seen from the sun (depth only).
+/// The caster's surface seen from the sun (depth only).
+#[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn shadow_tes(
     #[spirv(tess_coord)] coord: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
-    in_slot: [u32; 1],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    in_blade: [u32; 1],
     #[spirv(position)] out_position: &mut Vec4,
 ) {
-    let blade = &dressed[in_slot[0] as usize].blade;
+    let blade = caster(frame, blades, clumps, ids, in_blade[0]);
     let grass = &frame.grass;
-    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let p = surface_point(&blade, coord.x, coord.y, grass.shape, grass.tip_start);
     *out_position = frame.look.shadow_view_proj * p.position.extend(1.0);
 }

@@ -246,7 +246,7 @@ impl Settings {
     /// sees.
     pub fn look_params(&self, plan: &FramePlan, eye: &Viewpoint) -> LookParams {
         let look = &self.look;
-        let (centre, radius) = shadow_sphere(look.scene, eye.position, eye.forward);
+        let (centre, radius) = shadow_sphere(look.scene, eye.position);
         LookParams {
             shadow_view_proj: crate::draw::look::shadow::sun_view_proj(look.sun, centre, radius),
             style: plan.look as u32,

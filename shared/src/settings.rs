@@ -500,17 +500,17 @@ impl Settings {
 }
 
 /// The sphere the shadow map covers: the scene's, or where it is larger than
-/// [`SHADOW_REACH`], a sphere of that radius ahead of the camera, its centre snapped to
-/// a grid of a sixteenth of the radius so the map does not swim as the camera turns.
-pub fn shadow_sphere(scene: (Vec3, f32), camera: Vec3, forward: Vec3) -> (Vec3, f32) {
+/// [`SHADOW_REACH`], a sphere of that radius around the camera (not ahead of it: the
+/// map must not turn with the camera), its centre snapped to a grid of a sixteenth of
+/// the radius so the map does not swim as the camera moves.
+pub fn shadow_sphere(scene: (Vec3, f32), camera: Vec3) -> (Vec3, f32) {
     let (centre, radius) = scene;
     if radius <= SHADOW_REACH {
         return (centre, radius);
     }
     let r = SHADOW_REACH;
-    let ahead = camera + forward.normalize_or_zero() * (0.8 * r);
     let step = r / 16.0;
-    ((ahead / step).round() * step, r)
+    ((camera / step).round() * step, r)
 }
 
 #[cfg(test)]

@@ -1,17 +1,20 @@
 //! The sun's shadow map (natural look): the scene's surfaces, the collider balls and
-//! the visible grass at its fewest segments, depth only, from the sun
+//! the grass's shadow casters at their fewest segments, depth only, from the sun
 //! (`shared::draw::look::shadow::sun_view_proj`). Ground and grass fragments read it through
 //! binding 8 of the field's set.
 //!
 //! The fragment stages read it with one fetch through a comparison sampler.
 //!
-//! Grass is drawn from the compacted list of blades the camera keeps, at the level of
-//! detail `lod.fewest`: blades outside the view or removed by a test cast no shadow,
-//! and each blade costs one patch of one segment (2 triangles) in the map.
+//! Grass is drawn from the compute pass's list of casters: every blade inside the map
+//! and within `look.caster_distance` of the camera, whatever the camera's culling
+//! tests decide (a blade outside the view or turned edge-on still casts its shadow),
+//! dressed as the natural look draws it without the camera's fades
+//! (`shared::draw::look::clump::caster_blade`), at the level of detail `lod.fewest`:
+//! one patch of one segment (2 triangles) per caster. The map depends on where the
+//! camera is, not on where it looks.
 
 use crate::field::Field;
 use crate::passes::DEPTH_FORMAT;
-use crate::passes::grass::GrassPass;
 use crate::passes::ground::GroundPass;
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
@@ -64,7 +67,7 @@ impl ShadowPass {
             GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
         let surfaces = Pipeline::graphics(ctx, &surfaces)?;
         let stages = [
-            (St::VERTEX, shaders::NATURAL_VS),
+            (St::VERTEX, shaders::SHADOW_VS),
             (St::TESSELLATION_CONTROL, shaders::GRASS_SHADOW_TCS),
             (St::TESSELLATION_EVALUATION, shaders::GRASS_SHADOW_TES),
         ];
@@ -76,6 +79,11 @@ impl ShadowPass {
             surfaces,
             grass,
         })
+    }
+
+    /// The map (depth, `SHADER_READ_ONLY_OPTIMAL` between frames).
+    pub fn image(&self) -> &Image {
+        &self.map
     }
 
     /// Side of the map in texels.
@@ -116,7 +124,8 @@ impl ShadowPass {
             "shadow map",
             extent,
             DEPTH_FORMAT,
-            U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST,
+            // Copied out by the tests (`Renderer::shadow_map`).
+            U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED | U::TRANSFER_DST | U::TRANSFER_SRC,
             vk::ImageAspectFlags::DEPTH,
         )?;
         pool.one_shot(|rec| {
@@ -144,16 +153,9 @@ impl ShadowPass {
         Ok(map)
     }
 
-    /// Records the map: surfaces, `balls` and the visible grass; it is then ready
+    /// Records the map: surfaces, `balls` and the grass's casters; it is then ready
     /// for the fragment stages to sample.
-    pub fn record(
-        &self,
-        rec: &Recorder,
-        field: &Field,
-        ground: &GroundPass,
-        grass: &GrassPass,
-        balls: &[Vec4],
-    ) {
+    pub fn record(&self, rec: &Recorder, field: &Field, ground: &GroundPass, balls: &[Vec4]) {
         let aspect = vk::ImageAspectFlags::DEPTH;
         let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
@@ -169,7 +171,13 @@ impl ShadowPass {
         );
         rec.begin_rendering(None, Some(self.map.view), self.map.extent);
         ground.record_with(&self.surfaces, rec, field, balls);
-        grass.record_with(&self.grass, rec, field);
+        rec.bind_pipeline(
+            vk::PipelineBindPoint::GRAPHICS,
+            self.grass.pipeline,
+            field.layout.layout,
+            field.descriptors.set,
+        );
+        rec.draw_indirect_at(field.draws.buffer, field.casters_draw());
         rec.end_rendering();
         rec.image_barrier(
             self.map.image,

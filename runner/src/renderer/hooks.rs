@@ -157,6 +157,34 @@ impl Renderer {
         out.read(count)
     }
 
+    /// The sun's shadow map as the newest frame left it: depth per texel, row by row.
+    pub fn shadow_map(&self) -> Result<Vec<f32>> {
+        use vk::AccessFlags2 as A;
+        use vk::PipelineStageFlags2 as S;
+        let map = self.shadow.image();
+        let texels = (map.extent.width * map.extent.height) as usize;
+        let out = Buffer::new(
+            &self.ctx,
+            "shadow map read-back",
+            (texels * 4) as u64,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.ctx.wait_idle()?;
+        self.pool.one_shot(|rec| {
+            let depth = vk::ImageAspectFlags::DEPTH;
+            let sampled = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+            let copied = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+            let read = (S::FRAGMENT_SHADER, A::SHADER_READ);
+            let copy = (S::COPY, A::TRANSFER_READ);
+            rec.image_barrier(map.image, depth, (sampled, copied), read, copy);
+            rec.copy_image_to_buffer(map.image, depth, map.extent, out.buffer);
+            rec.image_barrier(map.image, depth, (copied, sampled), copy, read);
+            rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+        })?;
+        out.read(texels)
+    }
+
     /// The hardware's depth as the compute rasterizer read it (`f32` per pixel of the
     /// target), once a frame sized it on a device that has the rasterizer.
     pub fn hardware_depth(&self) -> Option<&Buffer> {

@@ -420,8 +420,8 @@ impl Renderer {
         self.record_compute(rec, self.simulate_push(push), natural, plan.mesh());
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
-            let (ground, grass) = (&self.draw.ground, self.draw.grass.current());
-            self.shadow.record(rec, &self.field, ground, grass, balls);
+            let ground = &self.draw.ground;
+            self.shadow.record(rec, &self.field, ground, balls);
         }
         stamp(Mark::Shadow);
     }

@@ -7,7 +7,7 @@ use shared::draw::meshlet::{
     BUCKETS, StripBlade, bucket_segments, mesh_grid, packed_bucket, top_segments, unpack_level,
 };
 use shared::draw::raster::{RASTER_GRID_WIDTH, prepare_dispatch, raster_dispatch};
-use shared::gpu::counters::{COUNTER_FAR, COUNTER_VISIBLE};
+use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_FAR, COUNTER_VISIBLE};
 use shared::gpu::counters::{binned_counter, bucket_base, strip_counter};
 use shared::gpu::layout::{
     CHUNK_WORKGROUP, ChunkPush, FrameUniforms, PREPARE_WORKGROUP, RASTER_DISPATCH, RASTER_DRAW,
@@ -85,8 +85,9 @@ pub fn bin_blades(
 }
 
 /// One thread per chunk: the draw command of its slice of the visible blades; the
-/// first also writes the mesh path's draws, one grid per strip length, and the compute
-/// rasterizer's preparation, dispatch and resolve.
+/// first also writes the shadow casters' draw (after the chunks'), the mesh path's
+/// draws, one grid per strip length, and the compute rasterizer's preparation,
+/// dispatch and resolve.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn write_draws(
@@ -106,6 +107,12 @@ pub fn write_draws(
     }
     let visible = counters[COUNTER_VISIBLE];
     if chunk == 0 {
+        draws[push.chunk_count as usize] = DrawIndirectCommand {
+            vertex_count: counters[COUNTER_CASTERS],
+            instance_count: 1,
+            first_vertex: 0,
+            first_instance: 0,
+        };
         // The rasterizer's dispatch and the resolve's three vertices, if there are far
         // blades.
         let far = counters[COUNTER_FAR];

@@ -6,12 +6,13 @@ use shared::cull::blade::{KEPT, cull_outcome};
 use shared::cull::lod::blade_level;
 use shared::draw::look::clump::{Clump, DressedBlade, dress};
 use shared::draw::look::coverage::unpack_coverage;
+use shared::draw::look::shadow::casts_shadow;
 use shared::draw::meshlet::{packed_bucket, visible_level};
 use shared::draw::raster::is_far;
 use shared::gpu::counters::COUNTER_TILE_BLADES;
 use shared::gpu::counters::strip_counter;
 use shared::gpu::counters::{
-    COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE, far_slot,
+    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE, far_slot,
 };
 use shared::gpu::layout::IDS_WORDS;
 use shared::gpu::layout::{
@@ -36,6 +37,7 @@ pub struct BladeBuffers<'a> {
     ids: &'a [u32],
     tiles: &'a [u32],
     paint: &'a [u32],
+    casters: &'a mut [u32],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -63,6 +65,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -75,6 +78,7 @@ pub fn simulate_cull(
         ids,
         tiles,
         paint,
+        casters,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
     let prepare = |_: u32, _: u32, kept: &Blade, _: &[u32], _: Vec2| {
@@ -97,6 +101,7 @@ pub fn simulate_cull(
         tally,
         prepare,
         |_, _| {},
+        |_| false,
     );
 }
 
@@ -123,6 +128,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -135,6 +141,7 @@ pub fn simulate_cull_natural(
         ids,
         tiles,
         paint,
+        casters,
     };
     let camera = frame.camera.position;
     let half = push.tiles.half_extent;
@@ -159,14 +166,21 @@ pub fn simulate_cull_natural(
         (DressedBlade { blade, tint }, level)
     };
     let store = |slot: usize, drawn: DressedBlade| dressed[slot] = drawn;
+    let look = &frame.look;
+    let casts = |blade: &Blade| {
+        look.shadows != 0
+            && casts_shadow(look.shadow_view_proj, blade, camera, look.caster_distance)
+    };
     simulate_and_cull(
-        id, local, workgroups, frame, push, buffers, tally, prepare, store,
+        id, local, workgroups, frame, push, buffers, tally, prepare, store, casts,
     );
 }
 
 /// The body of both simulate-and-cull entry points: `prepare(index, id, blade, maps)` runs
 /// for each visible blade and gives what `store(slot, ..)` writes once its slot of the
 /// visible list is known, and its level of detail on the mesh path (0: not drawn).
+/// Every blade in the field for which `casts` holds, whatever the camera's tests
+/// decide, goes to the shadow casters' list.
 /// In a tiled field (`GrassParams::tiled`) only the pool's blades are simulated, the
 /// far tiles' blades count as far as this frame generated them, an empty blade
 /// (width 0: a free slot, a blade its rank left) is skipped, and a blade's name is
@@ -182,6 +196,7 @@ fn simulate_and_cull<T: Copy + Default>(
     tally: &mut [u32; COUNTER_COUNT],
     mut prepare: impl FnMut(u32, u32, &Blade, &[u32], Vec2) -> (T, f32),
     mut store: impl FnMut(usize, T),
+    casts: impl Fn(&Blade) -> bool,
 ) {
     let BladeBuffers {
         blades,
@@ -193,6 +208,7 @@ fn simulate_and_cull<T: Copy + Default>(
         ids,
         tiles,
         paint,
+        casters,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
@@ -209,6 +225,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut outcome = KEPT;
     let mut far = false;
     let mut place = 0;
+    let mut caster = false;
+    let mut caster_place = 0;
     let mut prepared = T::default();
     let mut level = 0.0;
     let mut name = index;
@@ -269,6 +287,14 @@ fn simulate_and_cull<T: Copy + Default>(
             strengths[i] = strength;
         }
     }
+    if drawn && casts(&blade) {
+        caster = true;
+        caster_place = unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[COUNTER_CASTERS],
+            )
+        };
+    }
     if drawn {
         outcome = cull_outcome(
             &blade,
@@ -325,7 +351,7 @@ fn simulate_and_cull<T: Copy + Default>(
                     count,
                 )
             };
-            if k == COUNTER_VISIBLE || k == COUNTER_FAR {
+            if k == COUNTER_VISIBLE || k == COUNTER_FAR || k == COUNTER_CASTERS {
                 tally[k] = base;
             }
         }
@@ -343,5 +369,8 @@ fn simulate_and_cull<T: Copy + Default>(
         if mesh && !far {
             levels[slot] = level;
         }
+    }
+    if caster {
+        casters[(tally[COUNTER_CASTERS] + caster_place) as usize] = index;
     }
 }

@@ -51,8 +51,12 @@ pub const COUNTER_TILES_SHORT: usize = COUNTER_TILE_BLADES + 1;
 /// Tiles in the view volume the occlusion test found hidden at tile level (their
 /// box behind the occluders' depth pyramid): no blade generated.
 pub const COUNTER_TILES_HIDDEN: usize = COUNTER_TILES_SHORT + 1;
+/// Blades that cast a shadow into the sun's map this frame (natural look, shadows
+/// on): their indices fill the caster list (`layout::BINDING_CASTERS`), whatever the
+/// camera's tests decided.
+pub const COUNTER_CASTERS: usize = COUNTER_TILES_HIDDEN + 1;
 /// Number of `u32` counters.
-pub const COUNTER_COUNT: usize = COUNTER_TILES_HIDDEN + 1;
+pub const COUNTER_COUNT: usize = COUNTER_CASTERS + 1;
 
 /// The first binned slot of `bucket`: the blades of the buckets before it, whose
 /// counts are `counters[COUNTER_STRIPS..]` (`layout::COUNTER_STRIPS`).

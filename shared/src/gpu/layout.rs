@@ -45,7 +45,8 @@ pub const BINDING_BLADES: u32 = 1;
 pub const BINDING_VISIBLE: u32 = 2;
 /// Binding of the counters (storage, `u32` array; [`COUNTER_VISIBLE`](crate::gpu::counters::COUNTER_VISIBLE) first).
 pub const BINDING_COUNTERS: u32 = 3;
-/// Binding of the indirect draw commands, one per chunk (storage).
+/// Binding of the indirect draw commands (storage): one per chunk of the visible
+/// list, then the shadow casters' ([`BINDING_CASTERS`]).
 pub const BINDING_DRAWS: u32 = 4;
 /// Binding of the per-blade collision strength η (storage, `f32` per blade): the
 /// paper's "force map", kept per blade.
@@ -126,6 +127,12 @@ pub const IDS_WORDS: usize = 2;
 /// Binding of the painted density map (storage, `u32` words: `paint`'s layout),
 /// read where a tiled field's blades grow; a map of no texels in a field without one.
 pub const BINDING_PAINT: u32 = 22;
+/// Binding of the shadow casters' list (storage, `u32` blade indices, as many as the
+/// field's blades): the blades inside the sun's map and within the casters' reach
+/// of the camera, written by the compute pass and read by the shadow map's vertex
+/// stage, so the map does not depend on where the camera looks. Their draw command
+/// follows the chunks' in the draws buffer ([`BINDING_DRAWS`]).
+pub const BINDING_CASTERS: u32 = 23;
 /// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
 /// per far tile in view).
 pub const TILES_DISPATCH: usize = 0;

@@ -156,7 +156,7 @@ pub fn dress(
     look: &LookParams,
 ) -> (Blade, Vec4) {
     use crate::cull::blade::{DISTANCE, ORIENTATION, orientation_alignment, projected_distance};
-    let h1 = hash_unit(id ^ hash_u32(look.seed));
+    let h1 = blade_jitter(id, look.seed);
     let h2 = hash_unit(hash_u32(id) ^ 0x9e37_79b9);
     let dproj = projected_distance(blade, camera);
     let mut fade = 1.0;
@@ -184,6 +184,20 @@ pub fn dress(
     let mask = coverage_mask(alpha, 1, h3);
     let tint = blade_tint(clump, h1, h2).extend(pack_coverage(mask, density));
     (dressed, tint)
+}
+
+/// The per-blade jitter of blade `id` in a field of `seed` (0..1): its height within
+/// its clump's and its tint.
+pub fn blade_jitter(id: u32, seed: u32) -> f32 {
+    hash_unit(id ^ hash_u32(seed))
+}
+
+/// Blade `id` as it casts its shadow: dressed by its `clump` and jitter as the
+/// natural look draws it ([`dress`]), without the fades and the coverage that the
+/// camera's distance and direction give it, so its shadow is the same wherever the
+/// camera looks.
+pub fn caster_blade(blade: &Blade, clump: &Clump, id: u32, seed: u32) -> Blade {
+    dressed_blade(blade, clump, blade_jitter(id, seed), 1.0)
 }
 
 /// Fresh blade colour (linear albedo).

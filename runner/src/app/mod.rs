@@ -8,6 +8,7 @@ pub mod headless;
 pub mod overlay;
 pub mod presenter;
 pub mod progress;
+pub mod quality;
 pub mod record;
 pub mod render;
 pub mod soak;
@@ -135,6 +136,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Bench(_)) => "bench",
         Some(Command::Soak(_)) => "soak",
         Some(Command::Record(_)) => "record",
+        Some(Command::Quality(_)) => "quality",
         Some(Command::Config) => "config",
         Some(Command::View(_)) | None => "view",
     };
@@ -144,6 +146,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Bench(args)) => bench::run(&cli.common, &args).map(|_| ()),
         Some(Command::Soak(args)) => soak::run(&cli.common, &args).map(|_| ()),
         Some(Command::Record(args)) => record::run(&cli.common, &args).map(|_| ()),
+        Some(Command::Quality(args)) => quality::run(&cli.common, &args).map(|_| ()),
         Some(Command::Config) => {
             print!("{}", crate::config::defaults());
             Ok(())

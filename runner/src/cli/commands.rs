@@ -198,6 +198,35 @@ pub struct RenderArgs {
     pub camera: CameraArgs,
 }
 
+/// Options of `grass quality`.
+#[derive(Args, Debug, Clone)]
+pub struct QualityArgs {
+    /// The CSV written (method, samples, still, turning, shimmer, reference_shimmer).
+    #[arg(long, default_value = "quality.csv")]
+    pub out: PathBuf,
+    /// Image width in pixels of the measured frames.
+    #[arg(long, default_value_t = 640, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    pub width: u32,
+    /// Image height in pixels of the measured frames.
+    #[arg(long, default_value_t = 360, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    pub height: u32,
+    /// The reference's supersampling: this many times the width and the height.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(2..=8))]
+    pub scale: u32,
+    /// Frames of the turning camera (a third of a pixel each).
+    #[arg(long, default_value_t = 12, value_parser = clap::value_parser!(u32).range(2..=1000))]
+    pub frames: u32,
+    /// Frames (1/60 s each) the field settles for before anything is measured.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub settle: u32,
+    /// A folder for one cropped side-by-side per method (reference left), as PNGs.
+    #[arg(long)]
+    pub crops: Option<PathBuf>,
+    /// Where the camera stands.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
 /// Options of a clip.
 #[derive(Args, Debug, Clone)]
 pub struct RecordArgs {

@@ -46,6 +46,9 @@ pub enum Command {
     Soak(SoakArgs),
     /// Record a clip headless at a fixed frame time: a GIF, an MP4 (ffmpeg) or PNGs.
     Record(RecordArgs),
+    /// Measure each anti-aliasing method against a supersampled reference: still, on a
+    /// turning camera, and its shimmer; print a table and write a CSV.
+    Quality(QualityArgs),
     /// Print every setting at its default as a commented TOML file (for --config).
     Config,
 }

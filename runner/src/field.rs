@@ -88,10 +88,7 @@ pub const BINDINGS: [BindingSpec; 24] = [
     },
     // Each blade's clump, made by the clump pass, read by the compute pass and by the
     // shadow map's casters.
-    storage_in(
-        layout::BINDING_CLUMPS,
-        vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-    ),
+    storage_in(layout::BINDING_CLUMPS, TESSELLATION),
     // The mesh path's indirect draws, written by the compute pass.
     storage(layout::BINDING_MESH_DRAW),
     // The mesh path's levels of detail, written and read by the compute pass.
@@ -121,15 +118,18 @@ pub const BINDINGS: [BindingSpec; 24] = [
     // A tiled field's tile words and blade ids (placeholders in a stored field).
     // (The ids name the shadow map's casters too.)
     storage(layout::BINDING_TILES),
-    storage_in(
-        layout::BINDING_IDS,
-        vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-    ),
+    storage_in(layout::BINDING_IDS, TESSELLATION),
     // The painted density map (`shared::paint`).
     storage(layout::BINDING_PAINT),
     // The shadow casters, read by the shadow map's vertex stage.
     storage_in(layout::BINDING_CASTERS, vk::ShaderStageFlags::VERTEX),
 ];
+
+/// Both tessellation stages.
+const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
+);
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
 /// rasterizer's resolve).
@@ -231,10 +231,10 @@ pub struct Field {
     /// The counters (`layout::COUNTER_*`).
     pub counters: Buffer,
     /// One `VkDrawIndirectCommand` per chunk, then the shadow casters' (at
-    /// [`Field::casters_draw`]).
+    /// [`Field::casters_draw`], then [`Field::near_casters_draw`]).
     pub draws: Buffer,
-    /// The shadow casters' indices (`u32`), compacted; read by the shadow map's
-    /// vertex stage.
+    /// The shadow casters' indices (`u32`), compacted: all of them, then from the
+    /// blade count on the near cascade's; read by the shadow map's vertex stage.
     pub casters: Buffer,
     /// The mesh path's indirect draws: one mesh grid per strip length
     /// (`meshlet::BUCKETS`).
@@ -261,12 +261,12 @@ pub struct Field {
 }
 
 /// Device memory per blade: the blade, its collision strength, its index in the
-/// visible and the casters' lists, its slot in the dressed buffer, its clump, and the
+/// visible and the casters' two lists, its slot in the dressed buffer, its clump, and the
 /// mesh path's level and binned slot.
 pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64
     + 4
     + 4
-    + 4
+    + 8
     + size_of::<DressedBlade>() as u64
     + 16
     + 4
@@ -373,7 +373,8 @@ impl Field {
             u64::from(count) * 4,
             U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
-        let casters = device_buffer("shadow casters", u64::from(count) * 4, U::STORAGE_BUFFER)?;
+        // All of them, then the near cascade's.
+        let casters = device_buffer("shadow casters", u64::from(count) * 8, U::STORAGE_BUFFER)?;
         let dressed = device_buffer(
             "dressed blades",
             u64::from(count) * size_of::<DressedBlade>() as u64,
@@ -387,7 +388,7 @@ impl Field {
         )?;
         let draws = device_buffer(
             "draws",
-            u64::from(chunk_count + 1) * size_of::<vk::DrawIndirectCommand>() as u64,
+            u64::from(chunk_count + 2) * size_of::<vk::DrawIndirectCommand>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
         let mesh_draw = device_buffer(
@@ -485,6 +486,11 @@ impl Field {
     /// chunks'.
     pub fn casters_draw(&self) -> u64 {
         u64::from(self.chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64
+    }
+
+    /// Where the near cascade's casters' draw command is: after all casters'.
+    pub fn near_casters_draw(&self) -> u64 {
+        self.casters_draw() + size_of::<vk::DrawIndirectCommand>() as u64
     }
 
     /// Replaces the blades by `blades` (as many as before) at rest, with no collision

@@ -88,6 +88,8 @@ pub const SHADOW_VS: &str = "grass::shadow_vs";
 pub const GRASS_SHADOW_TCS: &str = "grass::shadow_tcs";
 /// The grass from the sun: tessellation evaluation into the shadow map.
 pub const GRASS_SHADOW_TES: &str = "grass::shadow_tes";
+/// The grass from the sun: tessellation evaluation into the near cascade.
+pub const GRASS_SHADOW_NEAR_TES: &str = "grass::shadow_near_tes";
 /// The tone map's full-screen triangle.
 pub const TONEMAP_VS: &str = "tonemap::tonemap_vs";
 /// Sky and tone map.
@@ -98,6 +100,8 @@ pub const CUBE_VS: &str = "example::cube_vs";
 pub const CUBE_FS: &str = "example::cube_fs";
 /// The surfaces from the sun (shadow map): vertex stage.
 pub const SHADOW_SURFACE_VS: &str = "ground::shadow_surface_vs";
+/// A surface from the sun into the near cascade.
+pub const SHADOW_SURFACE_NEAR_VS: &str = "ground::shadow_surface_near_vs";
 /// Ground vertex stage.
 pub const GROUND_VS: &str = "ground::ground_vs";
 /// Ground fragment stage.

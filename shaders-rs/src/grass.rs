@@ -299,7 +299,7 @@ pub fn shadow_tcs(
     *inner = i;
 }
 
-/// The caster's surface seen from the sun (depth only).
+/// The caster's surface seen from the sun: the shadow map's far cascade (depth only).
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn shadow_tes(
@@ -311,8 +311,36 @@ pub fn shadow_tes(
     in_blade: [u32; 1],
     #[spirv(position)] out_position: &mut Vec4,
 ) {
-    let blade = caster(frame, blades, clumps, ids, in_blade[0]);
+    let p = caster_point(frame, blades, clumps, ids, in_blade[0], coord);
+    *out_position = frame.look.shadow_view_proj * p.extend(1.0);
+}
+
+/// [`shadow_tes`] into the near cascade.
+#[allow(clippy::too_many_arguments)]
+#[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
+pub fn shadow_near_tes(
+    #[spirv(tess_coord)] coord: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    in_blade: [u32; 1],
+    #[spirv(position)] out_position: &mut Vec4,
+) {
+    let p = caster_point(frame, blades, clumps, ids, in_blade[0], coord);
+    *out_position = frame.look.near_view_proj * p.extend(1.0);
+}
+
+/// The world point at `coord` of caster `index`'s surface.
+fn caster_point(
+    frame: &FrameUniforms,
+    blades: &[Blade],
+    clumps: &[Vec4],
+    ids: &[u32],
+    index: u32,
+    coord: Vec3,
+) -> Vec3 {
+    let blade = caster(frame, blades, clumps, ids, index);
     let grass = &frame.grass;
-    let p = surface_point(&blade, coord.x, coord.y, grass.shape, grass.tip_start);
-    *out_position = frame.look.shadow_view_proj * p.position.extend(1.0);
+    surface_point(&blade, coord.x, coord.y, grass.shape, grass.tip_start).position
 }

@@ -77,7 +77,7 @@ pub fn ground_fs(
     *out_color = fog(lit, distance, dir, to_light, look.fog_density).extend(1.0);
 }
 
-/// One surface vertex seen from the sun (the shadow map; depth only).
+/// One surface vertex seen from the sun: the shadow map's far cascade (depth only).
 #[spirv(vertex)]
 pub fn shadow_surface_vs(
     position: Vec4,
@@ -87,4 +87,16 @@ pub fn shadow_surface_vs(
 ) {
     let (world, _) = place(push, position, Vec4::ZERO);
     *out_position = frame.look.shadow_view_proj * world;
+}
+
+/// [`shadow_surface_vs`] into the near cascade.
+#[spirv(vertex)]
+pub fn shadow_surface_near_vs(
+    position: Vec4,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(push_constant)] push: &SurfacePush,
+    #[spirv(position)] out_position: &mut Vec4,
+) {
+    let (world, _) = place(push, position, Vec4::ZERO);
+    *out_position = frame.look.near_view_proj * world;
 }

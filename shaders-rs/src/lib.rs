@@ -16,7 +16,7 @@ pub mod raster;
 pub mod throughput;
 pub mod tonemap;
 
-use shared::draw::look::shadow::{on_shadow_map, shadow_bias, shadow_coord};
+use shared::draw::look::shadow::{cascade_coord, shadow_bias};
 use shared::gpu::layout::FrameUniforms;
 use spirv_std::Sampler;
 use spirv_std::glam::Vec3;
@@ -33,15 +33,21 @@ pub type DepthImage = spirv_std::Image!(2D, type=f32, sampled);
 pub type DepthImageMs = spirv_std::Image!(2D, type=f32, sampled, multisampled);
 
 /// The sun's light reaching `world`: 1 lit, 0 in shadow, from one fetch of the shadow
-/// map through its comparison sampler (the texture unit tests the four nearest texels
-/// and weighs them bilinearly: `shared::draw::look::shadow::shadow_factor`); 1 with shadows off.
+/// map's cascade that holds it (`shared::draw::look::shadow::cascade_coord`) through
+/// its comparison sampler (the texture unit tests the four nearest texels and weighs
+/// them bilinearly: `shared::draw::look::shadow::shadow_factor`); 1 with shadows off.
 pub fn sun_shadow(frame: &FrameUniforms, map: &ShadowMap, sampler: &Sampler, world: Vec3) -> f32 {
     let look = &frame.look;
     if look.shadows == 0 {
         return 1.0;
     }
-    let coord = shadow_coord(look.shadow_view_proj, world);
-    if !on_shadow_map(coord) {
+    let (on, coord) = cascade_coord(
+        look.near_view_proj,
+        look.shadow_view_proj,
+        world,
+        look.shadow_size,
+    );
+    if !on {
         return 1.0;
     }
     let reference = coord.z - shadow_bias(look.shadow_size);

@@ -12,6 +12,7 @@ use crate::cull::blade::{CullParams, OCCLUSION};
 use crate::cull::hiz::HiZLayout;
 use crate::cull::lod::{LodParams, focal_pixels};
 use crate::draw::look::LookParams;
+use crate::draw::look::shadow::{near_sphere, sun_view_proj};
 use crate::draw::raster::RasterParams;
 use crate::gpu::layout::{FrameUniforms, GrassParams};
 use crate::settings::{
@@ -248,7 +249,11 @@ impl Settings {
         let look = &self.look;
         let (centre, radius) = shadow_sphere(look.scene, eye.position);
         LookParams {
-            shadow_view_proj: crate::draw::look::shadow::sun_view_proj(look.sun, centre, radius),
+            shadow_view_proj: sun_view_proj(look.sun, centre, radius),
+            near_view_proj: {
+                let (near, r) = near_sphere((centre, radius), eye.position);
+                sun_view_proj(look.sun, near, r)
+            },
             style: plan.look as u32,
             shadows: u32::from(plan.shadows.is_some()),
             seed: look.seed,

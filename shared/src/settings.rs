@@ -122,10 +122,13 @@ impl Default for LookSettings {
     }
 }
 
-/// Side of the sun's shadow map in texels on a GPU.
-pub const SHADOW_SIZE: u32 = 2048;
-/// Side of the sun's shadow map on a software device, whose rasteriser pays for
-/// every texel cleared and drawn.
+/// Side of each of the sun's two shadow cascades in texels on a GPU. The shadow pass
+/// is bound by the texels its casters cover: on an NVIDIA H100 at 1 M blades from the
+/// edge, one cascade took 0.42 ms at 1024 and 0.92 ms at 2048, and the two cascades
+/// 1.06 ms at 1024 and 2.72 ms at 2048.
+pub const SHADOW_SIZE: u32 = 1024;
+/// Side of each shadow cascade on a software device, whose rasteriser pays for every
+/// texel cleared and drawn.
 pub const SHADOW_SIZE_SOFTWARE: u32 = 512;
 /// The shadow map's sides that can be chosen: powers of two up to 4096, the least
 /// `maxImageDimension2D` Vulkan allows a device.

@@ -159,6 +159,12 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
             ExecutionModel::TessellationEvaluation,
         ),
         (shaders::SHADOW_SURFACE_VS, ExecutionModel::Vertex),
+        (shaders::SHADOW_SURFACE_NEAR_VS, ExecutionModel::Vertex),
+        (
+            shaders::GRASS_SHADOW_NEAR_TES,
+            ExecutionModel::TessellationEvaluation,
+        ),
+        (shaders::SHADOW_VS, ExecutionModel::Vertex),
         (shaders::NATURAL_VS, ExecutionModel::Vertex),
         (shaders::CLUMP_BLADES, ExecutionModel::GLCompute),
         (shaders::NATURAL_TCS, ExecutionModel::TessellationControl),
@@ -314,7 +320,9 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             }
                             n if n == shaders::WRITE_DRAWS => size_of::<layout::ChunkPush>(),
                             n if n == shaders::GROUND_VS => size_of::<layout::SurfacePush>(),
-                            n if n == shaders::SHADOW_SURFACE_VS => {
+                            n if n == shaders::SHADOW_SURFACE_VS
+                                || n == shaders::SHADOW_SURFACE_NEAR_VS =>
+                            {
                                 size_of::<layout::SurfacePush>()
                             }
                             n if n == shaders::TONEMAP_FS || n == shaders::TONEMAP_VS => {
@@ -524,6 +532,7 @@ fn frame_block_layout_matches_the_host_struct() {
             offset_of!(FrameUniforms, look),
             vec![
                 offset_of!(LookParams, shadow_view_proj),
+                offset_of!(LookParams, near_view_proj),
                 offset_of!(LookParams, style),
                 offset_of!(LookParams, shadows),
                 offset_of!(LookParams, seed),

@@ -177,8 +177,8 @@ pub struct Common {
     /// on a GPU, 1 on a software device].
     #[arg(long, global = true, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
-    /// Side of the sun's shadow map in texels: 256, 512, 1024, 2048 or 4096 [default:
-    /// 2048 on a GPU, 512 on a software device].
+    /// Side of each of the sun's two shadow cascades in texels: 256, 512, 1024, 2048
+    /// or 4096 [default: 1024 on a GPU, 512 on a software device].
     #[arg(long, global = true, value_parser = parse_shadow_size)]
     pub shadow_size: Option<u32>,
     /// How the grass is drawn: `tess` through the tessellator (a patch per blade),

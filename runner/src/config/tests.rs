@@ -184,7 +184,7 @@ fn every_setting_is_saved_and_read_back() {
     s.look.style = Look::Paper;
     s.look.shadows = false;
     s.look.msaa = 2;
-    s.look.shadow_size = 1024;
+    s.look.shadow_size = 512;
     s.look.exposure = 1.5;
     s.look.fog_density = 0.004;
     s.look.clump_size = 3.25;

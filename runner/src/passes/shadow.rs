@@ -3,7 +3,11 @@
 //! (`shared::draw::look::shadow::sun_view_proj`). Ground and grass fragments read it through
 //! binding 8 of the field's set.
 //!
-//! The fragment stages read it with one fetch through a comparison sampler.
+//! Two cascades side by side in one depth image (Dimitrov 2007): the near one on the
+//! left over a sphere of `shadow::NEAR_REACH` around the camera, the far one on the
+//! right over the whole shadowed region, each `side` texels a side; each drawn with
+//! its own pipelines into its half. The fragment stages read the cascade that holds
+//! the point (`shadow::cascade_coord`) with one fetch through a comparison sampler.
 //!
 //! Grass is drawn from the compute pass's list of casters: every blade inside the map
 //! and within `look.caster_distance` of the camera, whatever the camera's culling
@@ -38,8 +42,8 @@ pub struct ShadowPass {
     map: Image,
     /// The comparison sampler the field's set names: kept alive with the map.
     _sampler: Sampler,
-    surfaces: Pipeline,
-    grass: Pipeline,
+    /// Surfaces and casters into each cascade: near, then far.
+    cascades: [(Pipeline, Pipeline); 2],
 }
 
 impl ShadowPass {
@@ -62,22 +66,34 @@ impl ShadowPass {
         // The position alone (location 0): the shadow's vertex stage reads no normal.
         let mut input = vec4_vertex_input::<SurfaceVertex>();
         input.1.truncate(1);
-        let stages = [(St::VERTEX, shaders::SHADOW_SURFACE_VS)];
-        let surfaces =
-            GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
-        let surfaces = Pipeline::graphics(ctx, &surfaces)?;
-        let stages = [
-            (St::VERTEX, shaders::SHADOW_VS),
-            (St::TESSELLATION_CONTROL, shaders::GRASS_SHADOW_TCS),
-            (St::TESSELLATION_EVALUATION, shaders::GRASS_SHADOW_TES),
-        ];
-        let grass = GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
-        let grass = Pipeline::graphics(ctx, &grass)?;
+        let cascade = |surface_vs, (grass_tcs, grass_tes)| -> Result<(Pipeline, Pipeline)> {
+            let stages = [(St::VERTEX, surface_vs)];
+            let surfaces =
+                GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
+            let stages = [
+                (St::VERTEX, shaders::SHADOW_VS),
+                (St::TESSELLATION_CONTROL, grass_tcs),
+                (St::TESSELLATION_EVALUATION, grass_tes),
+            ];
+            let grass = GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
+            Ok((
+                Pipeline::graphics(ctx, &surfaces)?,
+                Pipeline::graphics(ctx, &grass)?,
+            ))
+        };
         Ok(Self {
             map,
             _sampler: sampler,
-            surfaces,
-            grass,
+            cascades: [
+                cascade(
+                    shaders::SHADOW_SURFACE_NEAR_VS,
+                    (shaders::GRASS_SHADOW_TCS, shaders::GRASS_SHADOW_NEAR_TES),
+                )?,
+                cascade(
+                    shaders::SHADOW_SURFACE_VS,
+                    (shaders::GRASS_SHADOW_TCS, shaders::GRASS_SHADOW_TES),
+                )?,
+            ],
         })
     }
 
@@ -86,9 +102,9 @@ impl ShadowPass {
         &self.map
     }
 
-    /// Side of the map in texels.
+    /// Side of each cascade in texels.
     pub fn size(&self) -> u32 {
-        self.map.extent.width
+        self.map.extent.height
     }
 
     /// Makes the map again `side` texels a side, unless it is already; waits for the
@@ -107,16 +123,23 @@ impl ShadowPass {
         Ok(())
     }
 
-    /// A map `side` texels a side, cleared to the far plane and ready to be sampled,
-    /// bound to the field's binding 8.
+    /// A map of two cascades `side` texels a side, cleared to the far plane and ready
+    /// to be sampled, bound to the field's binding 8.
     fn map(ctx: &Arc<Context>, pool: &CommandPool, field: &Field, side: u32) -> Result<Image> {
         use vk::ImageUsageFlags as U;
         anyhow::ensure!(
             SHADOW_SIZES.contains(&side),
             "shadow map of {side} texels: the sides are {SHADOW_SIZES:?}"
         );
+        let most = ctx.properties.limits.max_image_dimension2_d;
+        anyhow::ensure!(
+            2 * side <= most,
+            "shadow map of {side} texels: its two cascades need an image {} texels wide, \
+             this device makes them {most} wide at most; choose a smaller --shadow-size",
+            2 * side
+        );
         let extent = vk::Extent2D {
-            width: side,
+            width: 2 * side,
             height: side,
         };
         let map = Image::new(
@@ -170,14 +193,29 @@ impl ShadowPass {
             (tests, depth_rw),
         );
         rec.begin_rendering(None, Some(self.map.view), self.map.extent);
-        ground.record_with(&self.surfaces, rec, field, balls);
-        rec.bind_pipeline(
-            vk::PipelineBindPoint::GRAPHICS,
-            self.grass.pipeline,
-            field.layout.layout,
-            field.descriptors.set,
-        );
-        rec.draw_indirect_at(field.draws.buffer, field.casters_draw());
+        let side = self.size();
+        // Near first, with its own casters; then far, with all of them.
+        let casters = [field.near_casters_draw(), field.casters_draw()];
+        for (k, (surfaces, grass)) in self.cascades.iter().enumerate() {
+            rec.set_viewport(vk::Rect2D {
+                offset: vk::Offset2D {
+                    x: k as i32 * side as i32,
+                    y: 0,
+                },
+                extent: vk::Extent2D {
+                    width: side,
+                    height: side,
+                },
+            });
+            ground.record_with(surfaces, rec, field, balls);
+            rec.bind_pipeline(
+                vk::PipelineBindPoint::GRAPHICS,
+                grass.pipeline,
+                field.layout.layout,
+                field.descriptors.set,
+            );
+            rec.draw_indirect_at(field.draws.buffer, casters[k]);
+        }
         rec.end_rendering();
         rec.image_barrier(
             self.map.image,

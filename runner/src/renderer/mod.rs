@@ -290,7 +290,7 @@ impl Renderer {
         // After the pyramid: the far tiles are tested against it.
         self.record_tiles(rec, &uniforms, input.push)?;
         stamp(Mark::Pyramid);
-        let balls = used_balls(&uniforms);
+        let balls = input.request.balls();
         self.record_simulation(rec, &plan, input.push, balls, &stamp);
         let targets = self.targets.as_ref().context("draw targets")?;
         let images = draw_images(targets, &target);
@@ -524,12 +524,6 @@ fn stamper<'r>(rec: &'r Recorder, queries: &FrameQueries) -> impl Fn(Mark) + 'r 
             rec.write_timestamp(pool, mark as u32, S::BOTTOM_OF_PIPE);
         }
     }
-}
-
-/// The collider balls in use this frame.
-fn used_balls(uniforms: &FrameUniforms) -> &[glam::Vec4] {
-    let used = (uniforms.forces.colliders as usize).min(uniforms.colliders.len());
-    &uniforms.colliders[..used]
 }
 
 impl Drop for Renderer {

@@ -295,6 +295,20 @@ impl<'a> Recorder<'a> {
         unsafe { self.device.cmd_set_scissor(self.cmd, 0, &[rect]) };
     }
 
+    /// Draws into `rect` alone: the viewport (depth 0..1) and the scissor over it.
+    pub fn set_viewport(&self, rect: vk::Rect2D) {
+        let viewport = vk::Viewport {
+            x: rect.offset.x as f32,
+            y: rect.offset.y as f32,
+            width: rect.extent.width as f32,
+            height: rect.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        unsafe { self.device.cmd_set_viewport(self.cmd, 0, &[viewport]) };
+        self.set_scissor(rect);
+    }
+
     /// Binds descriptor set 0 of `layout` alone (the pipeline stays).
     pub fn bind_set(
         &self,

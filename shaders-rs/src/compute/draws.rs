@@ -7,7 +7,7 @@ use shared::draw::meshlet::{
     BUCKETS, StripBlade, bucket_segments, mesh_grid, packed_bucket, top_segments, unpack_level,
 };
 use shared::draw::raster::{RASTER_GRID_WIDTH, prepare_dispatch, raster_dispatch};
-use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_FAR, COUNTER_VISIBLE};
+use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_FAR, COUNTER_NEAR_CASTERS, COUNTER_VISIBLE};
 use shared::gpu::counters::{binned_counter, bucket_base, strip_counter};
 use shared::gpu::layout::{
     CHUNK_WORKGROUP, ChunkPush, FrameUniforms, PREPARE_WORKGROUP, RASTER_DISPATCH, RASTER_DRAW,
@@ -85,7 +85,7 @@ pub fn bin_blades(
 }
 
 /// One thread per chunk: the draw command of its slice of the visible blades; the
-/// first also writes the shadow casters' draw (after the chunks'), the mesh path's
+/// first also writes the shadow casters' draws (after the chunks'), the mesh path's
 /// draws, one grid per strip length, and the compute rasterizer's preparation,
 /// dispatch and resolve.
 #[allow(clippy::too_many_arguments)]
@@ -111,6 +111,13 @@ pub fn write_draws(
             vertex_count: counters[COUNTER_CASTERS],
             instance_count: 1,
             first_vertex: 0,
+            first_instance: 0,
+        };
+        // The near cascade's casters, in the list's second half.
+        draws[push.chunk_count as usize + 1] = DrawIndirectCommand {
+            vertex_count: counters[COUNTER_NEAR_CASTERS],
+            instance_count: 1,
+            first_vertex: frame.grass.blades,
             first_instance: 0,
         };
         // The rasterizer's dispatch and the resolve's three vertices, if there are far

@@ -6,13 +6,14 @@ use shared::cull::blade::{KEPT, cull_outcome};
 use shared::cull::lod::blade_level;
 use shared::draw::look::clump::{Clump, DressedBlade, dress};
 use shared::draw::look::coverage::unpack_coverage;
-use shared::draw::look::shadow::casts_shadow;
+use shared::draw::look::shadow::{casts_shadow, in_shadow_map};
 use shared::draw::meshlet::{packed_bucket, visible_level};
 use shared::draw::raster::is_far;
 use shared::gpu::counters::COUNTER_TILE_BLADES;
 use shared::gpu::counters::strip_counter;
 use shared::gpu::counters::{
-    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_VISIBLE, far_slot,
+    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_NEAR_CASTERS,
+    COUNTER_VISIBLE, far_slot,
 };
 use shared::gpu::layout::IDS_WORDS;
 use shared::gpu::layout::{
@@ -101,7 +102,7 @@ pub fn simulate_cull(
         tally,
         prepare,
         |_, _| {},
-        |_| false,
+        |_| (false, false),
     );
 }
 
@@ -168,8 +169,9 @@ pub fn simulate_cull_natural(
     let store = |slot: usize, drawn: DressedBlade| dressed[slot] = drawn;
     let look = &frame.look;
     let casts = |blade: &Blade| {
-        look.shadows != 0
-            && casts_shadow(look.shadow_view_proj, blade, camera, look.caster_distance)
+        let far = look.shadows != 0
+            && casts_shadow(look.shadow_view_proj, blade, camera, look.caster_distance);
+        (far, far && in_shadow_map(look.near_view_proj, blade))
     };
     simulate_and_cull(
         id, local, workgroups, frame, push, buffers, tally, prepare, store, casts,
@@ -179,8 +181,9 @@ pub fn simulate_cull_natural(
 /// The body of both simulate-and-cull entry points: `prepare(index, id, blade, maps)` runs
 /// for each visible blade and gives what `store(slot, ..)` writes once its slot of the
 /// visible list is known, and its level of detail on the mesh path (0: not drawn).
-/// Every blade in the field for which `casts` holds, whatever the camera's tests
-/// decide, goes to the shadow casters' list.
+/// Every blade in the field that `casts` says casts a shadow, whatever the camera's
+/// tests decide, goes to the shadow casters' list, and to the near cascade's where
+/// it says so too.
 /// In a tiled field (`GrassParams::tiled`) only the pool's blades are simulated, the
 /// far tiles' blades count as far as this frame generated them, an empty blade
 /// (width 0: a free slot, a blade its rank left) is skipped, and a blade's name is
@@ -196,7 +199,7 @@ fn simulate_and_cull<T: Copy + Default>(
     tally: &mut [u32; COUNTER_COUNT],
     mut prepare: impl FnMut(u32, u32, &Blade, &[u32], Vec2) -> (T, f32),
     mut store: impl FnMut(usize, T),
-    casts: impl Fn(&Blade) -> bool,
+    casts: impl Fn(&Blade) -> (bool, bool),
 ) {
     let BladeBuffers {
         blades,
@@ -225,8 +228,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut outcome = KEPT;
     let mut far = false;
     let mut place = 0;
-    let mut caster = false;
-    let mut caster_place = 0;
+    let (mut caster, mut near_caster) = (false, false);
+    let (mut caster_place, mut near_place) = (0, 0);
     let mut prepared = T::default();
     let mut level = 0.0;
     let mut name = index;
@@ -287,11 +290,20 @@ fn simulate_and_cull<T: Copy + Default>(
             strengths[i] = strength;
         }
     }
-    if drawn && casts(&blade) {
-        caster = true;
+    if drawn {
+        (caster, near_caster) = casts(&blade);
+    }
+    if caster {
         caster_place = unsafe {
             atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
                 &mut tally[COUNTER_CASTERS],
+            )
+        };
+    }
+    if near_caster {
+        near_place = unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[COUNTER_NEAR_CASTERS],
             )
         };
     }
@@ -351,7 +363,11 @@ fn simulate_and_cull<T: Copy + Default>(
                     count,
                 )
             };
-            if k == COUNTER_VISIBLE || k == COUNTER_FAR || k == COUNTER_CASTERS {
+            if k == COUNTER_VISIBLE
+                || k == COUNTER_FAR
+                || k == COUNTER_CASTERS
+                || k == COUNTER_NEAR_CASTERS
+            {
                 tally[k] = base;
             }
         }
@@ -372,5 +388,8 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     if caster {
         casters[(tally[COUNTER_CASTERS] + caster_place) as usize] = index;
+    }
+    if near_caster {
+        casters[(grass.blades + tally[COUNTER_NEAR_CASTERS] + near_place) as usize] = index;
     }
 }

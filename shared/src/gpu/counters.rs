@@ -55,8 +55,11 @@ pub const COUNTER_TILES_HIDDEN: usize = COUNTER_TILES_SHORT + 1;
 /// on): their indices fill the caster list (`layout::BINDING_CASTERS`), whatever the
 /// camera's tests decided.
 pub const COUNTER_CASTERS: usize = COUNTER_TILES_HIDDEN + 1;
+/// Of those, the casters inside the near cascade (`look::shadow::near_sphere`): their
+/// indices fill the list's second half, from the field's blade count on.
+pub const COUNTER_NEAR_CASTERS: usize = COUNTER_CASTERS + 1;
 /// Number of `u32` counters.
-pub const COUNTER_COUNT: usize = COUNTER_CASTERS + 1;
+pub const COUNTER_COUNT: usize = COUNTER_NEAR_CASTERS + 1;
 
 /// The first binned slot of `bucket`: the blades of the buckets before it, whose
 /// counts are `counters[COUNTER_STRIPS..]` (`layout::COUNTER_STRIPS`).

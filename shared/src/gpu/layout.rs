@@ -127,11 +127,13 @@ pub const IDS_WORDS: usize = 2;
 /// Binding of the painted density map (storage, `u32` words: `paint`'s layout),
 /// read where a tiled field's blades grow; a map of no texels in a field without one.
 pub const BINDING_PAINT: u32 = 22;
-/// Binding of the shadow casters' list (storage, `u32` blade indices, as many as the
-/// field's blades): the blades inside the sun's map and within the casters' reach
-/// of the camera, written by the compute pass and read by the shadow map's vertex
-/// stage, so the map does not depend on where the camera looks. Their draw command
-/// follows the chunks' in the draws buffer ([`BINDING_DRAWS`]).
+/// Binding of the shadow casters' lists (storage, `u32` blade indices, twice as many
+/// as the field's blades): the blades inside the sun's map and within the casters'
+/// reach of the camera from the start, those of them inside the near cascade from
+/// the field's blade count on; written by the compute pass and read by the shadow
+/// map's vertex stage, so the map does not depend on where the camera looks. Their
+/// draw commands (far cascade, then near) follow the chunks' in the draws buffer
+/// ([`BINDING_DRAWS`]).
 pub const BINDING_CASTERS: u32 = 23;
 /// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
 /// per far tile in view).

@@ -30,8 +30,12 @@ pub const LOOK_NATURAL: u32 = 1;
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LookParams {
-    /// World to the sun's shadow map (clip space, depth 0..1).
+    /// World to the sun's far cascade (clip space, depth 0..1): the right half of
+    /// the shadow map, over the whole shadowed region.
     pub shadow_view_proj: Mat4,
+    /// World to the sun's near cascade: the left half of the shadow map, over a
+    /// smaller sphere around the camera (`shadow::near_sphere`), its texels finer.
+    pub near_view_proj: Mat4,
     /// `LOOK_PAPER` or `LOOK_NATURAL`.
     pub style: u32,
     /// Shadows on (1) or off (0).

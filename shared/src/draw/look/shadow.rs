@@ -42,6 +42,40 @@ pub fn in_shadow_map(view_proj: Mat4, blade: &Blade) -> bool {
     inside(blade.root()) || inside(blade.midpoint()) || inside(blade.tip())
 }
 
+/// Radius of the near cascade, in units: the shadows of the blades nearest the camera,
+/// in texels four times finer than the far cascade's at its most reach (48 units).
+pub const NEAR_REACH: f32 = 12.0;
+
+/// The near cascade's sphere inside the far one (`far`, centre and radius): one of
+/// [`NEAR_REACH`] around the camera, its centre snapped to a sixteenth of its radius so
+/// it does not swim as the camera moves; the far sphere itself where that is no
+/// larger.
+pub fn near_sphere(far: (Vec3, f32), camera: Vec3) -> (Vec3, f32) {
+    if far.1 <= NEAR_REACH {
+        return far;
+    }
+    let step = NEAR_REACH / 16.0;
+    ((camera / step).round() * step, NEAR_REACH)
+}
+
+/// Where `p` falls in the two cascades' map (Dimitrov 2007, cascaded shadow maps): the
+/// near cascade in the left half, the far one in the right, `size` texels a side
+/// each; (u, v) over the whole map and the depth, and whether it falls on either.
+/// The near cascade is read where `p` lies more than a texel and a half inside it, so
+/// the four texels the filter reads never cross into the other half.
+pub fn cascade_coord(near: Mat4, far: Mat4, p: Vec3, size: u32) -> (bool, Vec3) {
+    let margin = 1.5 / size as f32;
+    let inside = |c: Vec3| {
+        c.x > margin && c.y > margin && c.x < 1.0 - margin && c.y < 1.0 - margin && c.z < 1.0
+    };
+    let c = shadow_coord(near, p);
+    if inside(c) {
+        return (true, Vec3::new(0.5 * c.x, c.y, c.z));
+    }
+    let c = shadow_coord(far, p);
+    (inside(c), Vec3::new(0.5 + 0.5 * c.x, c.y, c.z))
+}
+
 /// Where `p` falls in the shadow map: (u, v) in 0..1 and its depth, from the map's
 /// `view_proj`.
 pub fn shadow_coord(view_proj: Mat4, p: Vec3) -> Vec3 {

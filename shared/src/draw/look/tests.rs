@@ -269,3 +269,30 @@ fn palette_runs_fresh_to_dry_and_tips_are_drier() {
     // Redder (drier) relative to green at the tip.
     assert!(tip.x / tip.y > root.x / root.y);
 }
+
+#[test]
+fn the_near_cascade_takes_what_it_holds_and_the_far_one_the_rest() {
+    let to_sun = Vec3::new(0.3, 1.0, 0.2).normalize();
+    let camera = Vec3::new(40.0, 2.0, -30.0);
+    let far_sphere = (Vec3::new(40.0, 0.0, -30.0), 48.0);
+    let near_cascade = near_sphere(far_sphere, camera);
+    assert_eq!(near_cascade.1, NEAR_REACH);
+    assert!((near_cascade.0 - camera).length() < NEAR_REACH / 16.0);
+    let far = sun_view_proj(to_sun, far_sphere.0, far_sphere.1);
+    let near = sun_view_proj(to_sun, near_cascade.0, near_cascade.1);
+    let size = 1024;
+    // Beside the camera: the left half, at the near map's own coordinate halved.
+    let (on, c) = cascade_coord(near, far, camera, size);
+    let own = shadow_coord(near, camera);
+    assert!(on && c.x < 0.5);
+    assert!((c.x - 0.5 * own.x).abs() < 1e-6 && (c.y - own.y).abs() < 1e-6);
+    // Thirty units off: beyond the near cascade, in the right half.
+    let off = camera + Vec3::new(30.0, 0.0, 0.0);
+    let (on, c) = cascade_coord(near, far, off, size);
+    assert!(on && c.x > 0.5);
+    assert!((c.x - (0.5 + 0.5 * shadow_coord(far, off).x)).abs() < 1e-6);
+    // Beyond both: on neither.
+    assert!(!cascade_coord(near, far, camera + Vec3::new(200.0, 0.0, 0.0), size).0);
+    // A small scene: one sphere for both.
+    assert_eq!(near_sphere((Vec3::ZERO, 8.0), camera), (Vec3::ZERO, 8.0));
+}

@@ -16,6 +16,7 @@ use shared::cull::lod::{blade_level, tess_levels, tess_levels_if};
 use shared::draw::look::clump::{Clump, DressedBlade, blade_albedo, caster_blade};
 use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
+use shared::draw::look::shadow::CASTER_LEVEL;
 use shared::draw::look::sky::fog;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
 use shared::draw::shape::surface_point;
@@ -284,17 +285,16 @@ fn caster(
 }
 
 /// The sun's shadow map: the natural look's casters (the compute pass's list, not the
-/// camera's) at their fewest segments (the tessellation level `lod.fewest`).
+/// camera's) at one segment (`shadow::CASTER_LEVEL`, whatever the camera's LOD).
 #[spirv(tessellation_control(output_vertices = 1))]
 pub fn shadow_tcs(
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     in_blade: [u32; 1],
     out_blade: &mut [u32; 1],
     #[spirv(tess_level_outer)] outer: &mut [f32; 4],
     #[spirv(tess_level_inner)] inner: &mut [f32; 2],
 ) {
     out_blade[0] = in_blade[0];
-    let (o, i) = tess_levels(frame.lod.fewest);
+    let (o, i) = tess_levels(CASTER_LEVEL);
     *outer = o;
     *inner = i;
 }

@@ -1,8 +1,10 @@
-//! Sun shadows that do not move with the camera: the shadow map of a frame is the
-//! same, texel for texel, when only the direction the camera looks in changes. Its
-//! casters come from the compute pass's own list (every blade inside the map and
-//! within the casters' reach of the camera), not from the blades the camera keeps,
-//! which the frustum and orientation tests choose by where it looks.
+//! Sun shadows that do not move with the camera: the shadow map of a frame (both
+//! cascades) is the same, texel for texel, when only the direction the camera looks
+//! in changes. Its casters come from the compute pass's own lists (every blade inside
+//! the map and within the casters' reach of the camera, and those inside the near
+//! cascade), not from the blades the camera keeps, which the frustum and orientation
+//! tests choose by where it looks; both cascades are placed around the camera's
+//! position, not ahead of it.
 
 use glam::camera::rh;
 use glam::{Mat4, Quat, Vec3};

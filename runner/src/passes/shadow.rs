@@ -1,5 +1,5 @@
 //! The sun's shadow map (natural look): the scene's surfaces, the collider balls and
-//! the grass's shadow casters at their fewest segments, depth only, from the sun
+//! the grass's shadow casters at one segment, depth only, from the sun
 //! (`shared::draw::look::shadow::sun_view_proj`). Ground and grass fragments read it through
 //! binding 8 of the field's set.
 //!
@@ -13,7 +13,8 @@
 //! and within `look.caster_distance` of the camera, whatever the camera's culling
 //! tests decide (a blade outside the view or turned edge-on still casts its shadow),
 //! dressed as the natural look draws it without the camera's fades
-//! (`shared::draw::look::clump::caster_blade`), at the level of detail `lod.fewest`:
+//! (`shared::draw::look::clump::caster_blade`), at a fixed level of detail
+//! (`shadow::CASTER_LEVEL`):
 //! one patch of one segment (2 triangles) per caster. The map depends on where the
 //! camera is, not on where it looks.
 

@@ -1,4 +1,5 @@
-//! Sun shadows: a shadow map fitted to the shadowed region, read with bilinear
+//! Sun shadows: a shadow map of two cascades (Dimitrov 2007), the far one fitted to the
+//! shadowed region and the near one to the camera's surroundings, read with bilinear
 //! percentage-closer filtering (Williams 1978; Reeves et al. 1987).
 
 use crate::Blade;
@@ -41,6 +42,11 @@ pub fn in_shadow_map(view_proj: Mat4, blade: &Blade) -> bool {
     };
     inside(blade.root()) || inside(blade.midpoint()) || inside(blade.tip())
 }
+
+/// Tessellation level of a shadow caster: one segment (two triangles). Fixed, like
+/// the rest of the caster, so that the shadows do not follow the camera's level of
+/// detail either (a blade's `lod.fewest` is the camera's setting).
+pub const CASTER_LEVEL: f32 = 1.0;
 
 /// Radius of the near cascade, in units: the shadows of the blades nearest the camera,
 /// in texels four times finer than the far cascade's at its most reach (48 units).

@@ -103,6 +103,10 @@ pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
         }
         results.push(quality);
     }
+    let errors = run.ctx.validation_errors();
+    if errors > 0 {
+        anyhow::bail!("{errors} validation errors (see the log above)");
+    }
     print!("{}", table(&results, args));
     std::fs::write(&args.out, csv(&results))
         .with_context(|| format!("write {}", args.out.display()))?;

@@ -512,8 +512,7 @@ pub fn shadow_sphere(scene: (Vec3, f32), camera: Vec3) -> (Vec3, f32) {
         return (centre, radius);
     }
     let r = SHADOW_REACH;
-    let step = r / 16.0;
-    ((camera / step).round() * step, r)
+    (crate::draw::look::shadow::snapped(camera, r), r)
 }
 
 #[cfg(test)]

@@ -22,6 +22,7 @@ use super::render::Headless;
 use crate::cli::{Common, QualityArgs};
 use anyhow::{Context as _, Result};
 use glam::Quat;
+use shared::draw::shade::{linear_to_srgb, srgb_to_linear};
 use shared::settings::{Settings, Viewpoint};
 use std::fmt::Write as _;
 
@@ -171,31 +172,12 @@ pub fn measure(
     }
 }
 
-/// sRGB 8-bit to linear light.
-fn linear(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// Linear light to sRGB 8-bit.
-fn srgb(l: f32) -> u8 {
-    let l = l.clamp(0.0, 1.0);
-    let c = if l <= 0.003_130_8 {
-        12.92 * l
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    };
-    (c * 255.0).round() as u8
-}
-
 /// RGBA8 sRGB `pixels` of `size` averaged down by `scale` in each axis, in linear
 /// light (a box filter).
 pub fn downsample(pixels: &[u8], (width, height): (u32, u32), scale: u32) -> Vec<u8> {
-    let table: Vec<f32> = (0..=255).map(linear).collect();
+    let table: Vec<f32> = (0..=255u8)
+        .map(|c| srgb_to_linear(f32::from(c) / 255.0))
+        .collect();
     let (w, h, s) = (width / scale, height / scale, scale as usize);
     let mut out = vec![255u8; (w * h * 4) as usize];
     let weight = 1.0 / (s * s) as f32;
@@ -213,7 +195,7 @@ pub fn downsample(pixels: &[u8], (width, height): (u32, u32), scale: u32) -> Vec
             }
             let o = &mut out[(y * w as usize + x) * 4..][..3];
             for c in 0..3 {
-                o[c] = srgb(sum[c] * weight);
+                o[c] = (linear_to_srgb((sum[c] * weight).clamp(0.0, 1.0)) * 255.0).round() as u8;
             }
         }
     }

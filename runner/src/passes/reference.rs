@@ -18,8 +18,7 @@ use std::sync::Arc;
 /// device has mesh stages.
 pub struct ReferencePass {
     copy: Pipeline,
-    /// The device's most workgroups in x.
-    most_groups: u32,
+    ctx: Arc<Context>,
     pipeline: Pipeline,
     mesh: Option<(Pipeline, ash::ext::mesh_shader::Device)>,
 }
@@ -63,7 +62,7 @@ impl ReferencePass {
         };
         Ok(Self {
             copy: Pipeline::compute(ctx, &field.layout, module, shaders::COPY_BLADES)?,
-            most_groups: ctx.properties.limits.max_compute_work_group_count[0],
+            ctx: ctx.clone(),
             pipeline: Pipeline::graphics(ctx, &desc)?,
             mesh,
         })
@@ -84,9 +83,7 @@ impl ReferencePass {
             count: field.blade_count * 4,
         };
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        let groups = push.count.div_ceil(COPY_WORKGROUP).max(1);
-        let x = groups.min(self.most_groups);
-        rec.dispatch((x, groups.div_ceil(x)));
+        rec.dispatch(self.ctx.workgroups(push.count, COPY_WORKGROUP));
     }
 
     /// Whether the device draws the mesh path's reference.

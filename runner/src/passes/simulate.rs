@@ -41,11 +41,9 @@ impl SimulatePass {
         })
     }
 
-    /// Workgroups for `items` threads of `size`: x up to the device's limit, then y.
+    /// Workgroups for `items` threads of `size` (`Context::workgroups`).
     fn workgroups(&self, items: u32, size: u32) -> (u32, u32) {
-        let groups = items.div_ceil(size).max(1);
-        let x = groups.min(self.ctx.properties.limits.max_compute_work_group_count[0]);
-        (x, groups.div_ceil(x))
+        self.ctx.workgroups(items, size)
     }
 
     /// Records the clump pass: every blade's clump from the frame block's seed and

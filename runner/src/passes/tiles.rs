@@ -213,9 +213,7 @@ impl TilesPass {
         };
         rec.bind_pipeline(compute, self.select.pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        let groups = (side * side).div_ceil(SIMULATE_WORKGROUP);
-        let max_x = self.ctx.properties.limits.max_compute_work_group_count[0];
-        rec.dispatch((groups.min(max_x), groups.div_ceil(max_x)));
+        rec.dispatch(self.ctx.workgroups(side * side, SIMULATE_WORKGROUP));
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (

@@ -385,6 +385,14 @@ impl Context {
             .unwrap_or(0)
     }
 
+    /// Workgroups for `items` threads of `size`: x up to the device's limit, then y
+    /// (a dispatch's grid).
+    pub fn workgroups(&self, items: u32, size: u32) -> (u32, u32) {
+        let groups = items.div_ceil(size).max(1);
+        let x = groups.min(self.properties.limits.max_compute_work_group_count[0]);
+        (x, groups.div_ceil(x))
+    }
+
     /// The most samples per pixel, at most `wanted` (1, 2, 4 or 8), that colour
     /// targets of the renderer's formats and depth targets both have.
     pub fn supported_samples(&self, wanted: u32) -> u32 {

@@ -60,8 +60,14 @@ pub fn near_sphere(far: (Vec3, f32), camera: Vec3) -> (Vec3, f32) {
     if far.1 <= NEAR_REACH {
         return far;
     }
-    let step = NEAR_REACH / 16.0;
-    ((camera / step).round() * step, NEAR_REACH)
+    (snapped(camera, NEAR_REACH), NEAR_REACH)
+}
+
+/// `p` snapped to a grid of a sixteenth of `radius`: where a map of that radius
+/// around a moving camera is centred, so it moves in steps and does not swim.
+pub fn snapped(p: Vec3, radius: f32) -> Vec3 {
+    let step = radius / 16.0;
+    (p / step).round() * step
 }
 
 /// Where `p` falls in the two cascades' map (Dimitrov 2007, cascaded shadow maps): the

@@ -46,6 +46,9 @@ pub struct MethodQuality {
 /// Measures as `args` asks, prints the table and writes the CSV (and the crops).
 pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
     crate::files::check_output(&args.out, &["csv"])?;
+    if common.msaa.is_some() {
+        anyhow::bail!("--msaa: quality measures 1, 2 and 4 samples per pixel itself");
+    }
     if args.camera.orbit != 0.0 {
         anyhow::bail!("--orbit: quality turns the camera itself, a third of a pixel a frame");
     }

@@ -91,17 +91,6 @@ pub struct FieldPart {
     pub tiled: bool,
 }
 
-impl FieldPart {
-    /// A stored field of `blades`, every one simulated.
-    pub fn stored(blades: u32) -> Self {
-        Self {
-            blades,
-            simulated: blades,
-            tiled: false,
-        }
-    }
-}
-
 /// What one frame does.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FramePlan {
@@ -295,7 +284,11 @@ mod tests {
         let balls = [Vec4::ONE; MAX_COLLIDERS + 3];
         let facts = FrameFacts {
             extent: (320, 200),
-            field: FieldPart::stored(1234),
+            field: FieldPart {
+                blades: 1234,
+                simulated: 1234,
+                tiled: false,
+            },
             time: 2.5,
             ..Default::default()
         };

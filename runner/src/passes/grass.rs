@@ -171,7 +171,7 @@ impl GrassPass {
     }
 
     /// Records the visible blades' draw with `pipeline` (one drawing them as patches).
-    pub fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field) {
+    fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field) {
         bind(rec, pipeline, field);
         rec.draw_indirect(field.draws.buffer, field.chunk_count);
     }

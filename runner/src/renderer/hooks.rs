@@ -12,7 +12,7 @@ use gpu_allocator::MemoryLocation;
 use shared::Blade;
 use shared::glam::IVec2;
 use shared::gpu::layout::SimulatePush;
-use shared::plan::{FrameFacts, FrameRequest};
+use shared::plan::FrameRequest;
 
 impl Renderer {
     /// Records only the compute part of `request`'s frame (simulate, cull, chunk
@@ -26,11 +26,8 @@ impl Renderer {
         push: SimulatePush,
     ) -> Result<()> {
         let plan = request.plan().within(false, self.draw.raster.supported());
-        let facts = FrameFacts {
-            field: self.field_part(),
-            time: shared::sim::simulate::step_time(push.first_step + push.steps),
-            ..Default::default()
-        };
+        // No target: no size, and the plan reads no pyramid.
+        let facts = self.facts(vk::Extent2D::default(), push);
         self.block = request.uniforms(&plan, &facts);
         let uniforms = self.block;
         self.begin_compute(rec, &uniforms);

@@ -359,14 +359,19 @@ impl Renderer {
                 .resize(&self.ctx, &self.pool, &self.field, side)?;
         }
         self.draw.ground.follow(request.eye.position);
-        let facts = FrameFacts {
+        self.block = request.uniforms(plan, &self.facts(extent, push));
+        Ok(self.block)
+    }
+
+    /// What the renderer knows of a frame into a target of `extent` after `push`'s
+    /// steps: the target's size, its depth pyramid's layout, the field, the time.
+    fn facts(&self, extent: vk::Extent2D, push: SimulatePush) -> FrameFacts {
+        FrameFacts {
             extent: (extent.width, extent.height),
             hiz: self.occlusion.hiz,
             field: self.field_part(),
             time: shared::sim::simulate::step_time(push.first_step + push.steps),
-        };
-        self.block = request.uniforms(plan, &facts);
-        Ok(self.block)
+        }
     }
 
     /// The block of the newest frame recorded, as the GPU reads it.

@@ -204,7 +204,7 @@ pub fn current(
 ) -> String {
     use crate::cli::PipelineChoice;
     use clap::ValueEnum;
-    use shared::settings::GrassPipeline;
+    use shared::settings::{Antialiasing, GrassPipeline};
     let word = |v: Option<clap::builder::PossibleValue>| {
         format!(
             "{:?}",
@@ -258,7 +258,12 @@ pub fn current(
         ("look", Some(word(look.style.to_possible_value()))),
         ("no-shadows", switch(!look.shadows)),
         ("shadows", switch(look.shadows)),
-        ("msaa", Some(look.msaa.to_string())),
+        ("aa", Some(word(look.aa.to_possible_value()))),
+        // The samples act only with multisampling.
+        (
+            "msaa",
+            (look.aa == Antialiasing::Msaa).then(|| look.msaa.to_string()),
+        ),
         ("shadow-size", Some(look.shadow_size.to_string())),
         ("exposure", number(look.exposure)),
         ("fog-density", number(look.fog_density)),

@@ -12,6 +12,7 @@ use shared::Blade;
 use shared::cull::lod::blades_per_chunk;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::meshlet::{BUCKETS, StripBlade};
+use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters;
 use shared::gpu::layout;
 use shared::gpu::layout::{
@@ -48,7 +49,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 24] = [
+pub const BINDINGS: [BindingSpec; 25] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -71,11 +72,12 @@ pub const BINDINGS: [BindingSpec; 24] = [
     // The bandwidth reference's destination, also the mesh-vertex capture's
     // (`GrassPass::capture`).
     storage_in(layout::BINDING_SCRATCH, vk::ShaderStageFlags::MESH_EXT),
-    // The sun's shadow map (`passes::shadow`), read by the lit fragment stages.
+    // The sun's shadow map (`passes::shadow`), read where the natural look is shaded:
+    // the grass's geometry stages, the ground's and the far blades' fragment stages.
     BindingSpec {
         binding: layout::BINDING_SHADOW_MAP,
         ty: vk::DescriptorType::SAMPLED_IMAGE,
-        stages: vk::ShaderStageFlags::FRAGMENT,
+        stages: SHADED_IN,
     },
     // The visible blades as the natural look draws them, read by its tessellation
     // stages.
@@ -84,7 +86,7 @@ pub const BINDINGS: [BindingSpec; 24] = [
     BindingSpec {
         binding: layout::BINDING_SHADOW_SAMPLER,
         ty: vk::DescriptorType::SAMPLER,
-        stages: vk::ShaderStageFlags::FRAGMENT,
+        stages: SHADED_IN,
     },
     // Each blade's clump, made by the clump pass, read by the compute pass and by the
     // shadow map's casters.
@@ -123,12 +125,23 @@ pub const BINDINGS: [BindingSpec; 24] = [
     storage(layout::BINDING_PAINT),
     // The shadow casters, read by the shadow map's vertex stage.
     storage_in(layout::BINDING_CASTERS, vk::ShaderStageFlags::VERTEX),
+    // The visible blades' previous control points (temporal anti-aliasing), read by
+    // the grass's geometry stages.
+    storage_in(layout::BINDING_MOTION, GEOMETRY_OR_RESOLVE),
 ];
 
 /// Both tessellation stages.
 const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
+);
+
+/// Where the natural look is shaded: the grass's tessellation evaluation and mesh
+/// stages (per vertex), the fragment stages (the ground, the far blades' resolve).
+const SHADED_IN: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
+        | vk::ShaderStageFlags::MESH_EXT.as_raw()
+        | vk::ShaderStageFlags::FRAGMENT.as_raw(),
 );
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -250,6 +263,10 @@ pub struct Field {
     pub dressed: Buffer,
     /// Each blade's clump (`clump::Clump::pack`).
     pub clumps: Buffer,
+    /// The visible blades' control points the frame before
+    /// (`temporal::BladeMotion`), by visible slot (natural look) or blade index
+    /// (paper look), written while temporal anti-aliasing is on.
+    pub motion: Buffer,
     /// The frame's uniform block, updated by a transfer at the start of each frame.
     pub uniforms: Buffer,
     /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
@@ -261,8 +278,8 @@ pub struct Field {
 }
 
 /// Device memory per blade: the blade, its collision strength, its index in the
-/// visible and the casters' two lists, its slot in the dressed buffer, its clump, and the
-/// mesh path's level and binned slot.
+/// visible and the casters' two lists, its slot in the dressed buffer, its clump, the
+/// mesh path's level and binned slot, and its previous control points.
 pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64
     + 4
     + 4
@@ -270,7 +287,8 @@ pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64
     + size_of::<DressedBlade>() as u64
     + 16
     + 4
-    + size_of::<StripBlade>() as u64;
+    + size_of::<StripBlade>() as u64
+    + size_of::<BladeMotion>() as u64;
 
 impl Field {
     /// Fails with a message naming the limit when `count` blades cannot fit this
@@ -381,6 +399,11 @@ impl Field {
             U::STORAGE_BUFFER,
         )?;
         let clumps = device_buffer("clumps", u64::from(count) * 16, U::STORAGE_BUFFER)?;
+        let motion = device_buffer(
+            "previous control points",
+            u64::from(count) * size_of::<BladeMotion>() as u64,
+            U::STORAGE_BUFFER,
+        )?;
         let counters = device_buffer(
             "counters",
             (counters::COUNTER_COUNT * 4) as u64,
@@ -438,6 +461,7 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_DRESSED, storage, dressed.buffer);
         descriptors.write_buffer(layout::BINDING_CASTERS, storage, casters.buffer);
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
+        descriptors.write_buffer(layout::BINDING_MOTION, storage, motion.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_LEVELS, storage, levels.buffer);
         descriptors.write_buffer(layout::BINDING_RASTER_ARGS, storage, raster_args.buffer);
@@ -475,6 +499,7 @@ impl Field {
             binned,
             dressed,
             clumps,
+            motion,
             uniforms,
             pyramid,
             descriptors,

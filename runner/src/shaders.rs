@@ -30,6 +30,8 @@ pub const GENERATE_POOL_TILE: &str = "compute::tiles::generate_pool_tile";
 pub const SELECT_FAR_TILES: &str = "compute::tiles::select_far_tiles";
 /// Compute: the far tiles' blades of a tiled frame, one workgroup per tile.
 pub const GENERATE_FAR: &str = "compute::tiles::generate_far";
+/// Compute: the temporal resolve, one thread per pixel.
+pub const RESOLVE_TAA: &str = "compute::temporal::resolve_taa";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clumps::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).
@@ -59,10 +61,15 @@ pub const GRASS_VS: &str = "grass::grass_vs";
 pub const GRASS_TCS: &str = "grass::grass_tcs";
 /// Grass tessellation evaluation stage (blade shape).
 pub const GRASS_TES: &str = "grass::grass_tes";
+/// Tessellation evaluation: [`GRASS_TES`] with each vertex's motion (temporal
+/// anti-aliasing).
+pub const GRASS_TAA_TES: &str = "grass::grass_taa_tes";
 /// The mesh path's triangle-throughput reference: mesh stage.
 pub const THROUGHPUT_MESH: &str = "throughput::throughput_mesh";
 /// Grass fragment stage (shaded and wireframe views).
 pub const GRASS_FS: &str = "grass::grass_fs";
+/// Fragment: [`GRASS_FS`] writing the motion target too (temporal anti-aliasing).
+pub const GRASS_TAA_FS: &str = "grass::grass_taa_fs";
 /// Grass fragment stage of the LOD view.
 pub const GRASS_LOD_FS: &str = "grass::grass_lod_fs";
 /// The natural look's grass: vertex stage (the visible slot).
@@ -73,10 +80,12 @@ pub const NATURAL_TCS: &str = "grass::natural_tcs";
 pub const NATURAL_TES: &str = "grass::natural_tes";
 /// The natural look's grass: fragment stage.
 pub const NATURAL_FS: &str = "grass::natural_fs";
-/// The natural look's grass: fragment stage of the LOD and wireframe views.
-pub const NATURAL_VIEW_FS: &str = "grass::natural_view_fs";
+/// Fragment: [`NATURAL_FS`] writing the motion target too (temporal anti-aliasing).
+pub const NATURAL_TAA_FS: &str = "grass::natural_taa_fs";
 /// The paper look's mesh path: mesh stage (the blade strips of one length).
 pub const PAPER_MESH: &str = "mesh::paper_mesh";
+/// Mesh: [`PAPER_MESH`] with each vertex's motion (temporal anti-aliasing).
+pub const PAPER_TAA_MESH: &str = "mesh::paper_taa_mesh";
 /// The paper look's mesh stage writing each vertex's clip position to the scratch
 /// binding (tests).
 pub const PAPER_MESH_CAPTURE: &str = "mesh::paper_mesh_capture";

@@ -18,8 +18,9 @@ use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::shadow::CASTER_LEVEL;
 use shared::draw::look::sky::fog;
-use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
-use shared::draw::shape::surface_point;
+use shared::draw::shade::{VIEW_SHADED, blade_colour, facing_normal, lod_shade, shade_facing};
+use shared::draw::shape::{SurfacePoint, surface_point};
+use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
@@ -85,6 +86,35 @@ pub fn grass_tes(
     *out_level = in_level[0];
 }
 
+/// [`grass_tes`] with temporal anti-aliasing: also the vertex's motion, from the
+/// blade's previous control points in the motion buffer (at the blade's index, as the
+/// paper look's compute pass writes them).
+#[allow(clippy::too_many_arguments)]
+#[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
+pub fn grass_taa_tes(
+    #[spirv(tess_coord)] coord: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
+    in_blade: [u32; 1],
+    in_level: [f32; 1],
+    #[spirv(position)] out_position: &mut Vec4,
+    out_normal_v: &mut Vec4,
+    #[spirv(flat)] out_level: &mut f32,
+    out_motion: &mut Vec4,
+) {
+    let slot = in_blade[0] as usize;
+    let blade = &blades[slot];
+    let grass = &frame.grass;
+    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let clip = frame.camera.view_proj * p.position.extend(1.0);
+    *out_position = clip;
+    *out_normal_v = p.normal.extend(coord.y);
+    *out_level = in_level[0];
+    let moved = point_motion(frame, motion, slot, clip, p.position, coord.y, blade);
+    *out_motion = moved.extend(0.0).extend(0.0);
+}
+
 /// Lambert plus ambient with the base-to-tip gradient, both faces lit (the normal
 /// turned to the face the triangle's winding shows); also the wireframe view's.
 /// The views are entry points of their own, not a branch on `grass.view`: that branch
@@ -99,6 +129,23 @@ pub fn grass_fs(
 ) {
     let facing = facing_normal(normal_v.xyz().normalize_or_zero(), front);
     *out_color = shade_facing(facing, frame.light, normal_v.w).extend(1.0);
+}
+
+/// [`grass_fs`] with temporal anti-aliasing: also the pixel's motion and clip w into
+/// the motion target.
+#[spirv(fragment)]
+pub fn grass_taa_fs(
+    #[spirv(frag_coord)] frag: Vec4,
+    normal_v: Vec4,
+    #[spirv(flat)] _level: f32,
+    motion: Vec4,
+    #[spirv(front_facing)] front: bool,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    out_color: &mut Vec4,
+    out_motion: &mut Vec4,
+) {
+    grass_fs(normal_v, front, frame, out_color);
+    *out_motion = motion_target(motion.xy(), frag);
 }
 
 /// The LOD view: each blade in the colour of its tessellation level.
@@ -145,61 +192,113 @@ pub fn natural_tcs(
     *inner = i;
 }
 
-/// The natural look's blade surface, with its tint, coverage and width direction for
-/// the fragment stage: the same at every vertex of a blade, so flat (no
-/// interpolation to set up per triangle).
+/// The natural look's blade surface, shaded at each vertex ([`natural_vertex`]): the
+/// fragment stage interpolates one colour. Its motion (temporal anti-aliasing) rides
+/// in the colour's w and one more float. Two varyings, as many as the paper look's:
+/// the NVIDIA H100 rasterises on few SMs, and the five the natural look's fragment
+/// shading needed (normal, position, (u, v, level), tint and width direction) cost its
+/// grass pass more than the shading did.
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn natural_tes(
     #[spirv(tess_coord)] coord: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
+    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     in_slot: [u32; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
-    out_normal: &mut Vec3,
-    out_world: &mut Vec3,
-    out_uv_level: &mut Vec3,
-    #[spirv(flat)] out_tint: &mut Vec4,
-    #[spirv(flat)] out_width_dir: &mut Vec3,
+    out_colour: &mut Vec4,
+    out_motion_y: &mut f32,
 ) {
-    let drawn = &dressed[in_slot[0] as usize];
-    let blade = &drawn.blade;
+    let slot = in_slot[0] as usize;
+    let drawn = &dressed[slot];
     let grass = &frame.grass;
-    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
-    *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal = p.normal;
-    *out_world = p.position;
-    *out_uv_level = coord.truncate().extend(in_level[0]);
-    *out_tint = drawn.tint;
-    *out_width_dir = p.width_dir;
+    let p = surface_point(&drawn.blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let clip = frame.camera.view_proj * p.position.extend(1.0);
+    let moved = point_motion(frame, motion, slot, clip, p.position, coord.y, &drawn.blade);
+    let shade = (shadow_map, shadow_sampler);
+    let colour = natural_vertex(frame, shade, drawn, &p, coord.truncate(), in_level[0]);
+    *out_position = clip;
+    *out_colour = colour.extend(moved.x);
+    *out_motion_y = moved.y;
 }
 
-/// The natural look: the blade's tint and drier tip, its leaf rounded across the
-/// width, sky light with ambient occlusion, the sun (direct, through the leaf,
-/// specular) with its shadow, fog. The LOD and wireframe views are
-/// [`natural_view_fs`].
-#[allow(clippy::too_many_arguments)]
+/// The motion of a blade's `point` at height `v`, drawn at `clip`, from the previous
+/// control points at `slot` of the motion buffer
+/// (`shared::draw::temporal::blade_point_motion`); nil while temporal anti-aliasing is
+/// off (the buffer is not read).
+pub(crate) fn point_motion(
+    frame: &FrameUniforms,
+    motion: &[BladeMotion],
+    slot: usize,
+    clip: Vec4,
+    point: Vec3,
+    v: f32,
+    blade: &Blade,
+) -> Vec2 {
+    if frame.temporal.on == 0 {
+        return Vec2::ZERO;
+    }
+    blade_point_motion(&frame.temporal, clip, point, v, blade, &motion[slot])
+}
+
+/// The natural look's colour of the vertex at `p`, (u, v) `uv` on the dressed blade
+/// `drawn` at tessellation `level`: shaded ([`natural_colour`]), or in the LOD and
+/// wireframe views as in the paper look.
+pub(crate) fn natural_vertex(
+    frame: &FrameUniforms,
+    (shadow_map, shadow_sampler): (&ShadowMap, &Sampler),
+    drawn: &DressedBlade,
+    p: &SurfacePoint,
+    uv: Vec2,
+    level: f32,
+) -> Vec3 {
+    let view = frame.grass.view;
+    if view == VIEW_SHADED {
+        let leaf = Leaf {
+            normal: p.normal,
+            world: p.position,
+            uv,
+            tint: drawn.tint,
+            width_dir: p.width_dir,
+        };
+        natural_colour(frame, shadow_map, shadow_sampler, &leaf)
+    } else {
+        let n = p.normal;
+        let facing = facing_normal(n, n.dot(frame.camera.position - p.position) >= 0.0);
+        blade_colour(view, facing, frame.light, uv.y, level)
+    }
+}
+
+/// The natural look's fragment: the colour its vertices were shaded with, in each view.
 #[spirv(fragment)]
-pub fn natural_fs(
-    normal: Vec3,
-    world: Vec3,
-    uv_level: Vec3,
-    #[spirv(flat)] tint: Vec4,
-    #[spirv(flat)] width_dir: Vec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
-    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
+pub fn natural_fs(colour: Vec4, _motion_y: f32, out_color: &mut Vec4) {
+    *out_color = colour.xyz().extend(1.0);
+}
+
+/// [`natural_fs`] with temporal anti-aliasing: also the pixel's motion (carried in the
+/// colour's w and the float after it) and its clip w, into the motion target
+/// (`shared::draw::temporal::pixel_motion` reads them).
+#[spirv(fragment)]
+pub fn natural_taa_fs(
+    #[spirv(frag_coord)] frag: Vec4,
+    colour: Vec4,
+    motion_y: f32,
     out_color: &mut Vec4,
+    out_motion: &mut Vec4,
 ) {
-    let leaf = Leaf {
-        normal,
-        world,
-        uv: uv_level.truncate(),
-        tint,
-        width_dir,
-    };
-    *out_color = natural_colour(frame, shadow_map, shadow_sampler, &leaf).extend(1.0);
+    *out_color = colour.xyz().extend(1.0);
+    *out_motion = motion_target(Vec2::new(colour.w, motion_y), frag);
+}
+
+/// What a blade's fragment writes to the motion target: its motion, and its clip w
+/// (`1 / frag_coord.w`) by which the resolve knows the blade is still what the pixel
+/// shows.
+pub(crate) fn motion_target(motion: Vec2, frag: Vec4) -> Vec4 {
+    Vec4::new(motion.x, motion.y, 1.0 / frag.w, 0.0)
 }
 
 /// A point of a blade as the natural look shades it.
@@ -218,8 +317,8 @@ pub(crate) struct Leaf {
 
 /// The natural look's colour of `leaf`: the blade's tint and drier tip, its leaf rounded
 /// across the width, sky light with ambient occlusion, the sun (direct, through the
-/// leaf, specular) with its shadow, fog. The fragment stage's and the compute
-/// rasterizer's resolve's.
+/// leaf, specular) with its shadow, fog. The geometry stages' (per vertex) and the
+/// compute rasterizer's resolve's (per pixel).
 pub(crate) fn natural_colour(
     frame: &FrameUniforms,
     shadow_map: &ShadowMap,
@@ -239,21 +338,6 @@ pub(crate) fn natural_colour(
     let to_light = frame.light.direction;
     let lit = shade_leaf(albedo, rounded, to_light, to_eye, occlusion, sun);
     fog(lit, distance, -to_eye, to_light, frame.look.fog_density)
-}
-
-/// The natural look's LOD and wireframe views, as in the paper look.
-#[spirv(fragment)]
-pub fn natural_view_fs(
-    normal: Vec3,
-    world: Vec3,
-    uv_level: Vec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    out_color: &mut Vec4,
-) {
-    let n = normal.normalize_or_zero();
-    let facing = facing_normal(n, n.dot(frame.camera.position - world) >= 0.0);
-    let (view, light) = (frame.grass.view, frame.light);
-    *out_color = blade_colour(view, facing, light, uv_level.y, uv_level.z).extend(1.0);
 }
 
 /// The index of the shadow caster this vertex stands for.

@@ -24,8 +24,8 @@ use spirv_std::glam::Vec3;
 /// The shadow map as the fragment stages declare it: a sampled depth image.
 pub type ShadowMap = spirv_std::Image!(2D, type=f32, sampled, depth);
 
-/// The depth target as the depth copy reads it: a sampled image fetched by texel,
-/// with no sampler (`shared::gpu::layout::BINDING_DEPTH_IMAGE`).
+/// The depth target as the depth copy and the temporal resolve read it: a sampled
+/// image fetched by texel, with no sampler (`shared::gpu::layout::BINDING_DEPTH_IMAGE`).
 pub type DepthImage = spirv_std::Image!(2D, type=f32, sampled);
 
 /// The multisampled depth target as the preparation reads it, sample by sample

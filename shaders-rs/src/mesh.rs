@@ -10,6 +10,8 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
+use crate::ShadowMap;
+use crate::grass::{natural_vertex, point_motion};
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::meshlet::{
@@ -17,11 +19,12 @@ use shared::draw::meshlet::{
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
 use shared::draw::shape::surface_point;
+use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::{bucket_base, strip_counter};
 use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
-use spirv_std::spirv;
+use spirv_std::{Sampler, spirv};
 
 /// Sets a mesh workgroup's outputs for `strips` strips of `segments` and writes their
 /// triangles (one a lane); returns where invocation `lane`'s vertex lies: (strip,
@@ -73,12 +76,13 @@ fn strip_vertex(
 }
 
 /// The paper look's vertex of a strip at (u, v, level): clip position, and the
-/// normal with v (the tessellation evaluation stage's varyings).
-fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4) {
+/// normal with v (the tessellation evaluation stage's varyings), and the world
+/// position.
+fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4, Vec3) {
     let grass = &frame.grass;
     let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
     let clip = frame.camera.view_proj * p.position.extend(1.0);
-    (clip, p.normal.extend(uvl.y))
+    (clip, p.normal.extend(uvl.y), p.position)
 }
 
 /// The paper look's mesh stage: strips of the stored blades, with the tessellation
@@ -107,10 +111,51 @@ pub fn paper_mesh(
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
-        let (clip, normal_v) = paper_vertex(frame, &blades[strip.source as usize], uvl);
+        let (clip, normal_v, _) = paper_vertex(frame, &blades[strip.source as usize], uvl);
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
+    }
+}
+
+/// [`paper_mesh`] with temporal anti-aliasing: also each vertex's motion, from the
+/// blade's previous control points in the motion buffer (at its index), for
+/// `grass::grass_taa_fs`.
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 32,
+    output_primitives_ext = 30,
+    output_triangles_ext
+))]
+pub fn paper_taa_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(draw_index)] draw: u32,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
+    #[spirv(position)] out_position: &mut [Vec4; 32],
+    out_normal_v: &mut [Vec4; 32],
+    #[spirv(flat)] out_level: &mut [f32; 32],
+    out_motion: &mut [Vec4; 32],
+) {
+    let top = top_segments(frame.lod.most);
+    let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
+    if let Some((k, _, strip, uvl)) = vertex {
+        let index = strip.source as usize;
+        let blade = &blades[index];
+        let (clip, normal_v, point) = paper_vertex(frame, blade, uvl);
+        out_position[k] = clip;
+        out_normal_v[k] = normal_v;
+        out_level[k] = uvl.z;
+        // A vec4 (zw unused): lavapipe's mesh stages crash on arrays of vec2 outputs.
+        let moved = point_motion(frame, motion, index, clip, point, uvl.y, blade);
+        out_motion[k] = moved.extend(0.0).extend(0.0);
     }
 }
 
@@ -142,7 +187,7 @@ pub fn paper_mesh_capture(
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, at, strip, uvl)) = vertex {
-        let (clip, normal_v) = paper_vertex(frame, &blades[strip.source as usize], uvl);
+        let (clip, normal_v, _) = paper_vertex(frame, &blades[strip.source as usize], uvl);
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
@@ -151,9 +196,8 @@ pub fn paper_mesh_capture(
     }
 }
 
-/// The natural look's mesh stage: strips of the dressed blades, with the natural
-/// tessellation evaluation stage's varyings (tint and width direction the same at
-/// every vertex of a blade, read flat).
+/// The natural look's mesh stage: strips of the dressed blades, shaded at each vertex
+/// with the natural tessellation evaluation stage's varyings (`grass::natural_tes`).
 #[allow(clippy::too_many_arguments)]
 #[spirv(mesh_ext(
     threads(32),
@@ -170,25 +214,27 @@ pub fn natural_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
+    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
     #[spirv(position)] out_position: &mut [Vec4; 32],
-    out_normal: &mut [Vec3; 32],
-    out_world: &mut [Vec3; 32],
-    out_uv_level: &mut [Vec3; 32],
-    #[spirv(flat)] out_tint: &mut [Vec4; 32],
-    #[spirv(flat)] out_width_dir: &mut [Vec3; 32],
+    out_colour: &mut [Vec4; 32],
+    out_motion_y: &mut [f32; 32],
 ) {
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
-        let drawn = &dressed[strip.source as usize];
+        let slot = strip.source as usize;
+        let drawn = &dressed[slot];
         let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
-        out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
-        out_normal[k] = p.normal;
-        out_world[k] = p.position;
-        out_uv_level[k] = uvl;
-        out_tint[k] = drawn.tint;
-        out_width_dir[k] = p.width_dir;
+        let clip = frame.camera.view_proj * p.position.extend(1.0);
+        let moved = point_motion(frame, motion, slot, clip, p.position, uvl.y, &drawn.blade);
+        let shade = (shadow_map, shadow_sampler);
+        let colour = natural_vertex(frame, shade, drawn, &p, uvl.truncate(), uvl.z);
+        out_position[k] = clip;
+        out_colour[k] = colour.extend(moved.x);
+        out_motion_y[k] = moved.y;
     }
 }

@@ -1,5 +1,7 @@
 //! The natural look's last pass: the sky behind the scene, then the tone map from the
-//! linear HDR image to the sRGB target (`shared::draw::look::sky::tone_map`).
+//! linear HDR image to the sRGB target (`shared::draw::look::sky::tone_map`). With
+//! temporal anti-aliasing it shows the resolved history, in either look (the paper
+//! look's as drawn).
 
 use shared::draw::look::ground::meadow_to_horizon;
 use shared::draw::look::sky::{sky_gradient, sun_disc, tone_map};
@@ -53,11 +55,21 @@ pub fn tonemap_fs(
 ) {
     let texel = UVec2::new(frag.x as u32, frag.y as u32);
     let pixel: Vec4 = hdr.fetch(texel);
+    *out_color = finish(pixel, ray, behind, push);
+}
+
+/// The pixel `pixel` (premultiplied, alpha the share the scene covers) over the sky or
+/// the meadow `behind` with the sun disc, exposed and tone-mapped; as it is where
+/// `push` says the frame is shown as drawn (the paper look).
+fn finish(pixel: Vec4, ray: Vec3, behind: Vec3, push: &ToneMapPush) -> Vec4 {
+    if push.sun.w != 0.0 {
+        return pixel.xyz().extend(1.0);
+    }
     let open = (1.0 - pixel.w).max(0.0);
     let mut radiance = pixel.xyz();
     if open > 0.0 {
         let disc = sun_disc(ray.normalize_or_zero(), push.sun.xyz());
         radiance += open * (behind + disc);
     }
-    *out_color = tone_map(radiance, push.camera.w).extend(1.0);
+    tone_map(radiance, push.camera.w).extend(1.0)
 }

@@ -14,13 +14,14 @@ use crate::cull::lod::{LodParams, focal_pixels};
 use crate::draw::look::LookParams;
 use crate::draw::look::shadow::{near_sphere, sun_view_proj};
 use crate::draw::raster::RasterParams;
+use crate::draw::temporal::{TemporalParams, jitter, jittered};
 use crate::gpu::layout::{FrameUniforms, GrassParams};
 use crate::settings::{
-    GrassPipeline, Look, RASTER_SEGMENTS, Settings, View, Viewpoint, shadow_sphere,
+    Antialiasing, GrassPipeline, Look, RASTER_SEGMENTS, Settings, View, Viewpoint, shadow_sphere,
 };
 use crate::sim::collide::MAX_COLLIDERS;
 use crate::sim::simulate::Environment;
-use spirv_std::glam::Vec4;
+use spirv_std::glam::{Mat4, Vec4};
 
 /// What a caller asks of one frame: the settings, where it is seen from and the
 /// sphere colliders (centre xyz, radius w).
@@ -78,6 +79,12 @@ pub struct FrameFacts {
     pub field: FieldPart,
     /// Simulated time after the frame's steps, seconds.
     pub time: f32,
+    /// Frames drawn before this one (the jitter's place in its sequence).
+    pub frame: u32,
+    /// The previous frame's unjittered view-projection, where the temporal history
+    /// holds that frame (`None`: nothing to blend, on the first frame, a new size or
+    /// look).
+    pub previous: Option<Mat4>,
 }
 
 /// Which blades a field holds and how many of them are simulated.
@@ -102,6 +109,8 @@ pub struct FramePlan {
     pub pipeline: GrassPipeline,
     /// Samples per pixel asked (the renderer lowers it to what the device has).
     pub samples: u32,
+    /// Temporal anti-aliasing: a jittered frame blended into a history.
+    pub taa: bool,
     /// The sun's shadow map's side, where the natural look casts shadows.
     pub shadows: Option<u32>,
     /// The occluders' depth pyramid is built and the occlusion test reads it.
@@ -121,7 +130,12 @@ impl FramePlan {
             look: look.style,
             view: settings.view,
             pipeline: settings.pipeline,
-            samples: look.msaa,
+            samples: if look.aa == Antialiasing::Msaa {
+                look.msaa
+            } else {
+                1
+            },
+            taa: look.aa == Antialiasing::Taa,
             shadows: (natural && look.shadows).then_some(look.shadow_size),
             occlusion: settings.cull.tests.occlusion,
             far: settings.compute_raster_below > 0.0,
@@ -179,9 +193,23 @@ impl Settings {
         let (width, height) = facts.extent;
         // Without the pyramid, the occlusion test is off and reads none.
         let unplanned = if plan.occlusion { 0 } else { OCCLUSION };
+        let temporal = if plan.taa {
+            TemporalParams::new(
+                eye.view_proj,
+                jitter(facts.frame, facts.extent),
+                facts.previous,
+            )
+        } else {
+            TemporalParams::default()
+        };
         FrameUniforms {
             camera: CameraParams {
-                view_proj: eye.view_proj,
+                // Moved by the jitter where the frame is blended into a history.
+                view_proj: if plan.taa {
+                    jittered(eye.view_proj, temporal.jitter)
+                } else {
+                    eye.view_proj
+                },
                 position: eye.position,
                 focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
             },
@@ -229,6 +257,7 @@ impl Settings {
                 },
                 segments: RASTER_SEGMENTS,
             },
+            temporal,
         }
     }
 
@@ -335,6 +364,8 @@ mod tests {
                 tiled: true,
             },
             time: 0.0,
+            frame: 0,
+            previous: None,
         };
         let plan = FramePlan::of(&s);
         let full = s.uniforms(&plan, &eye, &[], &facts);

@@ -70,6 +70,30 @@ impl Look {
     }
 }
 
+/// How the edges of blades are smoothed.
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Antialiasing {
+    /// One sample per pixel, nothing blended.
+    #[default]
+    None = 0,
+    /// Multisampling: `LookSettings::msaa` samples per pixel, averaged.
+    Msaa = 1,
+    /// Temporal: one jittered sample per pixel a frame, blended into a history that
+    /// follows every pixel's motion (`draw::temporal`).
+    Taa = 2,
+}
+
+impl Antialiasing {
+    /// Every method, in the order the viewer's key cycles them.
+    pub const ALL: [Self; 3] = [Self::None, Self::Msaa, Self::Taa];
+    /// The next method in [`Self::ALL`].
+    pub fn next(self) -> Self {
+        next_of(&Self::ALL, self)
+    }
+}
+
 /// How the frame looks: the style and its parts.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct LookSettings {
@@ -77,7 +101,9 @@ pub struct LookSettings {
     pub style: Look,
     /// Sun shadows (natural look).
     pub shadows: bool,
-    /// Samples per pixel: 1, 2, 4 or 8.
+    /// How edges are smoothed.
+    pub aa: Antialiasing,
+    /// Samples per pixel of multisampling (`Antialiasing::Msaa`): 1, 2, 4 or 8.
     pub msaa: u32,
     /// Side of the sun's shadow map in texels, one of [`SHADOW_SIZES`].
     pub shadow_size: u32,
@@ -108,6 +134,7 @@ impl Default for LookSettings {
         Self {
             style: Look::Natural,
             shadows: true,
+            aa: Antialiasing::None,
             msaa: 1,
             shadow_size: SHADOW_SIZE,
             exposure: 1.0,

@@ -22,7 +22,7 @@ use crate::tiles::TiledSpec;
 use crate::vulkan::Context;
 use crate::vulkan::probe::Capabilities;
 use anyhow::Result;
-use shared::settings::{GrassPipeline, SHADOW_SIZE, SHADOW_SIZE_SOFTWARE, Settings};
+use shared::settings::{Antialiasing, GrassPipeline, SHADOW_SIZE, SHADOW_SIZE_SOFTWARE, Settings};
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -37,6 +37,7 @@ pub const NOT_ACTING: &[(&str, &[&str], &str)] = &[
         "soak",
         &[
             "look",
+            "aa",
             "msaa",
             "shadows",
             "no-shadows",
@@ -412,7 +413,7 @@ fn device_defaults(settings: &mut Settings, common: &Common, device: &Capabiliti
         (None, Ok(())) if !device.software => DEFAULT_COMPUTE_RASTER_BELOW_GPU,
         (None, _) => 0.0,
     };
-    settings.look.msaa = msaa(common, device.software);
+    (settings.look.aa, settings.look.msaa) = antialiasing(common, device.software)?;
     settings.look.shadows = if common.no_shadows {
         false
     } else {
@@ -450,12 +451,28 @@ pub fn grass_pipeline(choice: PipelineChoice, device: &Capabilities) -> Result<G
     Ok(pipeline)
 }
 
-/// Samples per pixel: `--msaa`, else the default of a device, `software` or not.
-pub fn msaa(common: &Common, software: bool) -> u32 {
-    common.msaa.unwrap_or(if software {
-        DEFAULT_MSAA_SOFTWARE
-    } else {
-        DEFAULT_MSAA_GPU
+/// The anti-aliasing and the samples of multisampling: `--aa` and `--msaa` (more
+/// than one sample means multisampling), else the default of a device, `software`
+/// or not: temporal on a GPU (`docs/look.md`, "Anti-aliasing quality": closer to the
+/// supersampled reference than 4x MSAA, and cheaper), none on a software device,
+/// whose every pass costs it a share of the frame.
+pub fn antialiasing(common: &Common, software: bool) -> Result<(Antialiasing, u32)> {
+    let samples = common.msaa.unwrap_or(DEFAULT_MSAA);
+    let many = samples > 1;
+    Ok(match (common.aa, common.msaa) {
+        (Some(Antialiasing::Msaa), _) => (Antialiasing::Msaa, samples),
+        (Some(aa), Some(_)) if many => {
+            anyhow::bail!(
+                "--aa {}: --msaa {samples} asks for multisampling (use --aa msaa)",
+                clap::ValueEnum::to_possible_value(&aa)
+                    .map_or_else(String::new, |v| v.get_name().into())
+            )
+        }
+        (Some(aa), _) => (aa, samples),
+        (None, Some(_)) if many => (Antialiasing::Msaa, samples),
+        (None, Some(_)) => (Antialiasing::None, 1),
+        (None, None) if software => (Antialiasing::None, samples),
+        (None, None) => (Antialiasing::Taa, samples),
     })
 }
 
@@ -470,8 +487,5 @@ pub fn msaa(common: &Common, software: bool) -> u32 {
 /// Off on a software device, where it gained nothing measured.
 pub const DEFAULT_COMPUTE_RASTER_BELOW_GPU: f32 = 16.0;
 
-/// Samples per pixel on a GPU when `--msaa` is not given.
-pub const DEFAULT_MSAA_GPU: u32 = 4;
-/// Samples per pixel on a software device when `--msaa` is not given: lavapipe
-/// shades every sample of a multisampled target, too slow for the viewer's target.
-pub const DEFAULT_MSAA_SOFTWARE: u32 = 1;
+/// Samples per pixel of multisampling when `--msaa` is not given.
+pub const DEFAULT_MSAA: u32 = 4;

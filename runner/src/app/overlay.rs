@@ -5,7 +5,9 @@ use crate::camera::Fly;
 use crate::passes::tiles::PoolStats;
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
-use shared::settings::{BladeShape, GrassPipeline, Look, SHADOW_SIZES, Settings, View, WindField};
+use shared::settings::{
+    Antialiasing, BladeShape, GrassPipeline, Look, SHADOW_SIZES, Settings, View, WindField,
+};
 use std::collections::VecDeque;
 use winit::event::WindowEvent;
 use winit::window::Window;
@@ -345,9 +347,15 @@ fn look(ui: &mut egui::Ui, s: &mut Settings) {
         })
     });
     ui.horizontal(|ui| {
-        ui.label("MSAA (M)");
-        for n in MSAA_CHOICES {
-            ui.radio_value(&mut look.msaa, n, format!("{n}x"));
+        ui.label("anti-aliasing (M)");
+        for (aa, samples) in AA_CHOICES {
+            let on = look.aa == aa && (aa != Antialiasing::Msaa || look.msaa == samples);
+            if ui.radio(on, aa_name(aa, samples)).clicked() {
+                look.aa = aa;
+                if aa == Antialiasing::Msaa {
+                    look.msaa = samples;
+                }
+            }
         }
     });
     ui.add_enabled(
@@ -368,8 +376,33 @@ fn look(ui: &mut egui::Ui, s: &mut Settings) {
     );
 }
 
-/// The samples per pixel the overlay and the M key offer.
-pub const MSAA_CHOICES: [u32; 4] = [1, 2, 4, 8];
+/// The anti-aliasing the overlay and the M key offer: (method, samples of
+/// multisampling).
+pub const AA_CHOICES: [(Antialiasing, u32); 5] = [
+    (Antialiasing::None, 1),
+    (Antialiasing::Taa, 1),
+    (Antialiasing::Msaa, 2),
+    (Antialiasing::Msaa, 4),
+    (Antialiasing::Msaa, 8),
+];
+
+/// The choice's name: `none`, `TAA`, `MSAA 4x`.
+pub fn aa_name(aa: Antialiasing, samples: u32) -> String {
+    match aa {
+        Antialiasing::None => "none".into(),
+        Antialiasing::Taa => "TAA".into(),
+        Antialiasing::Msaa => format!("MSAA {samples}x"),
+    }
+}
+
+/// The choice after the settings' `aa` and `msaa` in [`AA_CHOICES`], round to the
+/// first.
+pub fn next_aa(aa: Antialiasing, msaa: u32) -> (Antialiasing, u32) {
+    let at = AA_CHOICES
+        .iter()
+        .position(|&(a, n)| a == aa && (a != Antialiasing::Msaa || n == msaa));
+    AA_CHOICES[at.map_or(0, |i| (i + 1) % AA_CHOICES.len())]
+}
 
 fn culling(ui: &mut egui::Ui, s: &mut Settings) {
     let c = &mut s.cull;

@@ -5,13 +5,14 @@
 //! the most samples the device has, then averaged down (a box filter over linear
 //! light), from the same simulation state: the field settles for `--settle` frames,
 //! then every frame measured is one of no time, the blades standing as they are. Each
-//! method (1, 2 and 4 samples per pixel, each once the device's samples lower it) is
-//! measured three ways:
+//! method (temporal anti-aliasing, and 1, 2 and 4 samples per pixel, each once the
+//! device's samples lower it) is measured three ways:
 //!
-//! - still: the mean difference (0..255 per channel) from the reference, camera still;
+//! - still: the mean difference (0..255 per channel) from the reference, camera still
+//!   (temporal anti-aliasing once its history settled, `temporal::SETTLE_FRAMES`);
 //! - turning: the same while the camera turns about the vertical by a third of a pixel
-//!   a frame, over `--frames` frames (a method with history is measured after it has
-//!   settled: here the first turned frame);
+//!   a frame, over `--frames` frames (the temporal history carried from frame to
+//!   frame, from the settled still one);
 //! - shimmer: the mean difference between consecutive frames of that turn, beside the
 //!   reference's own (what is left is the method's flicker).
 
@@ -23,7 +24,7 @@ use crate::cli::{Common, QualityArgs};
 use anyhow::{Context as _, Result};
 use glam::Quat;
 use shared::draw::shade::{linear_to_srgb, srgb_to_linear};
-use shared::settings::{Settings, Viewpoint};
+use shared::settings::{Antialiasing, Settings, Viewpoint};
 use std::fmt::Write as _;
 
 /// One method's figures.
@@ -46,8 +47,11 @@ pub struct MethodQuality {
 /// Measures as `args` asks, prints the table and writes the CSV (and the crops).
 pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
     crate::files::check_output(&args.out, &["csv"])?;
-    if common.msaa.is_some() {
-        anyhow::bail!("--msaa: quality measures 1, 2 and 4 samples per pixel itself");
+    if common.msaa.is_some() || common.aa.is_some() {
+        anyhow::bail!(
+            "--aa, --msaa: quality measures temporal anti-aliasing and 1, 2 and 4 samples \
+             per pixel itself"
+        );
     }
     if args.camera.orbit != 0.0 {
         anyhow::bail!("--orbit: quality turns the camera itself, a third of a pixel a frame");
@@ -68,6 +72,7 @@ pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
     let turn: Vec<f32> = (0..=args.frames).map(|k| k as f32 * step).collect();
     let most = run.ctx.supported_samples(8);
     let mut reference_settings = run.settings;
+    reference_settings.look.aa = Antialiasing::Msaa;
     reference_settings.look.msaa = most;
     log::info!(
         "reference: {}x{} at {most} samples, averaged down to {}x{}",
@@ -88,20 +93,42 @@ pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
         reference.push(downsample(&pixels, big, args.scale));
     }
     let mut results: Vec<MethodQuality> = Vec::new();
-    for samples in [1, 2, 4] {
+    let methods = [
+        (Antialiasing::Taa, 1),
+        (Antialiasing::Msaa, 1),
+        (Antialiasing::Msaa, 2),
+        (Antialiasing::Msaa, 4),
+    ];
+    for (aa, samples) in methods {
         let drawn = run.ctx.supported_samples(samples);
-        if results.iter().any(|r| r.samples == drawn) {
-            log::warn!("msaa{samples}: the device draws it with {drawn} samples, measured already");
+        let method = match aa {
+            Antialiasing::Taa => "taa".to_owned(),
+            _ => format!("msaa{samples}"),
+        };
+        let msaa = aa == Antialiasing::Msaa;
+        if msaa
+            && results
+                .iter()
+                .any(|r| r.method != "taa" && r.samples == drawn)
+        {
+            log::warn!("{method}: the device draws it with {drawn} samples, measured already");
             continue;
         }
         let mut settings = run.settings;
+        settings.look.aa = aa;
         settings.look.msaa = samples;
         let mut frames = Vec::new();
-        for &angle in &turn {
+        for (k, &angle) in turn.iter().enumerate() {
             let eye = turned(&base, angle, args.height);
-            frames.push(still(&mut run.driver, &mut run.offscreen, &settings, eye)?);
+            let request = settings.request(&eye, &[]);
+            // The history settles on the still camera, then follows the turn.
+            frames.push(if k == 0 {
+                super::bench::still(&mut run.driver, &mut run.offscreen, request)?
+            } else {
+                one_frame(&mut run.driver, &mut run.offscreen, request)?
+            });
         }
-        let quality = measure(format!("msaa{samples}"), drawn, &frames, &reference);
+        let quality = measure(method, drawn, &frames, &reference);
         if let Some(dir) = &args.crops {
             write_crop(dir, &quality.method, &reference[0], &frames[0], size)?;
         }
@@ -125,7 +152,16 @@ fn still(
     settings: &Settings,
     eye: Viewpoint,
 ) -> Result<Vec<u8>> {
-    driver.run(target, 0.0, |_| settings.request(&eye, &[]), true)?;
+    one_frame(driver, target, settings.request(&eye, &[]))
+}
+
+/// One frame of no time of `request` into `target`, its pixels.
+fn one_frame(
+    driver: &mut FrameDriver,
+    target: &mut Offscreen,
+    request: shared::plan::FrameRequest,
+) -> Result<Vec<u8>> {
+    driver.run(target, 0.0, |_| request, true)?;
     driver.finish()?;
     target.pixels()
 }

@@ -11,7 +11,9 @@ use crate::collider::Ball;
 use crate::renderer::Renderer;
 use anyhow::{Result, bail};
 use glam::{Vec2, Vec3Swizzles};
-use shared::settings::{BladeShape, CullTests, GrassPipeline, Look, Settings, View, WindField};
+use shared::settings::{
+    Antialiasing, BladeShape, CullTests, GrassPipeline, Look, Settings, View, WindField,
+};
 
 /// Phases (changes of the switches) between two memory readings.
 pub const PHASES_PER_READING: u32 = 4;
@@ -140,9 +142,11 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
 }
 
 /// The switches of phase `phase`: every subset of the culling tests in turn, LOD on
-/// and off, each view, wind and shape; both looks, 1 and 4 samples, shadows on and
-/// off, the compute rasterizer off, at 12 and at 48 pixels. Phases 3 mod 4 (where the memory is read) always have the natural look at 4
-/// samples, so the draw's images are the same at every reading.
+/// and off, each view, wind and shape; both looks, no anti-aliasing, temporal
+/// (phases 1 mod 4) and 4x multisampling (3 mod 4), shadows on and off, the compute
+/// rasterizer off, at 12 and at 48 pixels. Phases 3 mod 4 (where the memory is read)
+/// always have the natural look at 4 samples, so the draw's images are the same at
+/// every reading.
 pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     let mut s = *base;
     let p = phase as usize;
@@ -152,7 +156,12 @@ pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
     s.wind.field = WindField::ALL[p % WindField::ALL.len()];
     s.shape = BladeShape::ALL[(p / 2) % BladeShape::ALL.len()];
     s.look.style = Look::ALL[(p / 2) % 2];
-    s.look.msaa = if p % 2 == 1 { 4 } else { 1 };
+    s.look.aa = match p % 4 {
+        1 => Antialiasing::Taa,
+        3 => Antialiasing::Msaa,
+        _ => Antialiasing::None,
+    };
+    s.look.msaa = 4;
     s.look.shadows = (p / 4).is_multiple_of(2);
     // Both pipelines (the renderer draws tessellation where the device has no mesh
     // stages); the readings' phases keep one.

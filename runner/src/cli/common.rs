@@ -7,7 +7,7 @@ use crate::scene::{BladeCount, SceneKind};
 use crate::vulkan::ValidationChecks;
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use shared::settings::{BladeShape, CullTests, Look, LookSettings, View, WindField};
+use shared::settings::{Antialiasing, BladeShape, CullTests, Look, LookSettings, View, WindField};
 use std::path::PathBuf;
 
 /// Where a field's blades come from (`--field`).
@@ -173,8 +173,14 @@ pub struct Common {
     /// Sun shadows also on a software device (natural look).
     #[arg(long, global = true, conflicts_with = "no_shadows")]
     pub shadows: bool,
-    /// Samples per pixel, 1, 2, 4 or 8 (lowered to what the device has) [default: 4
-    /// on a GPU, 1 on a software device].
+    /// Anti-aliasing: `taa` blends each jittered frame into a history that follows
+    /// every pixel's motion, `msaa` takes --msaa samples per pixel (4 unless given),
+    /// `none` one sample [default: taa on a GPU, none on a software device; msaa
+    /// where --msaa asks for more than one sample].
+    #[arg(long, global = true, value_enum)]
+    pub aa: Option<Antialiasing>,
+    /// Samples per pixel of multisampling, 1, 2, 4 or 8 (lowered to what the device
+    /// has); more than one means --aa msaa [default: 4].
     #[arg(long, global = true, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
     /// Side of each of the sun's two shadow cascades in texels: 256, 512, 1024, 2048

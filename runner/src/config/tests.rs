@@ -140,7 +140,9 @@ fn loaded(cli: &Cli, scene: &crate::scene::Scene) -> (shared::settings::Settings
 #[test]
 fn every_setting_is_saved_and_read_back() {
     use glam::Vec3;
-    use shared::settings::{BladeShape, CullTests, GrassPipeline, Look, View, WindField};
+    use shared::settings::{
+        Antialiasing, BladeShape, CullTests, GrassPipeline, Look, View, WindField,
+    };
     let scene = crate::scene::Scene::plane(64, 1);
     let plain = Cli::try_parse_from(["grass", "render"]).unwrap();
     let (defaults, default_viewer) = loaded(&plain, &scene);
@@ -183,6 +185,7 @@ fn every_setting_is_saved_and_read_back() {
     s.tip_start = 0.3;
     s.look.style = Look::Paper;
     s.look.shadows = false;
+    s.look.aa = Antialiasing::Msaa;
     s.look.msaa = 2;
     s.look.shadow_size = 512;
     s.look.exposure = 1.5;

@@ -1,5 +1,5 @@
-//! A pass's pipelines kept for each draw target they were made for (colour format and
-//! samples per pixel): switching the look or the samples back and forth makes nothing
+//! A pass's pipelines kept for each draw target they were made for (colour format,
+//! samples per pixel, motion target): switching the look or the samples back and forth makes nothing
 //! again. Making them again each time cost lavapipe about 25 MiB of host memory it
 //! kept over a soak's first 400 frames (`grass soak`, 256 blades at 64x64), and every
 //! switch in the viewer a recompile. At most 2 formats × 4 sample counts are kept.
@@ -7,8 +7,37 @@
 use anyhow::Result;
 use ash::vk;
 
-/// What a pipeline draws into: the colour format and the samples per pixel.
-pub type DrawTarget = (vk::Format, vk::SampleCountFlags);
+/// What a pipeline draws into.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct DrawTarget {
+    /// The colour's format.
+    pub format: vk::Format,
+    /// Samples per pixel.
+    pub samples: vk::SampleCountFlags,
+    /// A motion target follows the colour (temporal anti-aliasing).
+    pub motion: bool,
+}
+
+impl DrawTarget {
+    /// Colour of `format` at one sample, without motion.
+    pub fn single(format: vk::Format) -> Self {
+        Self {
+            format,
+            samples: vk::SampleCountFlags::TYPE_1,
+            motion: false,
+        }
+    }
+
+    /// The second colour attachment of a pipeline drawing here: the motion target,
+    /// written by the fragment stage (`written`) or kept, where there is one.
+    pub fn second_color(&self, written: bool) -> Option<(vk::Format, bool)> {
+        self.motion.then_some((MOTION_FORMAT, written))
+    }
+}
+
+/// Format of the motion target: each pixel's motion (xy, normalized device
+/// coordinates) and the clip w of the blade that wrote it (z).
+pub const MOTION_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
 /// One `T` (a pass's pipelines) for each draw target it was made for, and the one in
 /// use.
@@ -64,14 +93,19 @@ mod tests {
         let one = vk::SampleCountFlags::TYPE_1;
         let four = vk::SampleCountFlags::TYPE_4;
         let (srgb, hdr) = (vk::Format::B8G8R8A8_SRGB, vk::Format::R16G16B16A16_SFLOAT);
+        let t = |format, samples| DrawTarget {
+            format,
+            samples,
+            motion: false,
+        };
         let mut made = 0;
-        let mut kept = ByTarget::new((srgb, one), "srgb 1");
+        let mut kept = ByTarget::new(t(srgb, one), "srgb 1");
         for (target, name) in [
-            ((hdr, four), "hdr 4"),
-            ((srgb, one), "srgb 1"),
-            ((hdr, four), "hdr 4"),
-            ((srgb, four), "srgb 4"),
-            ((hdr, four), "hdr 4"),
+            (t(hdr, four), "hdr 4"),
+            (t(srgb, one), "srgb 1"),
+            (t(hdr, four), "hdr 4"),
+            (t(srgb, four), "srgb 4"),
+            (t(hdr, four), "hdr 4"),
         ] {
             kept.select(target, || {
                 made += 1;

@@ -5,7 +5,7 @@
 //! for the images' format and samples.
 
 use super::Mark;
-use super::by_target::ByTarget;
+use super::by_target::{ByTarget, DrawTarget};
 use super::grass::GrassPass;
 use super::ground::GroundPass;
 use super::raster::RasterPass;
@@ -32,6 +32,9 @@ pub struct DrawImages<'a> {
     pub resolve: Option<(vk::Image, vk::ImageView)>,
     /// The depth drawn into (multisampled with the colour).
     pub depth: &'a Image,
+    /// The motion target (image, view), cleared to nothing written, with temporal
+    /// anti-aliasing.
+    pub motion: Option<(vk::Image, vk::ImageView)>,
     /// Samples per pixel of `color` and `depth`.
     pub samples: u32,
     /// The colour cleared to.
@@ -58,8 +61,8 @@ pub struct DrawPass {
     pub grass: ByTarget<GrassPass>,
     /// The compute rasterizer's far blades.
     pub raster: RasterPass,
-    /// (colour format, samples) the pipelines draw into.
-    drawn_into: (vk::Format, u32),
+    /// What the pipelines draw into.
+    drawn_into: DrawTarget,
 }
 
 impl DrawPass {
@@ -76,7 +79,7 @@ impl DrawPass {
         ball: &SurfaceMesh,
         valley: Option<f32>,
     ) -> Result<Self> {
-        let one = vk::SampleCountFlags::TYPE_1;
+        let target = DrawTarget::single(color_format);
         let ground = GroundPass::new(
             ctx,
             pool,
@@ -87,38 +90,32 @@ impl DrawPass {
             ball,
             valley,
         )?;
-        let raster = RasterPass::new(ctx, module, field, color_format, one)?;
-        let grass = ByTarget::new(
-            (color_format, one),
-            GrassPass::new(ctx, module, field, color_format, one)?,
-        );
+        let raster = RasterPass::new(ctx, module, field, target)?;
+        let grass = ByTarget::new(target, GrassPass::new(ctx, module, field, target)?);
         Ok(Self {
             ground,
             grass,
             raster,
-            drawn_into: (color_format, 1),
+            drawn_into: target,
         })
     }
 
-    /// The pipelines for colour of `format` at `samples` per pixel (made once per
-    /// pair, kept).
+    /// The pipelines for `target` (made once per target, kept).
     pub fn retarget(
         &mut self,
         ctx: &Arc<Context>,
         module: &ShaderModules,
         field: &Field,
-        (format, samples): (vk::Format, u32),
+        target: DrawTarget,
     ) -> Result<()> {
-        if (format, samples) == self.drawn_into {
+        if target == self.drawn_into {
             return Ok(());
         }
-        let flags = vk::SampleCountFlags::from_raw(samples);
-        self.ground.retarget(ctx, module, field, format, flags)?;
-        self.grass.select((format, flags), || {
-            GrassPass::new(ctx, module, field, format, flags)
-        })?;
-        self.raster.retarget(module, field, format, flags)?;
-        self.drawn_into = (format, samples);
+        self.ground.retarget(ctx, module, field, target)?;
+        self.grass
+            .select(target, || GrassPass::new(ctx, module, field, target))?;
+        self.raster.retarget(module, field, target)?;
+        self.drawn_into = target;
         Ok(())
     }
 
@@ -145,7 +142,10 @@ impl DrawPass {
         let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
         let depth_tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
-        for image in std::iter::once(color.0).chain(resolve.map(|r| r.0)) {
+        let colours = [Some(color), resolve, images.motion];
+        // After the last frame's tone map read them.
+        let last_read = S::COLOR_ATTACHMENT_OUTPUT | S::FRAGMENT_SHADER;
+        for image in colours.into_iter().flatten().map(|c| c.0) {
             rec.image_barrier(
                 image,
                 vk::ImageAspectFlags::COLOR,
@@ -153,7 +153,7 @@ impl DrawPass {
                     vk::ImageLayout::UNDEFINED,
                     vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                 ),
-                (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
+                (last_read, A::NONE),
                 color_out,
             );
         }
@@ -176,6 +176,7 @@ impl DrawPass {
         let hardware = Attachments {
             color: Some((color.1, Some(images.clear))),
             color_resolve: if far { None } else { resolve.map(|r| r.1) },
+            second: images.motion.map(|m| (m.1, true)),
             depth: Some((depth.view, true)),
         };
         rec.begin_rendering_with(&hardware, images.extent);
@@ -199,6 +200,7 @@ impl DrawPass {
             let far_blades = Attachments {
                 color: Some((color.1, None)),
                 color_resolve: resolve.map(|r| r.1),
+                second: images.motion.map(|m| (m.1, false)),
                 depth: Some((depth.view, false)),
             };
             rec.begin_rendering_with(&far_blades, images.extent);
@@ -223,6 +225,7 @@ impl DrawPass {
         let loaded = Attachments {
             color: Some((images.color, None)),
             color_resolve: None,
+            second: None,
             depth: Some((images.depth, false)),
         };
         rec.begin_rendering_with(&loaded, images.extent);

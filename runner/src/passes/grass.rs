@@ -10,6 +10,7 @@
 //! Filled, or as a wireframe in the wireframe view; both pipelines share each look's
 //! fragment stage.
 
+use super::by_target::DrawTarget;
 use crate::field::Field;
 use crate::shaders;
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
@@ -33,32 +34,47 @@ struct Looks {
 }
 
 impl Looks {
-    /// The pipelines of each look, its geometry stages in `paper` and `natural`
-    /// (in order, the fragment stage left out).
+    /// The pipelines of each look for `target`, their geometry stages in `paper` and
+    /// `natural` (in order, the fragment stage left out); with a motion target the
+    /// shaded views write it (the paper look through its geometry stages in
+    /// `paper_motion`), the LOD and wireframe views keep it.
     fn new(
         ctx: &Arc<Context>,
         desc: &GraphicsDesc,
-        paper: &[(vk::ShaderStageFlags, &str)],
-        natural: &[(vk::ShaderStageFlags, &str)],
+        target: DrawTarget,
+        stages: &LookStages,
     ) -> Result<Self> {
-        let make = |geometry: &[(vk::ShaderStageFlags, &str)], fragment, mode| {
+        let make = |geometry: &[(vk::ShaderStageFlags, &str)], fragment, mode, written| {
             let mut stages = geometry.to_vec();
             stages.push((vk::ShaderStageFlags::FRAGMENT, fragment));
             let desc = GraphicsDesc {
                 stages: &stages,
                 polygon_mode: mode,
+                second_color: target.second_color(written),
                 ..*desc
             };
             Pipeline::graphics(ctx, &desc)
         };
         let (fill, line) = (vk::PolygonMode::FILL, vk::PolygonMode::LINE);
+        let (paper, natural) = (stages.paper, stages.natural);
+        let (filled, natural_filled) = if target.motion {
+            (
+                make(stages.paper_motion, shaders::GRASS_TAA_FS, fill, true)?,
+                make(natural, shaders::NATURAL_TAA_FS, fill, true)?,
+            )
+        } else {
+            (
+                make(paper, shaders::GRASS_FS, fill, false)?,
+                make(natural, shaders::NATURAL_FS, fill, false)?,
+            )
+        };
         Ok(Self {
-            filled: make(paper, shaders::GRASS_FS, fill)?,
-            wireframe: make(paper, shaders::GRASS_FS, line)?,
-            lod: make(paper, shaders::GRASS_LOD_FS, fill)?,
-            natural: make(natural, shaders::NATURAL_FS, fill)?,
-            natural_wireframe: make(natural, shaders::NATURAL_VIEW_FS, line)?,
-            natural_lod: make(natural, shaders::NATURAL_VIEW_FS, fill)?,
+            filled,
+            wireframe: make(paper, shaders::GRASS_FS, line, false)?,
+            lod: make(paper, shaders::GRASS_LOD_FS, fill, false)?,
+            natural: natural_filled,
+            natural_wireframe: make(natural, shaders::NATURAL_FS, line, false)?,
+            natural_lod: make(natural, shaders::NATURAL_FS, fill, false)?,
         })
     }
 
@@ -74,6 +90,14 @@ impl Looks {
     }
 }
 
+/// One path's geometry stages (the fragment stage left out).
+struct LookStages<'a> {
+    paper: &'a [(vk::ShaderStageFlags, &'a str)],
+    /// The paper look's, giving each vertex its motion (temporal anti-aliasing).
+    paper_motion: &'a [(vk::ShaderStageFlags, &'a str)],
+    natural: &'a [(vk::ShaderStageFlags, &'a str)],
+}
+
 /// The grass pipelines: tessellated, and with mesh stages where the device has them.
 pub struct GrassPass {
     tess: Looks,
@@ -86,19 +110,23 @@ pub struct GrassPass {
 }
 
 impl GrassPass {
-    /// The pipelines for colour targets of `color_format` with `samples` samples.
+    /// The pipelines for `target`.
     pub fn new(
         ctx: &Arc<Context>,
         module: &ShaderModules,
         field: &Field,
-        color_format: vk::Format,
-        samples: vk::SampleCountFlags,
+        target: DrawTarget,
     ) -> Result<Self> {
         use vk::ShaderStageFlags as St;
         let paper = [
             (St::VERTEX, shaders::GRASS_VS),
             (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
             (St::TESSELLATION_EVALUATION, shaders::GRASS_TES),
+        ];
+        let paper_motion = [
+            (St::VERTEX, shaders::GRASS_VS),
+            (St::TESSELLATION_CONTROL, shaders::GRASS_TCS),
+            (St::TESSELLATION_EVALUATION, shaders::GRASS_TAA_TES),
         ];
         let natural = [
             (St::VERTEX, shaders::NATURAL_VS),
@@ -109,17 +137,25 @@ impl GrassPass {
             module,
             &[],
             &field.layout,
-            color_format,
+            target.format,
             super::DEPTH_FORMAT,
         );
-        desc.samples = samples;
-        let tess = Looks::new(ctx, &desc, &paper, &natural)?;
+        desc.samples = target.samples;
+        let stages = LookStages {
+            paper: &paper,
+            paper_motion: &paper_motion,
+            natural: &natural,
+        };
+        let tess = Looks::new(ctx, &desc, target, &stages)?;
         let mesh = match &ctx.mesh_shader {
             Ok(commands) => {
                 desc.patch_control_points = 0;
-                let paper = [(St::MESH_EXT, shaders::PAPER_MESH)];
-                let natural = [(St::MESH_EXT, shaders::NATURAL_MESH)];
-                let looks = Looks::new(ctx, &desc, &paper, &natural)?;
+                let stages = LookStages {
+                    paper: &[(St::MESH_EXT, shaders::PAPER_MESH)],
+                    paper_motion: &[(St::MESH_EXT, shaders::PAPER_TAA_MESH)],
+                    natural: &[(St::MESH_EXT, shaders::NATURAL_MESH)],
+                };
+                let looks = Looks::new(ctx, &desc, target, &stages)?;
                 Some((looks, commands.clone()))
             }
             Err(_) => None,
@@ -132,6 +168,7 @@ impl GrassPass {
                 ];
                 let desc = GraphicsDesc {
                     stages: &stages,
+                    second_color: target.second_color(false),
                     ..desc
                 };
                 Some(Pipeline::graphics(ctx, &desc)?)

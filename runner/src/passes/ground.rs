@@ -1,7 +1,7 @@
 //! The surfaces: the scene's ground mesh and the collider balls, from one vertex and
 //! one index buffer, textured and lit in the fragment stage.
 
-use super::by_target::ByTarget;
+use super::by_target::{ByTarget, DrawTarget};
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
@@ -122,12 +122,10 @@ impl GroundPass {
             U::VERTEX_BUFFER,
         )?;
         let indices = Buffer::upload(ctx, pool, "surface indices", &set.indices, U::INDEX_BUFFER)?;
-        let one = vk::SampleCountFlags::TYPE_1;
-        let pipeline = ByTarget::new(
-            (color_format, one),
-            Self::pipeline(ctx, module, field, color_format, one)?,
-        );
-        let depth_only = Self::pipeline(ctx, module, field, vk::Format::UNDEFINED, one)?;
+        let target = DrawTarget::single(color_format);
+        let pipeline = ByTarget::new(target, Self::pipeline(ctx, module, field, target)?);
+        let depth_only = DrawTarget::single(vk::Format::UNDEFINED);
+        let depth_only = Self::pipeline(ctx, module, field, depth_only)?;
         Ok(Self {
             pipeline,
             depth_only,
@@ -146,15 +144,16 @@ impl GroundPass {
         self.centre = (camera / GRID_SPACING).round() * GRID_SPACING;
     }
 
-    /// The lit surface pipeline for `color_format` (`UNDEFINED`: depth only) and
-    /// `samples`.
+    /// The lit surface pipeline for `target` (colour `UNDEFINED`: depth only); a
+    /// motion target is kept as it is (the resolve finds the ground's motion from the
+    /// depth).
     fn pipeline(
         ctx: &Arc<Context>,
         module: &ShaderModules,
         field: &Field,
-        color_format: vk::Format,
-        samples: vk::SampleCountFlags,
+        target: DrawTarget,
     ) -> Result<Pipeline> {
+        let color_format = target.format;
         use vk::ShaderStageFlags as St;
         // Position and material, normal: two vec4 at locations 0 and 1.
         let input = vec4_vertex_input::<SurfaceVertex>();
@@ -170,23 +169,22 @@ impl GroundPass {
         };
         let mut desc =
             GraphicsDesc::opaque(module, stages, &field.layout, &input, color_format, depth);
-        desc.samples = samples;
+        desc.samples = target.samples;
+        desc.second_color = target.second_color(false);
         Pipeline::graphics(ctx, &desc)
     }
 
-    /// Uses the lit pipeline for colour targets of `color_format` with `samples`
-    /// samples, made the first time it is asked for. No frame may be in flight.
+    /// Uses the lit pipeline for `target`, made the first time it is asked for. No
+    /// frame may be in flight.
     pub fn retarget(
         &mut self,
         ctx: &Arc<Context>,
         module: &ShaderModules,
         field: &Field,
-        color_format: vk::Format,
-        samples: vk::SampleCountFlags,
+        target: DrawTarget,
     ) -> Result<()> {
-        self.pipeline.select((color_format, samples), || {
-            Self::pipeline(ctx, module, field, color_format, samples)
-        })
+        self.pipeline
+            .select(target, || Self::pipeline(ctx, module, field, target))
     }
 
     /// Records the ground and one ball per collider (centre xyz, radius w) inside the

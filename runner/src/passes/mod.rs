@@ -23,10 +23,13 @@
 //!      same images in a second scope.
 //!
 //!    In the natural look they draw into a linear HDR target (multisampled with
-//!    `--msaa`, resolved when the last scope ends).
-//! 5. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
-//!    image; writes the target).
-//! 6. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
+//!    `--msaa`, resolved when the last scope ends); with temporal anti-aliasing
+//!    (either look) into the HDR target and a motion target, each pixel's motion.
+//! 5. [`temporal`]: with temporal anti-aliasing, the resolve (reads the HDR image,
+//!    the motion target, the depth and the last history; writes the next history).
+//! 6. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
+//!    image, or the history just written; writes the target).
+//! 7. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
 //!    colour).
 //!
 //! [`reference`](mod@reference) is no part of a frame: the benchmark's bandwidth and triangle
@@ -42,6 +45,7 @@ pub mod raster;
 pub mod reference;
 pub mod shadow;
 pub mod simulate;
+pub mod temporal;
 pub mod tiles;
 pub mod tonemap;
 
@@ -70,7 +74,8 @@ pub enum Mark {
     /// After the last rendering scope ended: the compute rasterizer's resolve and the
     /// multisample resolve, when there are any.
     Resolve,
-    /// After the sky and the tone map (natural look).
+    /// After the temporal resolve and the sky and the tone map (natural look, or
+    /// temporal anti-aliasing).
     ToneMap,
     /// After the overlay.
     Overlay,
@@ -83,3 +88,7 @@ impl Mark {
 
 /// Depth format of every pass.
 pub const DEPTH_FORMAT: ash::vk::Format = ash::vk::Format::D32_SFLOAT;
+
+/// Format of the linear HDR image the natural look draws into (and either look with
+/// temporal anti-aliasing), and of the temporal histories.
+pub const HDR_FORMAT: ash::vk::Format = ash::vk::Format::R16G16B16A16_SFLOAT;

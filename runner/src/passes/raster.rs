@@ -6,7 +6,7 @@
 //! full-screen draw shades each pixel a far blade won and writes its depth, so the
 //! depth test composites the two paths.
 
-use super::by_target::ByTarget;
+use super::by_target::{ByTarget, DrawTarget};
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
@@ -43,15 +43,14 @@ pub struct RasterPass {
 }
 
 impl RasterPass {
-    /// The pipelines, where the device has 64-bit atomics, the resolve's for colour
-    /// targets of `color_format` with `samples` (see [`Self::retarget`]); the
-    /// visibility buffer comes with [`Self::resize`].
+    /// The pipelines, where the device has 64-bit atomics, the resolve's for
+    /// `target` (see [`Self::retarget`]); the visibility buffer comes with
+    /// [`Self::resize`].
     pub fn new(
         ctx: &Arc<Context>,
         module: &ShaderModules,
         field: &Field,
-        color_format: vk::Format,
-        samples: vk::SampleCountFlags,
+        target: DrawTarget,
     ) -> Result<Self> {
         let far = match &ctx.int64_atomics {
             Ok(()) => {
@@ -79,7 +78,7 @@ impl RasterPass {
             visibility: None,
             hardware_depth: None,
         };
-        pass.retarget(module, field, color_format, samples)?;
+        pass.retarget(module, field, target)?;
         Ok(pass)
     }
 
@@ -88,14 +87,14 @@ impl RasterPass {
         self.far.is_some()
     }
 
-    /// Uses the resolve's pipelines for colour targets of `color_format` with
-    /// `samples`, made the first time they are asked for.
+    /// Uses the resolve's pipelines for `target`, made the first time they are asked
+    /// for; a motion target is kept as it is (far blades move with the camera, which
+    /// the temporal resolve finds from their depth).
     pub fn retarget(
         &mut self,
         module: &ShaderModules,
         field: &Field,
-        color_format: vk::Format,
-        samples: vk::SampleCountFlags,
+        target: DrawTarget,
     ) -> Result<()> {
         if self.far.is_none() {
             return Ok(());
@@ -105,12 +104,13 @@ impl RasterPass {
             let stages = [(St::VERTEX, shaders::RESOLVE_VS), (St::FRAGMENT, fragment)];
             let desc = GraphicsDesc {
                 patch_control_points: 0,
-                samples,
+                samples: target.samples,
+                second_color: target.second_color(false),
                 ..GraphicsDesc::patches(
                     module,
                     &stages,
                     &field.layout,
-                    color_format,
+                    target.format,
                     super::DEPTH_FORMAT,
                 )
             };
@@ -123,7 +123,6 @@ impl RasterPass {
                 natural: make(shaders::RESOLVE_NATURAL_FS)?,
             })
         };
-        let target = (color_format, samples);
         match &mut self.resolve {
             Some(kept) => kept.select(target, make_all)?,
             None => self.resolve = Some(ByTarget::new(target, make_all()?)),

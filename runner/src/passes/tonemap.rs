@@ -1,17 +1,24 @@
-//! The natural look's last pass: a grid of cells over the screen that puts the sky
-//! (or the meadow beyond the field) behind the scene in the HDR image, where its alpha
-//! leaves room, and tone-maps it into the sRGB target (`shared::draw::look::sky::tone_map`,
-//! Narkowicz's ACES fit). The sky is evaluated at the grid's corners and
-//! interpolated; the sun disc and the tone map run per pixel.
+//! The last pass before the overlay: a grid of cells over the screen that puts the
+//! sky (or the meadow beyond the field) behind the scene in the HDR image, where its
+//! alpha leaves room, and tone-maps it into the sRGB target
+//! (`shared::draw::look::sky::tone_map`, Narkowicz's ACES fit). The sky is evaluated at
+//! the grid's corners and interpolated; the sun disc and the tone map run per pixel.
+//! With temporal anti-aliasing it reads the history the resolve wrote
+//! ([`super::temporal`]), in either look: the paper look's is then shown as drawn (no
+//! sky, no tone map).
 
+use super::temporal::TemporalImages;
 use crate::shaders;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModules};
-use crate::vulkan::{Context, Recorder};
+use crate::vulkan::{Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
 use shared::gpu::layout::{FrameUniforms, ToneMapPush};
 use std::sync::Arc;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
 
 /// The tone map's own set: the HDR image.
 pub const BINDINGS: [BindingSpec; 1] = [BindingSpec {
@@ -28,11 +35,28 @@ pub const PUSH_CONSTANTS: (vk::ShaderStageFlags, u32) = (
     size_of::<ToneMapPush>() as u32,
 );
 
-/// The tone-map pipeline and the set naming its source.
+/// The tone-map pipeline and the sets naming its sources: the HDR image, and with
+/// temporal anti-aliasing each history.
 pub struct ToneMapPass {
     set: DescriptorSet,
+    history_sets: [DescriptorSet; 2],
     layout: PipelineLayout,
     pipeline: Pipeline,
+}
+
+/// What the tone map reads: the HDR image as drawn, or history k (temporal
+/// anti-aliasing).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum ToneMapSource {
+    /// The HDR image, from the draw's attachment (to sampled here).
+    Drawn,
+    /// A history, left sampled by the resolve.
+    History {
+        /// Which.
+        k: usize,
+        /// The frame shown as drawn (the paper look).
+        as_drawn: bool,
+    },
 }
 
 impl ToneMapPass {
@@ -49,45 +73,51 @@ impl ToneMapPass {
             GraphicsDesc::patches(module, &stages, &layout, format, vk::Format::UNDEFINED);
         desc.patch_control_points = 0;
         let pipeline = Pipeline::graphics(ctx, &desc)?;
+        let history_sets = [
+            DescriptorSet::new(ctx, &BINDINGS)?,
+            DescriptorSet::new(ctx, &BINDINGS)?,
+        ];
         Ok(Self {
             set,
+            history_sets,
             layout,
             pipeline,
         })
     }
 
-    /// Reads `hdr` (SHADER_READ_ONLY_OPTIMAL, the target's size) from now on. No frame
-    /// may be in flight.
-    pub fn set_source(&self, hdr: vk::ImageView) {
-        self.set.write_sampled_image(0, hdr);
+    /// Reads `hdr` (and with temporal anti-aliasing the `temporal` histories) from now
+    /// on, each in SHADER_READ_ONLY_OPTIMAL. No frame may be in flight.
+    pub fn set_sources(&self, hdr: Option<&Image>, temporal: Option<TemporalImages>) {
+        if let Some(hdr) = hdr {
+            self.set.write_sampled_image(0, hdr.view);
+        }
+        if let Some(t) = temporal {
+            for (set, history) in self.history_sets.iter().zip(t.history) {
+                set.write_sampled_image(0, history.view);
+            }
+        }
     }
 
-    /// Puts the sky behind the HDR image `hdr` and tone-maps it into `target` (image,
-    /// view, extent), for the frame of `uniforms`: the HDR image from attachment to
-    /// sampled, the target from undefined to attachment.
+    /// Puts the sky behind `source` and tone-maps it into `target` (image, view,
+    /// extent), for the frame of `uniforms`; `hdr` is the HDR image (from attachment
+    /// to sampled when it is the source); the target from undefined to attachment.
     pub fn record(
         &self,
         rec: &Recorder,
-        hdr: vk::Image,
+        (source, hdr): (ToneMapSource, vk::Image),
         target: (vk::Image, vk::ImageView, vk::Extent2D),
         uniforms: &FrameUniforms,
     ) {
-        use vk::AccessFlags2 as A;
-        use vk::PipelineStageFlags2 as S;
-        let color = vk::ImageAspectFlags::COLOR;
-        rec.image_barrier(
-            hdr,
-            color,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            ),
-            (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
-            (S::FRAGMENT_SHADER, A::SHADER_READ),
-        );
+        let (set, as_drawn) = match source {
+            ToneMapSource::Drawn => {
+                to_sampled(rec, hdr, (S::FRAGMENT_SHADER, A::SHADER_READ));
+                (&self.set, false)
+            }
+            ToneMapSource::History { k, as_drawn } => (&self.history_sets[k], as_drawn),
+        };
         rec.image_barrier(
             target.0,
-            color,
+            vk::ImageAspectFlags::COLOR,
             (
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
@@ -95,27 +125,42 @@ impl ToneMapPass {
             (S::COLOR_ATTACHMENT_OUTPUT, A::NONE),
             (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
         );
-        let camera = &uniforms.camera;
-        let push = ToneMapPush {
-            clip_to_world: camera.view_proj.inverse(),
-            camera: camera.position.extend(uniforms.look.exposure),
-            sun: uniforms.light.direction.extend(0.0),
-            ground: shared::draw::look::ground::horizon_ground(&uniforms.look),
-        };
         rec.begin_rendering(Some((target.1, None)), None, target.2);
         let graphics = vk::PipelineBindPoint::GRAPHICS;
-        rec.bind_pipeline(
-            graphics,
-            self.pipeline.pipeline,
-            self.layout.layout,
-            self.set.set,
-        );
-        rec.push_constants(
-            self.layout.layout,
-            PUSH_CONSTANTS.0,
-            bytemuck::bytes_of(&push),
-        );
+        let layout = self.layout.layout;
+        rec.bind_pipeline(graphics, self.pipeline.pipeline, layout, set.set);
+        let push = push(uniforms, as_drawn);
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.draw(0, shared::gpu::layout::TONEMAP_VERTICES);
         rec.end_rendering();
     }
+}
+
+/// The tone map's constants for the frame of `uniforms`; `as_drawn`: the frame shown
+/// as drawn (no sky, no tone map).
+fn push(uniforms: &FrameUniforms, as_drawn: bool) -> ToneMapPush {
+    let camera = &uniforms.camera;
+    ToneMapPush {
+        clip_to_world: camera.view_proj.inverse(),
+        camera: camera.position.extend(uniforms.look.exposure),
+        sun: uniforms
+            .light
+            .direction
+            .extend(f32::from(u8::from(as_drawn))),
+        ground: shared::draw::look::ground::horizon_ground(&uniforms.look),
+    }
+}
+
+/// The colour attachment `image` the draw wrote, to sampled for `reader`.
+pub(super) fn to_sampled(rec: &Recorder, image: vk::Image, reader: (S, A)) {
+    rec.image_barrier(
+        image,
+        vk::ImageAspectFlags::COLOR,
+        (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        ),
+        (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+        reader,
+    );
 }

@@ -4,8 +4,9 @@
 //! loaded and stored in their layouts. The natural look draws linear radiance (its
 //! clumps, colours, translucency, sun shadows and fog) for the caller's own exposure
 //! and tone map: the renderer's HDR image, tone map and sky would draw over the
-//! caller's picture. No occlusion pre-pass, compute rasterizer or MSAA: the caller's
-//! depth test hides what its scene hides.
+//! caller's picture. No occlusion pre-pass, compute rasterizer, MSAA or temporal
+//! anti-aliasing (the caller's own resolves the frame): the caller's depth test
+//! hides what its scene hides.
 
 use super::{FrameQueries, Mark, Renderer};
 use crate::passes::draw::LoadedImages;
@@ -52,11 +53,17 @@ impl Renderer {
         let extent = frame.targets.extent;
         // The renderer's own depth image stays the compute passes' bound (unread)
         // depth: the descriptor set must hold one.
-        self.ensure_targets(extent, false, 1)?;
+        self.ensure_targets(super::targets::TargetSpec {
+            extent,
+            hdr: false,
+            samples: 1,
+            taa: false,
+        })?;
         // The caller's own depth makes no pyramid here, and its targets take one
-        // sample and no far blades.
+        // sample, no history and no far blades.
         let plan = FramePlan {
             samples: 1,
+            taa: false,
             ..frame.request.plan().within(false, false)
         };
         let uniforms = self.prepare(&frame.request, &plan, frame.push, extent)?;

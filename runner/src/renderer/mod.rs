@@ -18,8 +18,9 @@ use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::simulate::SimulatePass;
+use crate::passes::temporal::TemporalPass;
 use crate::passes::tiles::TilesPass;
-use crate::passes::tonemap::ToneMapPass;
+use crate::passes::tonemap::{ToneMapPass, ToneMapSource};
 use crate::shaders;
 use crate::tiles::TiledSpec;
 use crate::vulkan::commands::CommandPool;
@@ -34,7 +35,7 @@ use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
-use targets::{DrawTargets, draw_images};
+use targets::{DrawTargets, TargetSpec, draw_images};
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
@@ -134,6 +135,7 @@ pub struct Renderer {
     pub has_occluders: bool,
     shadow: ShadowPass,
     tonemap: ToneMapPass,
+    temporal_pass: TemporalPass,
     overlay: Option<OverlayPass>,
     color_format: vk::Format,
     targets: Option<DrawTargets>,
@@ -141,6 +143,8 @@ pub struct Renderer {
     clumped: Option<(u32, f32)>,
     /// The newest frame's block.
     block: FrameUniforms,
+    /// What the temporal anti-aliasing keeps from frame to frame.
+    temporal: Temporal,
     pool: CommandPool,
     module: ShaderModules,
 }
@@ -190,6 +194,7 @@ impl Renderer {
         // The smallest map until the first frame names its size.
         let shadow = ShadowPass::new(ctx, &pool, &module, &field, SHADOW_SIZES[0])?;
         let tonemap = ToneMapPass::new(ctx, &module, color_format)?;
+        let temporal_pass = TemporalPass::new(ctx, &module)?;
         Ok(Self {
             ctx: ctx.clone(),
             field,
@@ -205,11 +210,13 @@ impl Renderer {
             has_occluders: meshes.has_occluders,
             shadow,
             tonemap,
+            temporal_pass,
             overlay: None,
             color_format,
             targets: None,
             clumped: None,
             block: bytemuck::Zeroable::zeroed(),
+            temporal: Temporal::default(),
             pool,
             module,
         })
@@ -269,7 +276,13 @@ impl Renderer {
             .plan()
             .within(self.has_occluders, self.draw.raster.supported());
         let natural = plan.natural();
-        self.ensure_targets(target.extent, natural, plan.samples)?;
+        self.ensure_targets(TargetSpec {
+            extent: target.extent,
+            hdr: natural || plan.taa,
+            samples: plan.samples,
+            taa: plan.taa,
+        })?;
+        self.temporal.begin(&plan, target.extent);
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             pass.update_textures(&self.pool, frame.textures)?;
         }
@@ -293,16 +306,28 @@ impl Renderer {
         let balls = input.request.balls();
         self.record_simulation(rec, &plan, input.push, balls, &stamp);
         let targets = self.targets.as_ref().context("draw targets")?;
-        let images = draw_images(targets, &target);
+        let images = draw_images(targets, &target, natural);
         self.draw
             .record(rec, &self.field, &images, &plan, balls, &stamp, triangles);
         stamp(Mark::Resolve);
         self.copy_counters(rec, queries);
-        if natural {
+        let out = (target.image, target.view, target.extent);
+        if let Some(images) = targets.temporal() {
+            let t = &self.temporal;
+            let how = (t.read, t.previous.is_none());
+            self.temporal_pass.record(rec, images, target.extent, how);
+            let source = ToneMapSource::History {
+                k: 1 - t.read,
+                as_drawn: !natural,
+            };
+            self.tonemap
+                .record(rec, (source, images.hdr.image), out, &uniforms);
+        } else if natural {
             let hdr = targets.hdr.as_ref().context("HDR image")?;
-            let out = (target.image, target.view, target.extent);
-            self.tonemap.record(rec, hdr.image, out, &uniforms);
+            let source = (ToneMapSource::Drawn, hdr.image);
+            self.tonemap.record(rec, source, out, &uniforms);
         }
+        self.temporal.end(&plan, &input.request);
         stamp(Mark::ToneMap);
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             rec.memory_barrier(
@@ -371,6 +396,8 @@ impl Renderer {
             hiz: self.occlusion.hiz,
             field: self.field_part(),
             time: shared::sim::simulate::step_time(push.first_step + push.steps),
+            frame: self.temporal.frame,
+            previous: self.temporal.previous,
         }
     }
 
@@ -514,6 +541,43 @@ impl Renderer {
             color_out,
             (dst, dst_access),
         );
+    }
+}
+
+/// What the temporal anti-aliasing keeps between frames: the jitter's place, the
+/// camera the history was drawn from and which history is read.
+#[derive(Copy, Clone, Debug, Default)]
+struct Temporal {
+    /// Frames drawn with it.
+    frame: u32,
+    /// The last frame's unjittered view-projection; `None` while the history holds
+    /// nothing to blend.
+    previous: Option<glam::Mat4>,
+    /// The history the next frame reads (the other is written).
+    read: usize,
+    /// What the history was drawn as: (size, look, view); another empties it.
+    drawn_as: Option<(vk::Extent2D, shared::settings::Look, shared::settings::View)>,
+}
+
+impl Temporal {
+    /// Before a frame of `plan` into a target of `extent`: the history goes where the
+    /// frame is drawn otherwise than it was (a new size, look or view, or no TAA).
+    fn begin(&mut self, plan: &FramePlan, extent: vk::Extent2D) {
+        let drawn_as = plan.taa.then_some((extent, plan.look, plan.view));
+        if drawn_as != self.drawn_as || drawn_as.is_none() {
+            self.previous = None;
+        }
+        self.drawn_as = drawn_as;
+    }
+
+    /// After a frame of `plan` seen as `request` asks was recorded: its camera is the
+    /// next frame's previous one, and the history it wrote the next one's read.
+    fn end(&mut self, plan: &FramePlan, request: &FrameRequest) {
+        if plan.taa {
+            self.previous = Some(request.eye.view_proj);
+            self.read = 1 - self.read;
+            self.frame = self.frame.wrapping_add(1);
+        }
     }
 }
 

@@ -1,34 +1,37 @@
 //! The images the ground and grass draw into, beside the frame's target: the depth
-//! image (also the occlusion pre-pass's), and for the natural look or MSAA a linear
-//! HDR image and multisampled colour and depth.
+//! image (also the occlusion pre-pass's), for the natural look or MSAA a linear HDR
+//! image and multisampled colour and depth, and for temporal anti-aliasing (TAA) the
+//! motion target and two histories that take turns (one read, one written).
 //!
-//! | look, samples | colour drawn into | resolved into | then |
+//! | look, anti-aliasing | colour drawn into | resolved into | then |
 //! |---|---|---|---|
-//! | paper, 1 | the target | | |
-//! | paper, N | multisampled, target format | the target | |
-//! | natural, 1 | HDR | | tone map → target |
-//! | natural, N | multisampled HDR | HDR | tone map → target |
+//! | paper, none | the target | | |
+//! | paper, MSAA | multisampled, target format | the target | |
+//! | natural, none | HDR | | tone map → target |
+//! | natural, MSAA | multisampled HDR | HDR | tone map → target |
+//! | either, TAA | HDR and motion | a history (the resolve) | tone map → target |
 
 use super::{Renderer, SKY, Target};
-use crate::passes::DEPTH_FORMAT;
+use crate::passes::by_target::{DrawTarget, MOTION_FORMAT};
 use crate::passes::draw::DrawImages;
+use crate::passes::temporal::TemporalImages;
+use crate::passes::{DEPTH_FORMAT, HDR_FORMAT};
 use crate::vulkan::{Context, Image};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use std::sync::Arc;
-
-/// Format of the natural look's linear HDR image.
-pub const HDR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
 /// What the targets are made for.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct TargetSpec {
     /// Size in pixels.
     pub extent: vk::Extent2D,
-    /// Drawn in linear HDR and tone-mapped (the natural look).
+    /// Drawn in linear HDR and tone-mapped (the natural look; either look with TAA).
     pub hdr: bool,
     /// Samples per pixel.
     pub samples: u32,
+    /// Temporal anti-aliasing: a motion target and the histories.
+    pub taa: bool,
 }
 
 /// The draw's images for one [`TargetSpec`].
@@ -44,6 +47,11 @@ pub struct DrawTargets {
     pub color_ms: Option<Image>,
     /// Multisampled depth (MSAA).
     pub depth_ms: Option<Image>,
+    /// Each pixel's motion (TAA; `passes::by_target::MOTION_FORMAT`).
+    pub motion: Option<Image>,
+    /// The resolved frames, HDR: one read as the history while the other is written
+    /// (TAA).
+    pub history: Option<[Image; 2]>,
 }
 
 impl DrawTargets {
@@ -98,12 +106,36 @@ impl DrawTargets {
         } else {
             (None, None)
         };
+        let (motion, history) = if spec.taa {
+            let usage = U::COLOR_ATTACHMENT | U::SAMPLED;
+            let motion = Image::new(ctx, "motion", extent, MOTION_FORMAT, usage, color)?;
+            let usage = U::STORAGE | U::SAMPLED;
+            let history = [
+                Image::new(ctx, "history 0", extent, HDR_FORMAT, usage, color)?,
+                Image::new(ctx, "history 1", extent, HDR_FORMAT, usage, color)?,
+            ];
+            (Some(motion), Some(history))
+        } else {
+            (None, None)
+        };
         Ok(Self {
             spec,
             depth: depth_image,
             hdr,
             color_ms,
             depth_ms,
+            motion,
+            history,
+        })
+    }
+
+    /// The images the temporal resolve reads and writes, with TAA.
+    pub fn temporal(&self) -> Option<TemporalImages<'_>> {
+        Some(TemporalImages {
+            hdr: self.hdr.as_ref()?,
+            motion: self.motion.as_ref()?,
+            depth: &self.depth,
+            history: self.history.as_ref()?,
         })
     }
 
@@ -114,18 +146,13 @@ impl DrawTargets {
 }
 
 impl Renderer {
-    /// The draw's images and the depth pyramid for `extent`, the look and `samples`
-    /// (lowered to what the device has), and the pipelines that draw into them.
-    pub(super) fn ensure_targets(
-        &mut self,
-        extent: vk::Extent2D,
-        hdr: bool,
-        samples: u32,
-    ) -> Result<()> {
+    /// The draw's images and the depth pyramid for `spec` (its samples lowered to
+    /// what the device has), and the pipelines that draw into them.
+    pub(super) fn ensure_targets(&mut self, spec: TargetSpec) -> Result<()> {
+        let (extent, hdr, samples) = (spec.extent, spec.hdr, spec.samples);
         let spec = TargetSpec {
-            extent,
-            hdr,
             samples: self.ctx.supported_samples(samples),
+            ..spec
         };
         let old = self.targets.as_ref().map(|t| t.spec);
         if old == Some(spec) {
@@ -144,13 +171,16 @@ impl Renderer {
         if let Some(ms) = &targets.depth_ms {
             set.write_sampled_image(shared::gpu::layout::BINDING_DEPTH_IMAGE_MS, ms.view);
         }
-        if let Some(hdr) = &targets.hdr {
-            self.tonemap.set_source(hdr.view);
+        self.tonemap
+            .set_sources(targets.hdr.as_ref(), targets.temporal());
+        if let Some(images) = targets.temporal() {
+            self.temporal_pass.set_images(images, &self.field);
         }
-        let drawn_into = (
-            DrawTargets::draw_format(hdr, self.color_format),
-            spec.samples,
-        );
+        let drawn_into = DrawTarget {
+            format: DrawTargets::draw_format(hdr, self.color_format),
+            samples: vk::SampleCountFlags::from_raw(spec.samples),
+            motion: spec.taa,
+        };
         self.draw
             .retarget(&self.ctx, &self.module, &self.field, drawn_into)?;
         if spec.samples != samples {
@@ -169,16 +199,28 @@ impl Renderer {
         &mut self,
         extent: vk::Extent2D,
     ) -> Result<(vk::Image, vk::ImageView)> {
-        let spec = self.targets.as_ref().map(|t| (t.spec.hdr, t.spec.samples));
-        let (hdr, samples) = spec.unwrap_or((false, 1));
-        self.ensure_targets(extent, hdr, samples)?;
+        let spec = match self.targets.as_ref() {
+            Some(t) => TargetSpec { extent, ..t.spec },
+            None => TargetSpec {
+                extent,
+                hdr: false,
+                samples: 1,
+                taa: false,
+            },
+        };
+        self.ensure_targets(spec)?;
         let depth = &self.targets.as_ref().context("draw targets")?.depth;
         Ok((depth.image, depth.view))
     }
 }
 
-/// The images the draw writes for `target` (this module's table).
-pub(super) fn draw_images<'t>(targets: &'t DrawTargets, target: &Target) -> DrawImages<'t> {
+/// The images the draw writes for `target` (this module's table), in the `natural`
+/// look or not.
+pub(super) fn draw_images<'t>(
+    targets: &'t DrawTargets,
+    target: &Target,
+    natural: bool,
+) -> DrawImages<'t> {
     let single = targets
         .hdr
         .as_ref()
@@ -191,9 +233,10 @@ pub(super) fn draw_images<'t>(targets: &'t DrawTargets, target: &Target) -> Draw
         color,
         resolve,
         depth: targets.depth_ms.as_ref().unwrap_or(&targets.depth),
+        motion: targets.motion.as_ref().map(|m| (m.image, m.view)),
         samples: targets.spec.samples,
         // The natural look's sky is drawn by the tone map where alpha leaves room.
-        clear: if targets.hdr.is_some() { [0.0; 4] } else { SKY },
+        clear: if natural { [0.0; 4] } else { SKY },
         extent: target.extent,
     }
 }

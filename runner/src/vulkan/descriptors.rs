@@ -111,6 +111,21 @@ impl DescriptorSet {
         self.write_image_info(binding, ty, view, vk::Sampler::null());
     }
 
+    /// Points `binding` (a storage image) at `view`, in GENERAL.
+    pub fn write_storage_image(&self, binding: u32, view: vk::ImageView) {
+        let info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: view,
+            image_layout: vk::ImageLayout::GENERAL,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .image_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
     /// Points `binding` (a sampler) at `sampler`.
     pub fn write_sampler(&self, binding: u32, sampler: vk::Sampler) {
         let ty = vk::DescriptorType::SAMPLER;

@@ -49,9 +49,12 @@ fn required(
     core: &vk::PhysicalDeviceFeatures,
     v12: &vk::PhysicalDeviceVulkan12Features,
     v13: &vk::PhysicalDeviceVulkan13Features,
-) -> [(&'static str, vk::Bool32); 8] {
+) -> [(&'static str, vk::Bool32); 9] {
     [
         ("tessellationShader", core.tessellation_shader),
+        // The draw's motion target is written by the grass and kept by the ground
+        // (temporal anti-aliasing): two colour attachments blended differently.
+        ("independentBlend", core.independent_blend),
         ("multiDrawIndirect", core.multi_draw_indirect),
         ("fillModeNonSolid", core.fill_mode_non_solid),
         ("vulkanMemoryModel", v12.vulkan_memory_model),
@@ -115,6 +118,7 @@ impl DeviceFeatures {
         Ok(Self {
             core: vk::PhysicalDeviceFeatures::default()
                 .tessellation_shader(true)
+                .independent_blend(true)
                 .multi_draw_indirect(true)
                 .fill_mode_non_solid(true)
                 .pipeline_statistics_query(statistics)

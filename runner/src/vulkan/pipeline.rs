@@ -187,15 +187,26 @@ impl Pipeline {
                 .alpha_blend_op(vk::BlendOp::ADD);
         }
         let has_color = desc.color_format != vk::Format::UNDEFINED;
-        let blend = [attachment];
-        let blend: &[_] = if has_color { &blend } else { &[] };
-        let color_blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend);
+        let mut blend = vec![];
+        let mut color_formats = vec![];
+        if has_color {
+            blend.push(attachment);
+            color_formats.push(desc.color_format);
+        }
+        if let Some((format, written)) = desc.second_color {
+            let mask = if written {
+                vk::ColorComponentFlags::RGBA
+            } else {
+                vk::ColorComponentFlags::empty()
+            };
+            blend.push(vk::PipelineColorBlendAttachmentState::default().color_write_mask(mask));
+            color_formats.push(format);
+        }
+        let color_blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let color_formats = [desc.color_format];
-        let color_formats: &[_] = if has_color { &color_formats } else { &[] };
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(color_formats)
+            .color_attachment_formats(&color_formats)
             .depth_attachment_format(desc.depth_format);
         let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
@@ -252,6 +263,9 @@ pub struct GraphicsDesc<'a> {
     pub polygon_mode: vk::PolygonMode,
     /// Colour attachment format; `UNDEFINED` for none (a depth-only pass).
     pub color_format: vk::Format,
+    /// A second colour attachment after it, of this format, written by the
+    /// fragment stage (`true`) or left as it is (the draw's motion target).
+    pub second_color: Option<(vk::Format, bool)>,
     /// Depth attachment format (tested and written); `UNDEFINED` for none.
     pub depth_format: vk::Format,
     /// Blend premultiplied-alpha colour over the target instead of replacing it.
@@ -297,6 +311,7 @@ impl<'a> GraphicsDesc<'a> {
             patch_control_points: 1,
             polygon_mode: vk::PolygonMode::FILL,
             color_format,
+            second_color: None,
             depth_format,
             premultiplied_blend: false,
             samples: vk::SampleCountFlags::TYPE_1,

@@ -13,6 +13,9 @@ pub struct Attachments {
     /// Where the multisampled colour is averaged when rendering ends
     /// (COLOR_ATTACHMENT_OPTIMAL).
     pub color_resolve: Option<vk::ImageView>,
+    /// A second colour view after it (single-sample, not resolved: the draw's motion
+    /// target, the temporal history), cleared to zero (`true`) or loaded.
+    pub second: Option<(vk::ImageView, bool)>,
     /// The depth view, cleared to 1 (`true`) or loaded.
     pub depth: Option<(vk::ImageView, bool)>,
 }
@@ -228,7 +231,7 @@ impl<'a> Recorder<'a> {
                 vk::AttachmentLoadOp::LOAD
             }
         };
-        let color_attachment: Vec<_> = attachments
+        let mut color_attachment: Vec<_> = attachments
             .color
             .iter()
             .map(|&(view, clear)| {
@@ -251,6 +254,18 @@ impl<'a> Recorder<'a> {
                     })
             })
             .collect();
+        if let Some((view, clear)) = attachments.second {
+            color_attachment.push(
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(view)
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(load(clear))
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue {
+                        color: vk::ClearColorValue { float32: [0.0; 4] },
+                    }),
+            );
+        }
         let depth_attachment = attachments.depth.map(|(view, clear)| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(view)

@@ -1,6 +1,6 @@
 //! The compute passes: reduce the occluders' depth into a pyramid, then simulate every
 //! blade, cull it, count each test's removals and compact the survivors, then write
-//! the indirect draw commands.
+//! the indirect draw commands; after the draw, the temporal resolve.
 
 pub mod clumps;
 pub mod draws;
@@ -8,4 +8,5 @@ pub mod hiz;
 pub mod raster;
 pub mod reference;
 pub mod simulate;
+pub mod temporal;
 pub mod tiles;

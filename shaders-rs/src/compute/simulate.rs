@@ -4,11 +4,12 @@
 use shared::Blade;
 use shared::cull::blade::{KEPT, cull_outcome};
 use shared::cull::lod::blade_level;
-use shared::draw::look::clump::{Clump, DressedBlade, dress};
+use shared::draw::look::clump::{Clump, DressedBlade, caster_blade, dress};
 use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::shadow::{casts_shadow, in_shadow_map};
 use shared::draw::meshlet::{packed_bucket, visible_level};
 use shared::draw::raster::is_far;
+use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::COUNTER_TILE_BLADES;
 use shared::gpu::counters::strip_counter;
 use shared::gpu::counters::{
@@ -23,7 +24,7 @@ use shared::sim::simulate::simulate;
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
-use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4};
+use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
@@ -39,6 +40,7 @@ pub struct BladeBuffers<'a> {
     tiles: &'a [u32],
     paint: &'a [u32],
     casters: &'a mut [u32],
+    motion: &'a mut [BladeMotion],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -67,6 +69,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -80,18 +83,18 @@ pub fn simulate_cull(
         tiles,
         paint,
         casters,
+        motion,
     };
     let mesh = frame.grass.pipeline == PIPELINE_MESH;
-    let prepare = |_: u32, _: u32, kept: &Blade, _: &[u32], _: Vec2| {
-        (
-            (),
-            if mesh {
-                blade_level(kept, &frame.lod, &frame.camera, frame.grass.shape)
-            } else {
-                0.0
-            },
-        )
+    let prepare = |_: u32, _: u32, kept: &Blade, before: BladeMotion, _: &[u32], _: Vec2| {
+        let level = if mesh {
+            blade_level(kept, &frame.lod, &frame.camera, frame.grass.shape)
+        } else {
+            0.0
+        };
+        ((), before, level)
     };
+    // The paper look's geometry stages read a blade by its index: so does its motion.
     simulate_and_cull(
         id,
         local,
@@ -103,6 +106,7 @@ pub fn simulate_cull(
         prepare,
         |_, _| {},
         |_| (false, false),
+        true,
     );
 }
 
@@ -130,6 +134,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
 ) {
     let buffers = BladeBuffers {
@@ -143,29 +148,40 @@ pub fn simulate_cull_natural(
         tiles,
         paint,
         casters,
+        motion,
     };
     let camera = frame.camera.position;
     let half = push.tiles.half_extent;
-    let prepare = |index: u32, id: u32, kept: &Blade, paint: &[u32], at: Vec2| {
-        let clump = Clump::unpack(clumps[index as usize]);
-        let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
-        // The painted colour map (white where there is none).
-        let colour = shared::world::paint::sample(paint, shared::world::paint::COLOUR, at, half);
-        let tint = Vec4::new(
-            tint.x * colour.x,
-            tint.y * colour.y,
-            tint.z * colour.z,
-            tint.w,
-        );
-        let (mask, _) = unpack_coverage(tint.w);
-        let mesh = frame.grass.pipeline == PIPELINE_MESH;
-        let level = if mesh && mask != 0 {
-            blade_level(&blade, &frame.lod, &frame.camera, frame.grass.shape)
-        } else {
-            0.0
+    let prepare =
+        |index: u32, id: u32, kept: &Blade, before: BladeMotion, paint: &[u32], at: Vec2| {
+            let clump = Clump::unpack(clumps[index as usize]);
+            let (blade, tint) = dress(kept, &clump, id, camera, &frame.cull, &frame.look);
+            // The previous frame's control points as drawn: the dress's lean and height
+            // do not depend on its width (the fades), so the caster's dress gives them.
+            let moved = if frame.temporal.on != 0 {
+                let before = kept.with_curve(before.guide.xyz(), before.tip.xyz());
+                BladeMotion::of(&caster_blade(&before, &clump, id, frame.look.seed))
+            } else {
+                BladeMotion::default()
+            };
+            // The painted colour map (white where there is none).
+            let colour =
+                shared::world::paint::sample(paint, shared::world::paint::COLOUR, at, half);
+            let tint = Vec4::new(
+                tint.x * colour.x,
+                tint.y * colour.y,
+                tint.z * colour.z,
+                tint.w,
+            );
+            let (mask, _) = unpack_coverage(tint.w);
+            let mesh = frame.grass.pipeline == PIPELINE_MESH;
+            let level = if mesh && mask != 0 {
+                blade_level(&blade, &frame.lod, &frame.camera, frame.grass.shape)
+            } else {
+                0.0
+            };
+            (DressedBlade { blade, tint }, moved, level)
         };
-        (DressedBlade { blade, tint }, level)
-    };
     let store = |slot: usize, drawn: DressedBlade| dressed[slot] = drawn;
     let look = &frame.look;
     let casts = |blade: &Blade| {
@@ -174,13 +190,19 @@ pub fn simulate_cull_natural(
         (far, far && in_shadow_map(look.near_view_proj, blade))
     };
     simulate_and_cull(
-        id, local, workgroups, frame, push, buffers, tally, prepare, store, casts,
+        id, local, workgroups, frame, push, buffers, tally, prepare, store, casts, false,
     );
 }
 
-/// The body of both simulate-and-cull entry points: `prepare(index, id, blade, maps)` runs
-/// for each visible blade and gives what `store(slot, ..)` writes once its slot of the
-/// visible list is known, and its level of detail on the mesh path (0: not drawn).
+/// The body of both simulate-and-cull entry points: `prepare(index, id, blade, before,
+/// maps)` runs for each visible blade (`before`: its control points before this
+/// frame's steps; a value, not a reference: rust-gpu read a second `&Blade` argument
+/// of the closure as NaN)
+/// and gives what `store(slot, ..)` writes once its slot of the visible list is
+/// known, the blade's control points as drawn the frame before (written to the motion
+/// buffer while temporal anti-aliasing is on, at the blade's index where
+/// `motion_by_index`, else at its slot) and its level of detail on the mesh path (0:
+/// not drawn).
 /// Every blade in the field that `casts` says casts a shadow, whatever the camera's
 /// tests decide, goes to the shadow casters' list, and to the near cascade's where
 /// it says so too.
@@ -197,9 +219,10 @@ fn simulate_and_cull<T: Copy + Default>(
     push: &SimulatePush,
     buffers: BladeBuffers,
     tally: &mut [u32; COUNTER_COUNT],
-    mut prepare: impl FnMut(u32, u32, &Blade, &[u32], Vec2) -> (T, f32),
+    mut prepare: impl FnMut(u32, u32, &Blade, BladeMotion, &[u32], Vec2) -> (T, BladeMotion, f32),
     mut store: impl FnMut(usize, T),
     casts: impl Fn(&Blade) -> (bool, bool),
+    motion_by_index: bool,
 ) {
     let BladeBuffers {
         blades,
@@ -212,6 +235,7 @@ fn simulate_and_cull<T: Copy + Default>(
         tiles,
         paint,
         casters,
+        motion,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
@@ -231,6 +255,7 @@ fn simulate_and_cull<T: Copy + Default>(
     let (mut caster, mut near_caster) = (false, false);
     let (mut caster_place, mut near_place) = (0, 0);
     let mut prepared = T::default();
+    let mut moved = BladeMotion::default();
     let mut level = 0.0;
     let mut name = index;
     // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`; a
@@ -264,9 +289,11 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
+    let mut before = BladeMotion::default();
     if in_field {
         let i = index as usize;
         blade = blades[i];
+        before = BladeMotion::of(&blade);
         if tiled && simulated {
             blade = blade.with_width(pool_width);
             drawn = pool_width > 0.0;
@@ -333,7 +360,7 @@ fn simulate_and_cull<T: Copy + Default>(
             );
         }
         if outcome == KEPT {
-            (prepared, level) = prepare(index, name, &blade, paint, map_at);
+            (prepared, moved, level) = prepare(index, name, &blade, before, paint, map_at);
             if mesh && !far && level > 0.0 {
                 // Its bucket: its strip length, and near the camera its band, from
                 // the level as the binning pass reads it back.
@@ -382,6 +409,13 @@ fn simulate_and_cull<T: Copy + Default>(
         } as usize;
         visible[slot] = index;
         store(slot, prepared);
+        if frame.temporal.on != 0 {
+            motion[if motion_by_index {
+                index as usize
+            } else {
+                slot
+            }] = moved;
+        }
         if mesh && !far {
             levels[slot] = level;
         }

@@ -9,6 +9,7 @@ use crate::cull::lod::LodParams;
 use crate::draw::look::LookParams;
 use crate::draw::raster::RasterParams;
 use crate::draw::shade::Light;
+use crate::draw::temporal::TemporalParams;
 use crate::sim::collide::MAX_COLLIDERS;
 use crate::sim::simulate::Environment;
 use crate::world::tiles::TileParams;
@@ -20,6 +21,8 @@ pub const SIMULATE_WORKGROUP: u32 = 64;
 pub const CHUNK_WORKGROUP: u32 = 64;
 /// Threads per workgroup of the bandwidth reference (a plain copy of the blades).
 pub const COPY_WORKGROUP: u32 = 256;
+/// Threads per workgroup (8 × 8) of the temporal resolve, one per pixel.
+pub const TEMPORAL_WORKGROUP: u32 = 8;
 /// Threads per workgroup (8 × 8) of the depth-pyramid reduction.
 pub const HIZ_WORKGROUP: u32 = 8;
 
@@ -135,6 +138,11 @@ pub const BINDING_PAINT: u32 = 22;
 /// draw commands (far cascade, then near) follow the chunks' in the draws buffer
 /// ([`BINDING_DRAWS`]).
 pub const BINDING_CASTERS: u32 = 23;
+/// Binding of the visible blades' previous control points (storage,
+/// `draw::temporal::BladeMotion`, a slot per slot of the visible list): written by the
+/// compute pass while temporal anti-aliasing is on, read by the grass's geometry
+/// stages for each vertex's motion.
+pub const BINDING_MOTION: u32 = 24;
 /// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
 /// per far tile in view).
 pub const TILES_DISPATCH: usize = 0;
@@ -277,6 +285,8 @@ pub struct FrameUniforms {
     pub look: LookParams,
     /// The compute rasterizer of far blades; the renderer fills in the target's size.
     pub raster: RasterParams,
+    /// Temporal anti-aliasing: the jitter and the previous frame's camera.
+    pub temporal: TemporalParams,
 }
 
 /// Push constants of the simulate-and-cull dispatch: which fixed steps to run.
@@ -389,7 +399,8 @@ pub struct ToneMapPush {
     pub clip_to_world: Mat4,
     /// Camera position (xyz) and exposure (w).
     pub camera: Vec4,
-    /// Unit direction towards the sun (xyz); w unused.
+    /// Unit direction towards the sun (xyz); w: 1 where the frame is shown as drawn
+    /// (the paper look resolved by the temporal anti-aliasing: no sky, no tone map).
     pub sun: Vec4,
     /// The meadow beyond the field: the ground plane's height (x), fog density (y),
     /// clump size (z), and 1 to draw it or 0 (w); see `look::meadow_to_horizon`.

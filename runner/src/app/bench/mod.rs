@@ -26,7 +26,7 @@ use anyhow::{Context as _, Result};
 use glam::Vec3;
 use report::{print_looks, print_raster, print_references, print_table, write_csv};
 use shared::plan::FrameRequest;
-use shared::settings::{Look, Settings};
+use shared::settings::{Antialiasing, Look, Settings};
 use shared::sim::simulate::SimClock;
 use std::time::Instant;
 
@@ -178,14 +178,21 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT)?;
             let mut driver = FrameDriver::new(&ctx, renderer)?;
             // The paper look as the paper (and every figure before the natural look)
-            // drew it, one sample per pixel, unless --msaa says.
-            let msaa = match (look, common.msaa) {
-                (Look::Paper, None) => 1,
-                _ => base.look.msaa,
+            // drew it, one sample per pixel and nothing blended, unless --aa or
+            // --msaa says.
+            let aa = match (look, common.aa, common.msaa) {
+                (Look::Paper, None, None) => Antialiasing::None,
+                _ => base.look.aa,
+            };
+            let msaa = if aa == Antialiasing::Msaa {
+                base.look.msaa
+            } else {
+                1
             };
             let request = |config, pipeline, raster: Option<f32>, frame: u32| {
                 let mut settings = base;
                 settings.look.style = look;
+                settings.look.aa = aa;
                 settings.look.msaa = msaa;
                 settings.pipeline = pipeline;
                 if let Some(below) = raster {
@@ -207,6 +214,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                         point.look = look;
                         point.pipeline = pipeline;
                         point.samples = ctx.supported_samples(msaa);
+                        point.aa = aa;
                         points.push(point);
                     }
                 }
@@ -335,6 +343,7 @@ fn measure(
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,
+        aa: Antialiasing::None,
         compute_below: request(0).settings.compute_raster_below,
         compute_drawn: Spread::of(&compute_drawn).median,
         raster_covered: Spread::of(&covered).median,
@@ -358,12 +367,19 @@ fn measure(
 }
 
 /// One frame of no time (no simulation step), captured: the picture of `request`
-/// with the blades exactly as they are.
-fn still(
+/// with the blades exactly as they are (with temporal anti-aliasing, once its history
+/// has settled over `temporal::SETTLE_FRAMES` such frames).
+pub(crate) fn still(
     driver: &mut FrameDriver,
     offscreen: &mut Offscreen,
     request: FrameRequest,
 ) -> Result<Vec<u8>> {
+    // Temporal anti-aliasing shows a still frame once its history has settled.
+    if request.plan().taa {
+        for _ in 1..shared::draw::temporal::SETTLE_FRAMES {
+            driver.run(offscreen, 0.0, |_| request, false)?;
+        }
+    }
     driver.run(offscreen, 0.0, |_| request, true)?;
     driver.finish()?;
     offscreen.pixels()

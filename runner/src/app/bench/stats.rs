@@ -47,6 +47,8 @@ pub struct Point {
     pub pipeline: shared::settings::GrassPipeline,
     /// Samples per pixel.
     pub samples: u32,
+    /// The anti-aliasing.
+    pub aa: shared::settings::Antialiasing,
     /// Blades shorter on screen than this (pixels) went to the compute rasterizer;
     /// 0: off.
     pub compute_below: f32,

@@ -49,10 +49,13 @@ impl Running {
                     log::info!("grass pipeline: {:?}", s.pipeline);
                 }
                 "m" | "M" => {
-                    let choices = crate::app::overlay::MSAA_CHOICES;
-                    let at = choices.iter().position(|&n| n == s.look.msaa);
-                    s.look.msaa = choices[at.map_or(0, |i| (i + 1) % choices.len())];
-                    log::info!("MSAA {}x", s.look.msaa);
+                    use crate::app::overlay::{aa_name, next_aa};
+                    let (aa, samples) = next_aa(s.look.aa, s.look.msaa);
+                    s.look.aa = aa;
+                    if aa == shared::settings::Antialiasing::Msaa {
+                        s.look.msaa = samples;
+                    }
+                    log::info!("anti-aliasing: {}", aa_name(aa, samples));
                 }
                 "1" | "2" | "3" | "4" => {
                     let test = c.as_str().parse::<usize>().map_or(0, |n| n - 1);

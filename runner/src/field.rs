@@ -402,7 +402,8 @@ impl Field {
         let motion = device_buffer(
             "previous control points",
             u64::from(count) * size_of::<BladeMotion>() as u64,
-            U::STORAGE_BUFFER,
+            // Read back by the test of what it holds.
+            U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
         let counters = device_buffer(
             "counters",

@@ -627,9 +627,9 @@ fn every_command_s_options_act_or_are_refused() {
 /// turning, shimmer 2.46 against 4.77; required: at most 0.95 of one sample's). With
 /// the samples left at one for every method, 4x equals 1x and this fails.
 #[test]
-fn quality_finds_msaa_closer_to_the_reference_than_one_sample() {
+fn quality_finds_taa_and_msaa_closer_to_the_reference_than_one_sample() {
     if !runs_here(
-        "quality_finds_msaa_closer_to_the_reference_than_one_sample",
+        "quality_finds_taa_and_msaa_closer_to_the_reference_than_one_sample",
         &[],
     ) {
         return;
@@ -659,18 +659,33 @@ fn quality_finds_msaa_closer_to_the_reference_than_one_sample() {
     let stderr = stderr_of(&["quality"], &o);
     assert!(o.status.success(), "{stderr}");
     let text = std::fs::read_to_string(&csv).expect("quality CSV");
-    let rows: Vec<Vec<f64>> = text
+    let rows: Vec<(String, Vec<f64>)> = text
         .lines()
         .skip(1)
-        .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
+        .map(|l| {
+            let mut cells = l.split(',');
+            let method = cells.next().unwrap_or_default().to_owned();
+            (method, cells.map(|v| v.parse().unwrap()).collect())
+        })
         .collect();
-    let by_samples = |n: f64| rows.iter().find(|r| r[0] == n).cloned();
-    let one = by_samples(1.0).expect("a row of one sample");
-    let Some(four) = by_samples(4.0) else {
-        eprintln!("no 4x MSAA on this device: nothing to compare");
+    let row = |name: &str| rows.iter().find(|(m, _)| m == name).map(|r| r.1.clone());
+    let one = row("msaa1").expect("a row of one sample");
+    let taa = row("taa").expect("a row of temporal anti-aliasing");
+    let (still, turning, shimmer) = (1, 2, 3);
+    // Temporal anti-aliasing: closer than one sample however the camera moves, and
+    // at least as close as 4x MSAA still and shimmering less (the measure).
+    for (what, k) in [("still", still), ("turning", turning), ("shimmer", shimmer)] {
+        assert!(
+            taa[k] < 0.95 * one[k],
+            "{what}: TAA {} against one sample {}",
+            taa[k],
+            one[k]
+        );
+    }
+    let Some(four) = row("msaa4") else {
+        eprintln!("no 4x MSAA on this device: nothing more to compare");
         return;
     };
-    let (still, turning, shimmer) = (1, 2, 3);
     for (what, k) in [("still", still), ("turning", turning), ("shimmer", shimmer)] {
         assert!(
             four[k] < 0.95 * one[k],
@@ -679,11 +694,20 @@ fn quality_finds_msaa_closer_to_the_reference_than_one_sample() {
             one[k]
         );
     }
-    for row in &rows {
+    for (what, k) in [("still", still), ("shimmer", shimmer)] {
+        assert!(
+            taa[k] <= four[k],
+            "{what}: TAA {} against 4x MSAA {}",
+            taa[k],
+            four[k]
+        );
+    }
+    for (_, row) in &rows {
         assert!(
             row[4] >= 0.0 && row[4] < row[3] + 1.0,
             "reference shimmer {row:?}"
         );
     }
     assert!(crops.join("quality-msaa4.png").is_file());
+    assert!(crops.join("quality-taa.png").is_file());
 }

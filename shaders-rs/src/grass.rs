@@ -107,11 +107,10 @@ pub fn grass_taa_tes(
     let blade = &blades[slot];
     let grass = &frame.grass;
     let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
-    let clip = frame.camera.view_proj * p.position.extend(1.0);
-    *out_position = clip;
+    *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal_v = p.normal.extend(coord.y);
     *out_level = in_level[0];
-    let moved = point_motion(frame, motion, slot, clip, p.position, coord.y, blade);
+    let moved = point_motion(frame, motion, slot, p.position, coord.y, blade);
     *out_motion = moved.extend(0.0).extend(0.0);
 }
 
@@ -131,11 +130,10 @@ pub fn grass_fs(
     *out_color = shade_facing(facing, frame.light, normal_v.w).extend(1.0);
 }
 
-/// [`grass_fs`] with temporal anti-aliasing: also the pixel's motion and clip w into
-/// the motion target.
+/// [`grass_fs`] with temporal anti-aliasing: also the blade's own motion into the
+/// motion target.
 #[spirv(fragment)]
 pub fn grass_taa_fs(
-    #[spirv(frag_coord)] frag: Vec4,
     normal_v: Vec4,
     #[spirv(flat)] _level: f32,
     motion: Vec4,
@@ -145,7 +143,7 @@ pub fn grass_taa_fs(
     out_motion: &mut Vec4,
 ) {
     grass_fs(normal_v, front, frame, out_color);
-    *out_motion = motion_target(motion.xy(), frag);
+    *out_motion = motion;
 }
 
 /// The LOD view: each blade in the colour of its tessellation level.
@@ -218,7 +216,7 @@ pub fn natural_tes(
     let grass = &frame.grass;
     let p = surface_point(&drawn.blade, coord.x, coord.y, grass.shape, grass.tip_start);
     let clip = frame.camera.view_proj * p.position.extend(1.0);
-    let moved = point_motion(frame, motion, slot, clip, p.position, coord.y, &drawn.blade);
+    let moved = point_motion(frame, motion, slot, p.position, coord.y, &drawn.blade);
     let shade = (shadow_map, shadow_sampler);
     let colour = natural_vertex(frame, shade, drawn, &p, coord.truncate(), in_level[0]);
     *out_position = clip;
@@ -226,15 +224,14 @@ pub fn natural_tes(
     *out_motion_y = moved.y;
 }
 
-/// The motion of a blade's `point` at height `v`, drawn at `clip`, from the previous
-/// control points at `slot` of the motion buffer
+/// The own motion of a blade's `point` at height `v`, from the previous control
+/// points at `slot` of the motion buffer
 /// (`shared::draw::temporal::blade_point_motion`); nil while temporal anti-aliasing is
 /// off (the buffer is not read).
 pub(crate) fn point_motion(
     frame: &FrameUniforms,
     motion: &[BladeMotion],
     slot: usize,
-    clip: Vec4,
     point: Vec3,
     v: f32,
     blade: &Blade,
@@ -242,7 +239,7 @@ pub(crate) fn point_motion(
     if frame.temporal.on == 0 {
         return Vec2::ZERO;
     }
-    blade_point_motion(&frame.temporal, clip, point, v, blade, &motion[slot])
+    blade_point_motion(&frame.temporal, point, v, blade, &motion[slot])
 }
 
 /// The natural look's colour of the vertex at `p`, (u, v) `uv` on the dressed blade
@@ -279,26 +276,13 @@ pub fn natural_fs(colour: Vec4, _motion_y: f32, out_color: &mut Vec4) {
     *out_color = colour.xyz().extend(1.0);
 }
 
-/// [`natural_fs`] with temporal anti-aliasing: also the pixel's motion (carried in the
-/// colour's w and the float after it) and its clip w, into the motion target
-/// (`shared::draw::temporal::pixel_motion` reads them).
+/// [`natural_fs`] with temporal anti-aliasing: also the blade's own motion (carried in
+/// the colour's w and the float after it) into the motion target
+/// (`shared::draw::temporal::pixel_motion` adds the camera's).
 #[spirv(fragment)]
-pub fn natural_taa_fs(
-    #[spirv(frag_coord)] frag: Vec4,
-    colour: Vec4,
-    motion_y: f32,
-    out_color: &mut Vec4,
-    out_motion: &mut Vec4,
-) {
+pub fn natural_taa_fs(colour: Vec4, motion_y: f32, out_color: &mut Vec4, out_motion: &mut Vec4) {
     *out_color = colour.xyz().extend(1.0);
-    *out_motion = motion_target(Vec2::new(colour.w, motion_y), frag);
-}
-
-/// What a blade's fragment writes to the motion target: its motion, and its clip w
-/// (`1 / frag_coord.w`) by which the resolve knows the blade is still what the pixel
-/// shows.
-pub(crate) fn motion_target(motion: Vec2, frag: Vec4) -> Vec4 {
-    Vec4::new(motion.x, motion.y, 1.0 / frag.w, 0.0)
+    *out_motion = Vec4::new(colour.w, motion_y, 0.0, 0.0);
 }
 
 /// A point of a blade as the natural look shades it.

@@ -154,7 +154,7 @@ pub fn paper_taa_mesh(
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
         // A vec4 (zw unused): lavapipe's mesh stages crash on arrays of vec2 outputs.
-        let moved = point_motion(frame, motion, index, clip, point, uvl.y, blade);
+        let moved = point_motion(frame, motion, index, point, uvl.y, blade);
         out_motion[k] = moved.extend(0.0).extend(0.0);
     }
 }
@@ -230,7 +230,7 @@ pub fn natural_mesh(
         let drawn = &dressed[slot];
         let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
         let clip = frame.camera.view_proj * p.position.extend(1.0);
-        let moved = point_motion(frame, motion, slot, clip, p.position, uvl.y, &drawn.blade);
+        let moved = point_motion(frame, motion, slot, p.position, uvl.y, &drawn.blade);
         let shade = (shadow_map, shadow_sampler);
         let colour = natural_vertex(frame, shade, drawn, &p, uvl.truncate(), uvl.z);
         out_position[k] = clip;

@@ -263,3 +263,66 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
         },
     );
 }
+
+/// Largest difference allowed between the GPU's kept control points and the host's
+/// blade before the frame's steps: both are the GPU's own blade of the frame before,
+/// copied, so nothing but the copy can differ. Planted fault: the control points
+/// taken after the frame's steps rather than before failed (the blades move by
+/// about 1e-2 a frame in this wind).
+const MOTION_TOLERANCE: f32 = 1e-6;
+
+/// With temporal anti-aliasing the compute pass keeps each visible blade's control
+/// points of the frame before (the paper look: at the blade's index) for its motion:
+/// after two frames they are the blades as the first left them.
+#[test]
+fn the_motion_buffer_holds_the_visible_blades_previous_control_points() {
+    use shared::draw::temporal::BladeMotion;
+    use shared::settings::{Antialiasing, Look};
+    with_device(
+        "the_motion_buffer_holds_the_visible_blades_previous_control_points",
+        |ctx| {
+            let (scene, request) = setup(WindField::Gusts, 0.0);
+            let mut settings = request.settings;
+            settings.look.style = Look::Paper;
+            settings.look.aa = Antialiasing::Taa;
+            let request = settings.request(&request.eye, request.balls());
+            let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).expect("renderer");
+            let mut driver = FrameDriver::new(&ctx, renderer).expect("frame driver");
+            let push = |frame: u32| SimulatePush {
+                first_step: frame * STEPS_PER_FRAME,
+                steps: STEPS_PER_FRAME,
+                ..Default::default()
+            };
+            driver.compute_frame(&request, push(0)).expect("frame 0");
+            let renderer = &driver.renderer;
+            let before: Vec<Blade> = renderer
+                .download(&renderer.field.blades, BLADES as usize)
+                .unwrap();
+            driver.compute_frame(&request, push(1)).expect("frame 1");
+            let renderer = &driver.renderer;
+            let after: Vec<Blade> = renderer
+                .download(&renderer.field.blades, BLADES as usize)
+                .unwrap();
+            let count = driver.readback.visible().expect("visible count") as usize;
+            let visible: Vec<u32> = renderer.download(&renderer.field.visible, count).unwrap();
+            let kept: Vec<BladeMotion> = renderer
+                .download(&renderer.field.motion, BLADES as usize)
+                .unwrap();
+            assert!(count > 100, "only {count} blades visible");
+            let mut moved = 0;
+            for &i in &visible {
+                let (k, b, a) = (&kept[i as usize], &before[i as usize], &after[i as usize]);
+                let off = (k.guide.truncate() - b.guide())
+                    .length()
+                    .max((k.tip.truncate() - b.tip()).length());
+                assert!(
+                    off < MOTION_TOLERANCE,
+                    "blade {i}: kept {k:?}, the blade before the steps {b:?}"
+                );
+                moved += usize::from((a.tip() - b.tip()).length() > 1e-3);
+            }
+            // The comparison is of two different states.
+            assert!(moved > count / 2, "only {moved} of {count} blades moved");
+        },
+    );
+}

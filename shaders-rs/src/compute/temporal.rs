@@ -8,8 +8,8 @@ use shared::gpu::layout::FrameUniforms;
 use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
 use spirv_std::{Image, Sampler, spirv};
 
-/// One thread per pixel: the pixel's motion (a blade's from the motion target, else
-/// the camera's from the depth) finds its history, which is clipped to the 3x3
+/// One thread per pixel: the pixel's motion (the camera's, from the depth, and a
+/// blade's own from the motion target) finds its history, which is clipped to the 3x3
 /// neighbourhood's box and blended with the frame; the result goes to `out`. In a
 /// compute stage rather than the tone map's fragment stage: on the NVIDIA H100, which
 /// shades pixels on few of its SMs, the fragment stage took 1.45 ms at 1920x1080.
@@ -37,7 +37,7 @@ pub fn resolve_taa(
     let z: Vec4 = depth.fetch(texel);
     let written: Vec4 = motion.fetch(texel);
     let temporal = &frame.temporal;
-    let moved = pixel_motion(ndc, z.x, written.xyz(), temporal);
+    let moved = pixel_motion(ndc, z.x, written.xy(), temporal);
     let (inside, at) = history_uv(uv, moved);
     let has_history = inside && temporal.reset == 0;
     let before: Vec4 = if has_history {
@@ -51,6 +51,6 @@ pub fn resolve_taa(
         let c: Vec4 = hdr.fetch(at.as_uvec2());
         c
     });
-    let resolved = resolve(current, &around, (has_history, before));
+    let resolved = resolve(current, &around, (has_history, before), temporal);
     unsafe { out.write(texel, resolved) };
 }

@@ -72,12 +72,11 @@ pub const BINDINGS: [BindingSpec; 25] = [
     // The bandwidth reference's destination, also the mesh-vertex capture's
     // (`GrassPass::capture`).
     storage_in(layout::BINDING_SCRATCH, vk::ShaderStageFlags::MESH_EXT),
-    // The sun's shadow map (`passes::shadow`), read where the natural look is shaded:
-    // the grass's geometry stages, the ground's and the far blades' fragment stages.
+    // The sun's shadow map (`passes::shadow`), read by the lit fragment stages.
     BindingSpec {
         binding: layout::BINDING_SHADOW_MAP,
         ty: vk::DescriptorType::SAMPLED_IMAGE,
-        stages: SHADED_IN,
+        stages: vk::ShaderStageFlags::FRAGMENT,
     },
     // The visible blades as the natural look draws them, read by its tessellation
     // stages.
@@ -86,7 +85,7 @@ pub const BINDINGS: [BindingSpec; 25] = [
     BindingSpec {
         binding: layout::BINDING_SHADOW_SAMPLER,
         ty: vk::DescriptorType::SAMPLER,
-        stages: SHADED_IN,
+        stages: vk::ShaderStageFlags::FRAGMENT,
     },
     // Each blade's clump, made by the clump pass, read by the compute pass and by the
     // shadow map's casters.
@@ -134,14 +133,6 @@ pub const BINDINGS: [BindingSpec; 25] = [
 const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
-);
-
-/// Where the natural look is shaded: the grass's tessellation evaluation and mesh
-/// stages (per vertex), the fragment stages (the ground, the far blades' resolve).
-const SHADED_IN: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
-        | vk::ShaderStageFlags::MESH_EXT.as_raw()
-        | vk::ShaderStageFlags::FRAGMENT.as_raw(),
 );
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute

@@ -82,6 +82,8 @@ pub const NATURAL_TES: &str = "grass::natural_tes";
 pub const NATURAL_FS: &str = "grass::natural_fs";
 /// Fragment: [`NATURAL_FS`] writing the motion target too (temporal anti-aliasing).
 pub const NATURAL_TAA_FS: &str = "grass::natural_taa_fs";
+/// The natural look's grass: fragment stage of the LOD and wireframe views.
+pub const NATURAL_VIEW_FS: &str = "grass::natural_view_fs";
 /// The paper look's mesh path: mesh stage (the blade strips of one length).
 pub const PAPER_MESH: &str = "mesh::paper_mesh";
 /// Mesh: [`PAPER_MESH`] with each vertex's motion (temporal anti-aliasing).

@@ -18,8 +18,8 @@ use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::shadow::CASTER_LEVEL;
 use shared::draw::look::sky::fog;
-use shared::draw::shade::{VIEW_SHADED, blade_colour, facing_normal, lod_shade, shade_facing};
-use shared::draw::shape::{SurfacePoint, surface_point};
+use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
+use shared::draw::shape::surface_point;
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
@@ -190,12 +190,11 @@ pub fn natural_tcs(
     *inner = i;
 }
 
-/// The natural look's blade surface, shaded at each vertex ([`natural_vertex`]): the
-/// fragment stage interpolates one colour. Its motion (temporal anti-aliasing) rides
-/// in the colour's w and one more float. Two varyings, as many as the paper look's:
-/// the NVIDIA H100 rasterises on few SMs, and the five the natural look's fragment
-/// shading needed (normal, position, (u, v, level), tint and width direction) cost its
-/// grass pass more than the shading did.
+/// The natural look's blade surface, with its tint, coverage and width direction for
+/// the fragment stage: the same at every vertex of a blade, so flat (no
+/// interpolation to set up per triangle). The vertex's own motion (temporal
+/// anti-aliasing) rides in the w of the normal and of the world position, slots the
+/// varyings have anyway.
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn natural_tes(
@@ -203,25 +202,27 @@ pub fn natural_tes(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
-    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
-    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     in_slot: [u32; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
-    out_colour: &mut Vec4,
-    out_motion_y: &mut f32,
+    out_normal: &mut Vec4,
+    out_world: &mut Vec4,
+    out_uv_level: &mut Vec3,
+    #[spirv(flat)] out_tint: &mut Vec4,
+    #[spirv(flat)] out_width_dir: &mut Vec3,
 ) {
     let slot = in_slot[0] as usize;
     let drawn = &dressed[slot];
+    let blade = &drawn.blade;
     let grass = &frame.grass;
-    let p = surface_point(&drawn.blade, coord.x, coord.y, grass.shape, grass.tip_start);
-    let clip = frame.camera.view_proj * p.position.extend(1.0);
-    let moved = point_motion(frame, motion, slot, p.position, coord.y, &drawn.blade);
-    let shade = (shadow_map, shadow_sampler);
-    let colour = natural_vertex(frame, shade, drawn, &p, coord.truncate(), in_level[0]);
-    *out_position = clip;
-    *out_colour = colour.extend(moved.x);
-    *out_motion_y = moved.y;
+    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let moved = point_motion(frame, motion, slot, p.position, coord.y, blade);
+    *out_position = frame.camera.view_proj * p.position.extend(1.0);
+    *out_normal = p.normal.extend(moved.x);
+    *out_world = p.position.extend(moved.y);
+    *out_uv_level = coord.truncate().extend(in_level[0]);
+    *out_tint = drawn.tint;
+    *out_width_dir = p.width_dir;
 }
 
 /// The own motion of a blade's `point` at height `v`, from the previous control
@@ -242,47 +243,68 @@ pub(crate) fn point_motion(
     blade_point_motion(&frame.temporal, point, v, blade, &motion[slot])
 }
 
-/// The natural look's colour of the vertex at `p`, (u, v) `uv` on the dressed blade
-/// `drawn` at tessellation `level`: shaded ([`natural_colour`]), or in the LOD and
-/// wireframe views as in the paper look.
-pub(crate) fn natural_vertex(
-    frame: &FrameUniforms,
-    (shadow_map, shadow_sampler): (&ShadowMap, &Sampler),
-    drawn: &DressedBlade,
-    p: &SurfacePoint,
-    uv: Vec2,
-    level: f32,
-) -> Vec3 {
-    let view = frame.grass.view;
-    if view == VIEW_SHADED {
-        let leaf = Leaf {
-            normal: p.normal,
-            world: p.position,
-            uv,
-            tint: drawn.tint,
-            width_dir: p.width_dir,
-        };
-        natural_colour(frame, shadow_map, shadow_sampler, &leaf)
-    } else {
-        let n = p.normal;
-        let facing = facing_normal(n, n.dot(frame.camera.position - p.position) >= 0.0);
-        blade_colour(view, facing, frame.light, uv.y, level)
-    }
-}
-
-/// The natural look's fragment: the colour its vertices were shaded with, in each view.
+/// The natural look: the blade's tint and drier tip, its leaf rounded across the
+/// width, sky light with ambient occlusion, the sun (direct, through the leaf,
+/// specular) with its shadow, fog. The LOD and wireframe views are
+/// [`natural_view_fs`].
+#[allow(clippy::too_many_arguments)]
 #[spirv(fragment)]
-pub fn natural_fs(colour: Vec4, _motion_y: f32, out_color: &mut Vec4) {
-    *out_color = colour.xyz().extend(1.0);
+pub fn natural_fs(
+    normal: Vec4,
+    world: Vec4,
+    uv_level: Vec3,
+    #[spirv(flat)] tint: Vec4,
+    #[spirv(flat)] width_dir: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
+    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
+    out_color: &mut Vec4,
+) {
+    let leaf = Leaf {
+        normal: normal.xyz(),
+        world: world.xyz(),
+        uv: uv_level.truncate(),
+        tint,
+        width_dir,
+    };
+    *out_color = natural_colour(frame, shadow_map, shadow_sampler, &leaf).extend(1.0);
 }
 
 /// [`natural_fs`] with temporal anti-aliasing: also the blade's own motion (carried in
-/// the colour's w and the float after it) into the motion target
+/// the w of the normal and of the world position) into the motion target
 /// (`shared::draw::temporal::pixel_motion` adds the camera's).
+#[allow(clippy::too_many_arguments)]
 #[spirv(fragment)]
-pub fn natural_taa_fs(colour: Vec4, motion_y: f32, out_color: &mut Vec4, out_motion: &mut Vec4) {
-    *out_color = colour.xyz().extend(1.0);
-    *out_motion = Vec4::new(colour.w, motion_y, 0.0, 0.0);
+pub fn natural_taa_fs(
+    normal: Vec4,
+    world: Vec4,
+    uv_level: Vec3,
+    #[spirv(flat)] tint: Vec4,
+    #[spirv(flat)] width_dir: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
+    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
+    out_color: &mut Vec4,
+    out_motion: &mut Vec4,
+) {
+    let (a, b) = (normal, world);
+    natural_fs(a, b, uv_level, tint, width_dir, frame, shadow_map, shadow_sampler, out_color);
+    *out_motion = Vec4::new(normal.w, world.w, 0.0, 0.0);
+}
+
+/// The natural look's LOD and wireframe views, as in the paper look.
+#[spirv(fragment)]
+pub fn natural_view_fs(
+    normal: Vec4,
+    world: Vec4,
+    uv_level: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    out_color: &mut Vec4,
+) {
+    let n = normal.xyz().normalize_or_zero();
+    let facing = facing_normal(n, n.dot(frame.camera.position - world.xyz()) >= 0.0);
+    let (view, light) = (frame.grass.view, frame.light);
+    *out_color = blade_colour(view, facing, light, uv_level.y, uv_level.z).extend(1.0);
 }
 
 /// A point of a blade as the natural look shades it.
@@ -301,8 +323,8 @@ pub(crate) struct Leaf {
 
 /// The natural look's colour of `leaf`: the blade's tint and drier tip, its leaf rounded
 /// across the width, sky light with ambient occlusion, the sun (direct, through the
-/// leaf, specular) with its shadow, fog. The geometry stages' (per vertex) and the
-/// compute rasterizer's resolve's (per pixel).
+/// leaf, specular) with its shadow, fog. The fragment stage's and the compute
+/// rasterizer's resolve's.
 pub(crate) fn natural_colour(
     frame: &FrameUniforms,
     shadow_map: &ShadowMap,

@@ -10,8 +10,7 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
-use crate::ShadowMap;
-use crate::grass::{natural_vertex, point_motion};
+use crate::grass::point_motion;
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::meshlet::{
@@ -24,7 +23,7 @@ use shared::gpu::counters::{bucket_base, strip_counter};
 use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
-use spirv_std::{Sampler, spirv};
+use spirv_std::spirv;
 
 /// Sets a mesh workgroup's outputs for `strips` strips of `segments` and writes their
 /// triangles (one a lane); returns where invocation `lane`'s vertex lies: (strip,
@@ -196,8 +195,10 @@ pub fn paper_mesh_capture(
     }
 }
 
-/// The natural look's mesh stage: strips of the dressed blades, shaded at each vertex
-/// with the natural tessellation evaluation stage's varyings (`grass::natural_tes`).
+/// The natural look's mesh stage: strips of the dressed blades, with the natural
+/// tessellation evaluation stage's varyings (tint and width direction the same at
+/// every vertex of a blade, read flat; the vertex's own motion in the w of the normal
+/// and of the world position).
 #[allow(clippy::too_many_arguments)]
 #[spirv(mesh_ext(
     threads(32),
@@ -215,12 +216,13 @@ pub fn natural_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
-    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
-    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
     #[spirv(position)] out_position: &mut [Vec4; 32],
-    out_colour: &mut [Vec4; 32],
-    out_motion_y: &mut [f32; 32],
+    out_normal: &mut [Vec4; 32],
+    out_world: &mut [Vec4; 32],
+    out_uv_level: &mut [Vec3; 32],
+    #[spirv(flat)] out_tint: &mut [Vec4; 32],
+    #[spirv(flat)] out_width_dir: &mut [Vec3; 32],
 ) {
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
@@ -229,12 +231,12 @@ pub fn natural_mesh(
         let slot = strip.source as usize;
         let drawn = &dressed[slot];
         let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
-        let clip = frame.camera.view_proj * p.position.extend(1.0);
         let moved = point_motion(frame, motion, slot, p.position, uvl.y, &drawn.blade);
-        let shade = (shadow_map, shadow_sampler);
-        let colour = natural_vertex(frame, shade, drawn, &p, uvl.truncate(), uvl.z);
-        out_position[k] = clip;
-        out_colour[k] = colour.extend(moved.x);
-        out_motion_y[k] = moved.y;
+        out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
+        out_normal[k] = p.normal.extend(moved.x);
+        out_world[k] = p.position.extend(moved.y);
+        out_uv_level[k] = uvl;
+        out_tint[k] = drawn.tint;
+        out_width_dir[k] = p.width_dir;
     }
 }

@@ -6,7 +6,7 @@ use ash::vk;
 use rspirv::dr::{Module, Operand};
 use rspirv::spirv::{BuiltIn, Decoration, ExecutionMode, ExecutionModel, Op, StorageClass};
 use runner::field::{BINDINGS, PUSH_CONSTANTS};
-use runner::passes::{overlay, tonemap};
+use runner::passes::{overlay, temporal, tonemap};
 use runner::shaders;
 use runner::vulkan::descriptors::BindingSpec;
 use shared::gpu::layout;
@@ -170,6 +170,7 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::NATURAL_TCS, ExecutionModel::TessellationControl),
         (shaders::NATURAL_TES, ExecutionModel::TessellationEvaluation),
         (shaders::NATURAL_FS, ExecutionModel::Fragment),
+        (shaders::NATURAL_VIEW_FS, ExecutionModel::Fragment),
         (shaders::NATURAL_TAA_FS, ExecutionModel::Fragment),
         (
             shaders::GRASS_TAA_TES,
@@ -256,6 +257,9 @@ fn runner_layout(name: &str) -> (&'static [BindingSpec], (vk::ShaderStageFlags, 
         (&overlay::BINDINGS, (vk::ShaderStageFlags::VERTEX, push))
     } else if name == shaders::TONEMAP_VS || name == shaders::TONEMAP_FS {
         (&tonemap::BINDINGS, tonemap::PUSH_CONSTANTS)
+    } else if name == shaders::RESOLVE_TAA {
+        // The temporal resolve's own set, no push constants.
+        (&temporal::BINDINGS, (vk::ShaderStageFlags::COMPUTE, 0))
     } else if name == shaders::CUBE_VS || name == shaders::CUBE_FS {
         // The embedding example's own pipeline: no descriptors, one push range.
         let push = size_of::<shared::example::cube::CubePush>() as u32;
@@ -297,6 +301,13 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                             StorageClass::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
                             StorageClass::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
                             _ => match type_def(&m, ty).class.opcode {
+                                // Sampled 2: a storage image.
+                                Op::TypeImage
+                                    if type_def(&m, ty).operands.get(5)
+                                        == Some(&Operand::LiteralBit32(2)) =>
+                                {
+                                    vk::DescriptorType::STORAGE_IMAGE
+                                }
                                 Op::TypeImage => vk::DescriptorType::SAMPLED_IMAGE,
                                 Op::TypeSampler => vk::DescriptorType::SAMPLER,
                                 _ => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -450,13 +461,14 @@ fn frame_block_layout_matches_the_host_struct() {
     use shared::draw::look::LookParams;
     use shared::draw::raster::RasterParams;
     use shared::draw::shade::Light;
+    use shared::draw::temporal::TemporalParams;
     use shared::gpu::layout::{FrameUniforms, GrassParams};
     use shared::sim::simulate::Environment;
     use std::mem::offset_of;
 
     // Each member of the frame block: its offset, and the offsets of its own members
     // where it is a struct (none for arrays).
-    let expected: [(&str, usize, Vec<usize>); 10] = [
+    let expected: [(&str, usize, Vec<usize>); 11] = [
         (
             "camera",
             offset_of!(FrameUniforms, camera),
@@ -565,6 +577,20 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(RasterParams, segments),
             ],
         ),
+        (
+            "temporal",
+            offset_of!(FrameUniforms, temporal),
+            vec![
+                offset_of!(TemporalParams, previous_view_proj),
+                offset_of!(TemporalParams, to_previous),
+                offset_of!(TemporalParams, jitter),
+                offset_of!(TemporalParams, on),
+                offset_of!(TemporalParams, reset),
+                offset_of!(TemporalParams, clip_gamma),
+                offset_of!(TemporalParams, current_weight),
+                offset_of!(TemporalParams, padding),
+            ],
+        ),
     ];
 
     let m = module_of(shaders::SIMULATE_CULL);
@@ -667,6 +693,7 @@ fn only_mesh_modules_need_mesh_shading() {
             shaders::PAPER_MESH,
             shaders::NATURAL_MESH,
             shaders::PAPER_MESH_CAPTURE,
+            shaders::PAPER_TAA_MESH,
         ]
         .contains(&name);
         assert_eq!(

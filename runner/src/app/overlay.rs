@@ -346,18 +346,21 @@ fn look(ui: &mut egui::Ui, s: &mut Settings) {
             }
         })
     });
-    ui.horizontal(|ui| {
-        ui.label("anti-aliasing (M)");
-        for (aa, samples) in AA_CHOICES {
-            let on = look.aa == aa && (aa != Antialiasing::Msaa || look.msaa == samples);
-            if ui.radio(on, aa_name(aa, samples)).clicked() {
-                look.aa = aa;
-                if aa == Antialiasing::Msaa {
-                    look.msaa = samples;
+    // A list, not a row of five buttons: the row widened the panel over the scene.
+    let current = aa_name(look.aa, look.msaa);
+    egui::ComboBox::from_label("anti-aliasing (M)")
+        .selected_text(current.clone())
+        .show_ui(ui, |ui| {
+            for (aa, samples) in AA_CHOICES {
+                let name = aa_name(aa, samples);
+                if ui.selectable_label(name == current, name).clicked() {
+                    look.aa = aa;
+                    if aa == Antialiasing::Msaa {
+                        look.msaa = samples;
+                    }
                 }
             }
-        }
-    });
+        });
     ui.add_enabled(
         natural,
         egui::Slider::new(&mut look.exposure, 0.05..=8.0)

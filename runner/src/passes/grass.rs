@@ -73,8 +73,8 @@ impl Looks {
             wireframe: make(paper, shaders::GRASS_FS, line, false)?,
             lod: make(paper, shaders::GRASS_LOD_FS, fill, false)?,
             natural: natural_filled,
-            natural_wireframe: make(natural, shaders::NATURAL_FS, line, false)?,
-            natural_lod: make(natural, shaders::NATURAL_FS, fill, false)?,
+            natural_wireframe: make(natural, shaders::NATURAL_VIEW_FS, line, false)?,
+            natural_lod: make(natural, shaders::NATURAL_VIEW_FS, fill, false)?,
         })
     }
 

@@ -92,3 +92,24 @@ pub const DEPTH_FORMAT: ash::vk::Format = ash::vk::Format::D32_SFLOAT;
 /// Format of the linear HDR image the natural look draws into (and either look with
 /// temporal anti-aliasing), and of the temporal histories.
 pub const HDR_FORMAT: ash::vk::Format = ash::vk::Format::R16G16B16A16_SFLOAT;
+
+/// The colour attachment `image` the draw wrote, to sampled for `reader`.
+pub(crate) fn to_sampled(
+    rec: &crate::vulkan::Recorder,
+    image: ash::vk::Image,
+    reader: (ash::vk::PipelineStageFlags2, ash::vk::AccessFlags2),
+) {
+    use ash::vk;
+    use vk::AccessFlags2 as A;
+    use vk::PipelineStageFlags2 as S;
+    rec.image_barrier(
+        image,
+        vk::ImageAspectFlags::COLOR,
+        (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        ),
+        (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
+        reader,
+    );
+}

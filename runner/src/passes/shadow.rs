@@ -168,7 +168,7 @@ impl ShadowPass {
                 depth,
                 (cleared, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL),
                 (S::CLEAR, A::TRANSFER_WRITE),
-                (S::FRAGMENT_SHADER, A::SHADER_READ),
+                (READERS, A::SHADER_READ),
             )
         })?;
         field
@@ -190,7 +190,7 @@ impl ShadowPass {
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
             ),
-            (S::FRAGMENT_SHADER, A::NONE),
+            (READERS, A::NONE),
             (tests, depth_rw),
         );
         rec.begin_rendering(None, Some(self.map.view), self.map.extent);
@@ -226,7 +226,10 @@ impl ShadowPass {
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             ),
             (S::LATE_FRAGMENT_TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE),
-            (S::FRAGMENT_SHADER, A::SHADER_READ),
+            (READERS, A::SHADER_READ),
         );
     }
 }
+
+/// The stages that sample the map: the lit fragment stages.
+const READERS: S = S::FRAGMENT_SHADER;

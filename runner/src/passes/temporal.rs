@@ -3,7 +3,7 @@
 //! (clipped to its neighbourhood) and writes the next history, which the tone map
 //! shows. Two histories take turns: one read, the other written.
 
-use super::tonemap::to_sampled;
+use super::to_sampled;
 use crate::field::Field;
 use crate::shaders;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};

@@ -8,6 +8,7 @@
 //! sky, no tone map).
 
 use super::temporal::TemporalImages;
+use super::to_sampled;
 use crate::shaders;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, PipelineLayout, ShaderModules};
@@ -149,18 +150,4 @@ fn push(uniforms: &FrameUniforms, as_drawn: bool) -> ToneMapPush {
             .extend(f32::from(u8::from(as_drawn))),
         ground: shared::draw::look::ground::horizon_ground(&uniforms.look),
     }
-}
-
-/// The colour attachment `image` the draw wrote, to sampled for `reader`.
-pub(super) fn to_sampled(rec: &Recorder, image: vk::Image, reader: (S, A)) {
-    rec.image_barrier(
-        image,
-        vk::ImageAspectFlags::COLOR,
-        (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        ),
-        (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
-        reader,
-    );
 }

@@ -171,11 +171,20 @@ pub fn blade_point_motion(
 
 /// The motion of the surface at normalized device position `ndc` with `depth` (this
 /// frame's depth buffer) when only the camera moved: where `params.to_previous` puts
-/// it the frame before, against where it is now unjittered.
+/// it the frame before, against where it is now unjittered. Nothing drawn (the sky,
+/// depth 1) is taken at [`FARTHEST_DEPTH`]: at the far plane of an infinite
+/// projection w is 0, and the sky's pixels at the edges of blades would lose their
+/// history every frame a jittered sample missed the blade.
 pub fn depth_motion(ndc: Vec2, depth: f32, params: &TemporalParams) -> Vec2 {
+    let depth = depth.min(FARTHEST_DEPTH);
     let before = params.to_previous * Vec4::new(ndc.x, ndc.y, depth, 1.0);
     (ndc - params.jitter) - before.xy() / before.w
 }
+
+/// The depth the resolve takes for nothing drawn: ten thousand times the near plane's
+/// distance under an infinite projection, where a camera's move shifts a point by a
+/// ten-thousandth of what it shifts one at the near plane.
+pub const FARTHEST_DEPTH: f32 = 0.9999;
 
 /// A pixel's motion: the camera's motion of the depth buffer's surface plus the
 /// motion of its own that a blade `wrote` to the motion target (none elsewhere).
@@ -436,6 +445,24 @@ mod tests {
         assert!(close(depth_motion(ndc, depth, &params), by_hand));
         // A point that did not move has no motion of its own.
         assert!(close(object_motion(p.xyz(), p.xyz(), before), Vec2::ZERO));
+    }
+
+    #[test]
+    fn the_sky_moves_with_the_cameras_turn() {
+        // An infinite projection (depth 1 at infinity, where w is 0), turned by a
+        // small angle: the sky's pixels (depth 1) still move with the turn.
+        let infinite = |yaw: f32| {
+            let projection = Mat4::from_cols(
+                Vec4::new(1.0, 0.0, 0.0, 0.0),
+                Vec4::new(0.0, 1.5, 0.0, 0.0),
+                Vec4::new(0.0, 0.0, -1.0, -1.0),
+                Vec4::new(0.0, 0.0, -0.1, 0.0),
+            );
+            projection * Mat4::from_rotation_y(yaw)
+        };
+        let params = TemporalParams::new(infinite(0.01), Vec2::ZERO, Some(infinite(0.0)));
+        let m = depth_motion(Vec2::ZERO, 1.0, &params);
+        assert!(m.is_finite() && m.x.abs() > 1e-3 && m.y.abs() < 1e-6, "{m}");
     }
 
     #[test]

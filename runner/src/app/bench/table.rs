@@ -60,13 +60,19 @@ pub fn readme_table(dir: &Path) -> Result<String> {
                 "" => "1",
                 n => n,
             };
+            // The anti-aliasing (CSVs before the column: MSAA at their samples).
+            let aa = match (get("aa").unwrap_or(""), samples) {
+                ("taa", _) => "TAA".to_owned(),
+                ("none", _) | ("", "1") => "1x".to_owned(),
+                (_, n) => format!("{n}x MSAA"),
+            };
             let shadow: f64 = get("shadow_ms_median")?.parse().unwrap_or(0.0);
             // A paper frame's shadow-map time is the timestamps' noise, not a map.
             let shadowed = natural && shadow > 0.01;
             let look = match (natural, shadowed) {
-                (false, _) => format!("paper ({samples}x)"),
-                (true, true) => format!("natural ({samples}x MSAA, shadows)"),
-                (true, false) => format!("natural ({samples}x MSAA)"),
+                (false, _) => format!("paper ({aa})"),
+                (true, true) => format!("natural ({aa}, shadows)"),
+                (true, false) => format!("natural ({aa})"),
             };
             let ms = |name: &str| -> Result<String> {
                 Ok(match get(name)?.parse::<f64>() {

@@ -85,7 +85,7 @@ pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: 
 arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
-N: look (paper, natural), H: shadows on/off, M: MSAA 1/2/4/8, P: pipeline (tessellation, mesh), K: screenshot, O: overlay on/off, Esc: quit";
+N: look (paper, natural), H: shadows on/off, M: anti-aliasing (none, TAA, MSAA 2/4/8), P: pipeline (tessellation, mesh), K: screenshot, O: overlay on/off, Esc: quit";
 
 /// Arrow keys held down.
 #[derive(Default)]

@@ -260,6 +260,28 @@ pub fn natural_fs(
     #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
 ) {
+    let shadow = (shadow_map, shadow_sampler);
+    natural_fs_with(
+        normal,
+        world,
+        uv_level,
+        (tint, width_dir),
+        frame,
+        shadow,
+        out_color,
+    );
+}
+
+/// [`natural_fs`]'s body: the varyings' leaf shaded into `out_color`.
+fn natural_fs_with(
+    normal: Vec4,
+    world: Vec4,
+    uv_level: Vec3,
+    (tint, width_dir): (Vec4, Vec3),
+    frame: &FrameUniforms,
+    (shadow_map, shadow_sampler): (&ShadowMap, &Sampler),
+    out_color: &mut Vec4,
+) {
     let leaf = Leaf {
         normal: normal.xyz(),
         world: world.xyz(),
@@ -287,8 +309,16 @@ pub fn natural_taa_fs(
     out_color: &mut Vec4,
     out_motion: &mut Vec4,
 ) {
-    let (a, b) = (normal, world);
-    natural_fs(a, b, uv_level, tint, width_dir, frame, shadow_map, shadow_sampler, out_color);
+    let shadow = (shadow_map, shadow_sampler);
+    natural_fs_with(
+        normal,
+        world,
+        uv_level,
+        (tint, width_dir),
+        frame,
+        shadow,
+        out_color,
+    );
     *out_motion = Vec4::new(normal.w, world.w, 0.0, 0.0);
 }
 

@@ -586,9 +586,6 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(TemporalParams, jitter),
                 offset_of!(TemporalParams, on),
                 offset_of!(TemporalParams, reset),
-                offset_of!(TemporalParams, clip_gamma),
-                offset_of!(TemporalParams, current_weight),
-                offset_of!(TemporalParams, padding),
             ],
         ),
     ];

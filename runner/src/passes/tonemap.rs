@@ -49,8 +49,8 @@ pub struct ToneMapPass {
 /// anti-aliasing).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum ToneMapSource {
-    /// The HDR image, from the draw's attachment (to sampled here).
-    Drawn,
+    /// The HDR image as drawn (from the draw's attachment to sampled here).
+    Drawn(vk::Image),
     /// A history, left sampled by the resolve.
     History {
         /// Which.
@@ -100,17 +100,16 @@ impl ToneMapPass {
     }
 
     /// Puts the sky behind `source` and tone-maps it into `target` (image, view,
-    /// extent), for the frame of `uniforms`; `hdr` is the HDR image (from attachment
-    /// to sampled when it is the source); the target from undefined to attachment.
+    /// extent), for the frame of `uniforms`; the target from undefined to attachment.
     pub fn record(
         &self,
         rec: &Recorder,
-        (source, hdr): (ToneMapSource, vk::Image),
+        source: ToneMapSource,
         target: (vk::Image, vk::ImageView, vk::Extent2D),
         uniforms: &FrameUniforms,
     ) {
         let (set, as_drawn) = match source {
-            ToneMapSource::Drawn => {
+            ToneMapSource::Drawn(hdr) => {
                 to_sampled(rec, hdr, (S::FRAGMENT_SHADER, A::SHADER_READ));
                 (&self.set, false)
             }

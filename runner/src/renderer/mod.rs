@@ -322,11 +322,10 @@ impl Renderer {
                 k: 1 - t.read,
                 as_drawn: !natural,
             };
-            self.tonemap
-                .record(rec, (source, images.hdr.image), out, &uniforms);
+            self.tonemap.record(rec, source, out, &uniforms);
         } else if natural {
             let hdr = targets.hdr.as_ref().context("HDR image")?;
-            let source = (ToneMapSource::Drawn, hdr.image);
+            let source = ToneMapSource::Drawn(hdr.image);
             self.tonemap.record(rec, source, out, &uniforms);
         }
         self.temporal.end(&plan, &input.request);

@@ -3,9 +3,9 @@
 //! the tone map then shows.
 
 use crate::DepthImage;
-use shared::draw::temporal::{history_uv, neighbourhood_3x3, pixel_motion, resolve};
+use shared::draw::temporal::{history_uv, neighbourhood_3x3, pixel_centre, pixel_motion, resolve};
 use shared::gpu::layout::FrameUniforms;
-use spirv_std::glam::{IVec2, UVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
+use spirv_std::glam::{IVec2, UVec2, UVec3, Vec4, Vec4Swizzles};
 use spirv_std::{Image, Sampler, spirv};
 
 /// One thread per pixel: the pixel's motion (the camera's, from the depth, and a
@@ -32,8 +32,7 @@ pub fn resolve_taa(
         return;
     }
     let current: Vec4 = hdr.fetch(texel);
-    let uv = (texel.as_vec2() + Vec2::splat(0.5)) / size.as_vec2();
-    let ndc = 2.0 * uv - 1.0;
+    let (uv, ndc) = pixel_centre(texel, size);
     let z: Vec4 = depth.fetch(texel);
     let written: Vec4 = motion.fetch(texel);
     let temporal = &frame.temporal;
@@ -51,6 +50,6 @@ pub fn resolve_taa(
         let c: Vec4 = hdr.fetch(at.as_uvec2());
         c
     });
-    let resolved = resolve(current, &around, (has_history, before), temporal);
+    let resolved = resolve(current, &around, (has_history, before));
     unsafe { out.write(texel, resolved) };
 }

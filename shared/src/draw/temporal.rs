@@ -22,7 +22,7 @@
 //! none, and the target's clear value is no motion of their own.
 
 use crate::Blade;
-use spirv_std::glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
+use spirv_std::glam::{Mat4, UVec2, Vec2, Vec3, Vec4, Vec4Swizzles};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -85,13 +85,6 @@ pub struct TemporalParams {
     pub on: u32,
     /// 1 when the history holds nothing to blend (the first frame, a new size or look).
     pub reset: u32,
-    /// The neighbourhood's box reaches this many standard deviations from its mean
-    /// ([`CLIP_GAMMA`]).
-    pub clip_gamma: f32,
-    /// This frame's weight in the history ([`CURRENT_WEIGHT`]).
-    pub current_weight: f32,
-    /// Padding to 16 bytes.
-    pub padding: [u32; 2],
 }
 
 impl TemporalParams {
@@ -106,9 +99,6 @@ impl TemporalParams {
             jitter,
             on: 1,
             reset: u32::from(previous.is_none()),
-            clip_gamma: CLIP_GAMMA,
-            current_weight: CURRENT_WEIGHT,
-            padding: [0; 2],
         }
     }
 }
@@ -309,27 +299,23 @@ impl Neighbourhood {
     }
 }
 
-/// One pixel resolved as `params` say: its `current` colour (premultiplied RGBA,
-/// alpha the share the scene covers) blended into its `history` (reprojected; where
-/// there is none, `(false, _)`), the history first clipped to the box of its
-/// neighbourhood `around` (in [`resolve_space`]; [`clip_to_box`], [`blend`]). (Flags
-/// rather than options: rust-gpu cannot make an `Option<Vec4>` constant.)
+/// One pixel resolved: its `current` colour (premultiplied RGBA, alpha the share the
+/// scene covers) blended into its `history` (reprojected; where there is none,
+/// `(false, _)`), the history first clipped to the box of [`CLIP_GAMMA`] deviations of
+/// its neighbourhood `around` (in [`resolve_space`]; [`clip_to_box`]), then
+/// [`CURRENT_WEIGHT`] of the frame blended in ([`blend`]). (Flags rather than options:
+/// rust-gpu cannot make an `Option<Vec4>` constant.)
 pub fn resolve(
     current: Vec4,
     around: &Neighbourhood,
     (has_history, history): (bool, Vec4),
-    params: &TemporalParams,
 ) -> Vec4 {
     if !has_history {
         return current;
     }
-    let (low, high) = around.bounds(params.clip_gamma);
+    let (low, high) = around.bounds(CLIP_GAMMA);
     let clipped = clip_to_box(resolve_space(history), low, high);
-    from_resolve_space(blend(
-        resolve_space(current),
-        clipped,
-        params.current_weight,
-    ))
+    from_resolve_space(blend(resolve_space(current), clipped, CURRENT_WEIGHT))
 }
 
 /// The 3x3 neighbourhood of a pixel whose colours `at(dx, dy)` gives, in
@@ -345,6 +331,13 @@ pub fn neighbourhood_3x3(at: impl Fn(i32, i32) -> Vec4) -> Neighbourhood {
         .with(s(-1, 1))
         .with(s(0, 1))
         .with(s(1, 1))
+}
+
+/// The centre of pixel `texel` of a target of `size` pixels: its texture coordinates
+/// and its normalized device coordinates.
+pub fn pixel_centre(texel: UVec2, size: UVec2) -> (Vec2, Vec2) {
+    let uv = (texel.as_vec2() + Vec2::splat(0.5)) / size.as_vec2();
+    (uv, 2.0 * uv - 1.0)
 }
 
 /// Where the history of the pixel at texture coordinates `uv` with `motion` lies:
@@ -560,18 +553,23 @@ mod tests {
         let grey = Vec4::new(0.5, 0.5, 0.5, 1.0);
         let flat = neighbourhood_3x3(|_, _| grey);
         // No history: the frame as it is.
-        let params = TemporalParams::new(Mat4::IDENTITY, Vec2::ZERO, None);
-        assert_eq!(resolve(grey, &flat, (false, Vec4::ONE), &params), grey);
+        assert_eq!(resolve(grey, &flat, (false, Vec4::ONE)), grey);
         // A neighbourhood of two greys: a history between them stays, blended.
         let dark = Vec4::new(0.3, 0.3, 0.3, 1.0);
         let mixed = neighbourhood_3x3(|dx, _| if dx < 0 { dark } else { grey });
         let between = Vec4::new(0.45, 0.45, 0.45, 1.0);
-        let out = resolve(grey, &mixed, (true, between), &params);
+        let out = resolve(grey, &mixed, (true, between));
         assert!((out - between).length() < 0.02, "{out}");
         // A history of what is no longer there (red where all is grey) goes.
         let red = Vec4::new(1.0, 0.0, 0.0, 1.0);
-        let out = resolve(grey, &flat, (true, red), &params);
+        let out = resolve(grey, &flat, (true, red));
         assert!((out - grey).length() < 1e-3, "{out}");
+    }
+
+    #[test]
+    fn a_pixels_centre_by_hand() {
+        let (uv, ndc) = pixel_centre(UVec2::new(0, 3), UVec2::new(4, 4));
+        assert_eq!((uv, ndc), (Vec2::new(0.125, 0.875), Vec2::new(-0.75, 0.75)));
     }
 
     #[test]

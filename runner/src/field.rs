@@ -72,11 +72,12 @@ pub const BINDINGS: [BindingSpec; 25] = [
     // The bandwidth reference's destination, also the mesh-vertex capture's
     // (`GrassPass::capture`).
     storage_in(layout::BINDING_SCRATCH, vk::ShaderStageFlags::MESH_EXT),
-    // The sun's shadow map (`passes::shadow`), read by the lit fragment stages.
+    // The sun's shadow map (`passes::shadow`), read by the lit fragment stages and
+    // the natural look's shading after the draw (`passes::shade`).
     BindingSpec {
         binding: layout::BINDING_SHADOW_MAP,
         ty: vk::DescriptorType::SAMPLED_IMAGE,
-        stages: vk::ShaderStageFlags::FRAGMENT,
+        stages: FRAGMENT_OR_SHADE,
     },
     // The visible blades as the natural look draws them, read by its tessellation
     // stages.
@@ -85,11 +86,11 @@ pub const BINDINGS: [BindingSpec; 25] = [
     BindingSpec {
         binding: layout::BINDING_SHADOW_SAMPLER,
         ty: vk::DescriptorType::SAMPLER,
-        stages: vk::ShaderStageFlags::FRAGMENT,
+        stages: FRAGMENT_OR_SHADE,
     },
     // Each blade's clump, made by the clump pass, read by the compute pass and by the
     // shadow map's casters.
-    storage_in(layout::BINDING_CLUMPS, TESSELLATION),
+    storage_in(layout::BINDING_CLUMPS, CASTER_STAGES),
     // The mesh path's indirect draws, written by the compute pass.
     storage(layout::BINDING_MESH_DRAW),
     // The mesh path's levels of detail, written and read by the compute pass.
@@ -119,11 +120,11 @@ pub const BINDINGS: [BindingSpec; 25] = [
     // A tiled field's tile words and blade ids (placeholders in a stored field).
     // (The ids name the shadow map's casters too.)
     storage(layout::BINDING_TILES),
-    storage_in(layout::BINDING_IDS, TESSELLATION),
+    storage_in(layout::BINDING_IDS, CASTER_STAGES),
     // The painted density map (`shared::paint`).
     storage(layout::BINDING_PAINT),
-    // The shadow casters, read by the shadow map's vertex stage.
-    storage_in(layout::BINDING_CASTERS, vk::ShaderStageFlags::VERTEX),
+    // The shadow casters, read by the shadow map's vertex or mesh stage.
+    storage_in(layout::BINDING_CASTERS, CASTER_STAGES),
     // The visible blades' previous control points (temporal anti-aliasing), read by
     // the grass's geometry stages.
     storage_in(layout::BINDING_MOTION, GEOMETRY_OR_RESOLVE),
@@ -133,6 +134,20 @@ pub const BINDINGS: [BindingSpec; 25] = [
 const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
+);
+
+/// The stages that draw the shadow casters: the vertex and tessellation stages, or
+/// the mesh stage.
+const CASTER_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw()
+        | TESSELLATION.as_raw()
+        | vk::ShaderStageFlags::MESH_EXT.as_raw(),
+);
+
+/// The fragment stages and the compute stage (the natural look shaded after the
+/// draw, `passes::shade`).
+const FRAGMENT_OR_SHADE: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::FRAGMENT.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
 );
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
@@ -406,9 +421,10 @@ impl Field {
             u64::from(chunk_count + 2) * size_of::<vk::DrawIndirectCommand>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
+        // One grid per strip length, then the shadow casters' and the near ones'.
         let mesh_draw = device_buffer(
             "mesh draws",
-            u64::from(BUCKETS) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
+            u64::from(BUCKETS + 2) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
         let levels = device_buffer("levels", u64::from(count) * 4, U::STORAGE_BUFFER)?;
@@ -508,6 +524,13 @@ impl Field {
     /// Where the near cascade's casters' draw command is: after all casters'.
     pub fn near_casters_draw(&self) -> u64 {
         self.casters_draw() + size_of::<vk::DrawIndirectCommand>() as u64
+    }
+
+    /// Where in the mesh draws buffer the shadow casters' mesh grids are (all, then
+    /// the near cascade's): after the strip lengths'.
+    pub fn casters_mesh_draws(&self) -> [u64; 2] {
+        let size = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64;
+        [u64::from(BUCKETS) * size, u64::from(BUCKETS + 1) * size]
     }
 
     /// Replaces the blades by `blades` (as many as before) at rest, with no collision

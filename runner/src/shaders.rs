@@ -32,6 +32,9 @@ pub const SELECT_FAR_TILES: &str = "compute::tiles::select_far_tiles";
 pub const GENERATE_FAR: &str = "compute::tiles::generate_far";
 /// Compute: the temporal resolve, one thread per pixel.
 pub const RESOLVE_TAA: &str = "compute::temporal::resolve_taa";
+/// Compute: the natural look shaded after the draw, one thread per pixel
+/// (`shared::draw::look::visibility`).
+pub const SHADE_NATURAL: &str = "compute::shade::shade_natural";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clumps::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).
@@ -80,8 +83,11 @@ pub const NATURAL_TCS: &str = "grass::natural_tcs";
 pub const NATURAL_TES: &str = "grass::natural_tes";
 /// The natural look's grass: fragment stage.
 pub const NATURAL_FS: &str = "grass::natural_fs";
-/// Fragment: [`NATURAL_FS`] writing the motion target too (temporal anti-aliasing).
-pub const NATURAL_TAA_FS: &str = "grass::natural_taa_fs";
+/// The natural look's grass at one sample: tessellation evaluation for shading after
+/// the draw (surface coordinates and slot).
+pub const NATURAL_VIS_TES: &str = "grass::natural_vis_tes";
+/// Fragment: the blade and the place on it, packed for [`SHADE_NATURAL`].
+pub const NATURAL_VIS_FS: &str = "grass::natural_vis_fs";
 /// The natural look's grass: fragment stage of the LOD and wireframe views.
 pub const NATURAL_VIEW_FS: &str = "grass::natural_view_fs";
 /// The paper look's mesh path: mesh stage (the blade strips of one length).
@@ -93,6 +99,8 @@ pub const PAPER_TAA_MESH: &str = "mesh::paper_taa_mesh";
 pub const PAPER_MESH_CAPTURE: &str = "mesh::paper_mesh_capture";
 /// The natural look's mesh path: mesh stage.
 pub const NATURAL_MESH: &str = "mesh::natural_mesh";
+/// Mesh: [`NATURAL_MESH`] for shading after the draw (surface coordinates and slot).
+pub const NATURAL_VIS_MESH: &str = "mesh::natural_vis_mesh";
 /// The grass from the sun (shadow map): the caster's index.
 pub const SHADOW_VS: &str = "grass::shadow_vs";
 /// The grass from the sun: tessellation control at the fewest segments.
@@ -101,6 +109,11 @@ pub const GRASS_SHADOW_TCS: &str = "grass::shadow_tcs";
 pub const GRASS_SHADOW_TES: &str = "grass::shadow_tes";
 /// The grass from the sun: tessellation evaluation into the near cascade.
 pub const GRASS_SHADOW_NEAR_TES: &str = "grass::shadow_near_tes";
+/// The grass from the sun through mesh stages: a caster a lane, two triangles each
+/// (far cascade).
+pub const SHADOW_MESH: &str = "mesh::shadow_mesh";
+/// [`SHADOW_MESH`] into the near cascade.
+pub const SHADOW_NEAR_MESH: &str = "mesh::shadow_near_mesh";
 /// The tone map's full-screen triangle.
 pub const TONEMAP_VS: &str = "tonemap::tonemap_vs";
 /// Sky and tone map.

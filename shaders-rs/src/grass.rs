@@ -18,6 +18,7 @@ use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::shadow::CASTER_LEVEL;
 use shared::draw::look::sky::fog;
+use shared::draw::look::visibility;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
 use shared::draw::shape::surface_point;
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
@@ -192,16 +193,14 @@ pub fn natural_tcs(
 
 /// The natural look's blade surface, with its tint, coverage and width direction for
 /// the fragment stage: the same at every vertex of a blade, so flat (no
-/// interpolation to set up per triangle). The vertex's own motion (temporal
-/// anti-aliasing) rides in the w of the normal and of the world position, slots the
-/// varyings have anyway.
+/// interpolation to set up per triangle). Drawn this way with multisampling; at one
+/// sample the natural look is shaded after the draw ([`natural_vis_tes`]).
 #[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn natural_tes(
     #[spirv(tess_coord)] coord: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
     in_slot: [u32; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
@@ -211,18 +210,45 @@ pub fn natural_tes(
     #[spirv(flat)] out_tint: &mut Vec4,
     #[spirv(flat)] out_width_dir: &mut Vec3,
 ) {
-    let slot = in_slot[0] as usize;
-    let drawn = &dressed[slot];
-    let blade = &drawn.blade;
+    let drawn = &dressed[in_slot[0] as usize];
     let grass = &frame.grass;
-    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
-    let moved = point_motion(frame, motion, slot, p.position, coord.y, blade);
+    let p = surface_point(&drawn.blade, coord.x, coord.y, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal = p.normal.extend(moved.x);
-    *out_world = p.position.extend(moved.y);
+    *out_normal = p.normal.extend(0.0);
+    *out_world = p.position.extend(0.0);
     *out_uv_level = coord.truncate().extend(in_level[0]);
     *out_tint = drawn.tint;
     *out_width_dir = p.width_dir;
+}
+
+/// The natural look drawn for shading after the draw (one sample per pixel,
+/// `shared::draw::look::visibility`): each vertex's surface coordinates and, flat,
+/// the blade's slot; nothing to shade with.
+#[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
+pub fn natural_vis_tes(
+    #[spirv(tess_coord)] coord: Vec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
+    in_slot: [u32; 1],
+    _in_level: [f32; 1],
+    #[spirv(position)] out_position: &mut Vec4,
+    out_uv: &mut Vec4,
+    #[spirv(flat)] out_slot: &mut f32,
+) {
+    let slot = in_slot[0];
+    let blade = &dressed[slot as usize].blade;
+    let grass = &frame.grass;
+    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    *out_position = frame.camera.view_proj * p.position.extend(1.0);
+    *out_uv = coord.extend(0.0);
+    *out_slot = slot as f32;
+}
+
+/// The natural look's fragment at one sample: which blade and where on it, packed
+/// into the colour (`visibility::pack`) for `compute::shade::shade_natural`.
+#[spirv(fragment)]
+pub fn natural_vis_fs(uv: Vec4, #[spirv(flat)] slot: f32, out_color: &mut Vec4) {
+    *out_color = visibility::pack(slot as u32, uv.xy());
 }
 
 /// The own motion of a blade's `point` at height `v`, from the previous control
@@ -292,36 +318,6 @@ fn natural_fs_with(
     *out_color = natural_colour(frame, shadow_map, shadow_sampler, &leaf).extend(1.0);
 }
 
-/// [`natural_fs`] with temporal anti-aliasing: also the blade's own motion (carried in
-/// the w of the normal and of the world position) into the motion target
-/// (`shared::draw::temporal::pixel_motion` adds the camera's).
-#[allow(clippy::too_many_arguments)]
-#[spirv(fragment)]
-pub fn natural_taa_fs(
-    normal: Vec4,
-    world: Vec4,
-    uv_level: Vec3,
-    #[spirv(flat)] tint: Vec4,
-    #[spirv(flat)] width_dir: Vec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(descriptor_set = 0, binding = 8)] shadow_map: &ShadowMap,
-    #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
-    out_color: &mut Vec4,
-    out_motion: &mut Vec4,
-) {
-    let shadow = (shadow_map, shadow_sampler);
-    natural_fs_with(
-        normal,
-        world,
-        uv_level,
-        (tint, width_dir),
-        frame,
-        shadow,
-        out_color,
-    );
-    *out_motion = Vec4::new(normal.w, world.w, 0.0, 0.0);
-}
-
 /// The natural look's LOD and wireframe views, as in the paper look.
 #[spirv(fragment)]
 pub fn natural_view_fs(
@@ -388,7 +384,7 @@ pub fn shadow_vs(
 
 /// Blade `index` as it casts its shadow (`clump::caster_blade`): read from the blade
 /// and clump buffers, named by its id in a tiled field.
-fn caster(
+pub(crate) fn caster(
     frame: &FrameUniforms,
     blades: &[Blade],
     clumps: &[Vec4],

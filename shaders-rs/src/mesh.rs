@@ -10,19 +10,21 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
-use crate::grass::point_motion;
+use crate::grass::{caster, point_motion};
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
+use shared::draw::look::shadow::CASTERS_PER_GROUP;
 use shared::draw::meshlet::{
     MAX_STRIP_VERTICES, StripBlade, bucket_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
 use shared::draw::shape::surface_point;
 use shared::draw::temporal::BladeMotion;
+use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_NEAR_CASTERS};
 use shared::gpu::counters::{bucket_base, strip_counter};
 use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::set_mesh_outputs_ext;
-use spirv_std::glam::{UVec3, Vec3, Vec4};
+use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
 /// Sets a mesh workgroup's outputs for `strips` strips of `segments` and writes their
@@ -197,8 +199,8 @@ pub fn paper_mesh_capture(
 
 /// The natural look's mesh stage: strips of the dressed blades, with the natural
 /// tessellation evaluation stage's varyings (tint and width direction the same at
-/// every vertex of a blade, read flat; the vertex's own motion in the w of the normal
-/// and of the world position).
+/// every vertex of a blade, read flat). Drawn this way with multisampling; at one
+/// sample the natural look is shaded after the draw ([`natural_vis_mesh`]).
 #[allow(clippy::too_many_arguments)]
 #[spirv(mesh_ext(
     threads(32),
@@ -215,7 +217,6 @@ pub fn natural_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &[BladeMotion],
     #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
     #[spirv(position)] out_position: &mut [Vec4; 32],
     out_normal: &mut [Vec4; 32],
@@ -228,15 +229,145 @@ pub fn natural_mesh(
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
-        let slot = strip.source as usize;
-        let drawn = &dressed[slot];
+        let drawn = &dressed[strip.source as usize];
         let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
-        let moved = point_motion(frame, motion, slot, p.position, uvl.y, &drawn.blade);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
-        out_normal[k] = p.normal.extend(moved.x);
-        out_world[k] = p.position.extend(moved.y);
+        out_normal[k] = p.normal.extend(0.0);
+        out_world[k] = p.position.extend(0.0);
         out_uv_level[k] = uvl;
         out_tint[k] = drawn.tint;
         out_width_dir[k] = p.width_dir;
     }
+}
+
+/// The natural look's mesh stage for shading after the draw (one sample per pixel,
+/// `grass::natural_vis_fs`): each vertex's surface coordinates and, flat, the
+/// blade's slot.
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 32,
+    output_primitives_ext = 30,
+    output_triangles_ext
+))]
+pub fn natural_vis_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(draw_index)] draw: u32,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &[DressedBlade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
+    #[spirv(position)] out_position: &mut [Vec4; 32],
+    out_uv: &mut [Vec4; 32],
+    #[spirv(flat)] out_slot: &mut [f32; 32],
+) {
+    let top = top_segments(frame.lod.most);
+    let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
+    if let Some((k, _, strip, uvl)) = vertex {
+        let grass = &frame.grass;
+        let blade = &dressed[strip.source as usize].blade;
+        let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
+        out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
+        out_uv[k] = uvl.truncate().extend(0.0).extend(0.0);
+        out_slot[k] = strip.source as f32;
+    }
+}
+
+/// The sun's shadow map through mesh stages: a caster a lane, its one segment as
+/// two triangles (`shadow::CASTER_LEVEL`), the workgroup's casters from `first` of the casters'
+/// list counted by counter `counter`, into the cascade of `view_proj`. No tessellator:
+/// the caster is dressed once (`grass::caster`), not at each vertex.
+#[allow(clippy::too_many_arguments)]
+fn caster_triangles(
+    (group, groups, lane): (UVec3, UVec3, u32),
+    frame: &FrameUniforms,
+    (blades, clumps, ids): (&[Blade], &[Vec4], &[u32]),
+    (casters, first, count): (&[u32], u32, u32),
+    view_proj: Mat4,
+    indices: &mut [UVec3; 64],
+    out_position: &mut [Vec4; 128],
+) {
+    let start = group_index(group, groups) * CASTERS_PER_GROUP;
+    let n = group_strips(count, start, CASTERS_PER_GROUP);
+    unsafe { set_mesh_outputs_ext(4 * n, 2 * n) };
+    if lane < n {
+        let index = casters[(first + start + lane) as usize];
+        let blade = caster(frame, blades, clumps, ids, index);
+        let k = 4 * lane as usize;
+        out_position[k] = caster_clip(frame, &blade, view_proj, 0.0, 0.0);
+        out_position[k + 1] = caster_clip(frame, &blade, view_proj, 1.0, 0.0);
+        out_position[k + 2] = caster_clip(frame, &blade, view_proj, 0.0, 1.0);
+        out_position[k + 3] = caster_clip(frame, &blade, view_proj, 1.0, 1.0);
+        let first = 4 * lane;
+        let t = 2 * lane as usize;
+        indices[t] = UVec3::new(first, first + 1, first + 2);
+        indices[t + 1] = UVec3::new(first + 2, first + 1, first + 3);
+    }
+}
+
+/// The clip position in the cascade of `view_proj` of `blade`'s caster at (`u`, `v`).
+fn caster_clip(frame: &FrameUniforms, blade: &Blade, view_proj: Mat4, u: f32, v: f32) -> Vec4 {
+    let grass = &frame.grass;
+    let p = surface_point(blade, u, v, grass.shape, grass.tip_start);
+    view_proj * p.position.extend(1.0)
+}
+
+/// The shadow map's far cascade through mesh stages: every caster
+/// (`caster_triangles`; depth only).
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 128,
+    output_primitives_ext = 64,
+    output_triangles_ext
+))]
+pub fn shadow_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &[u32],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 64],
+    #[spirv(position)] out_position: &mut [Vec4; 128],
+) {
+    let list = (casters, 0, counters[COUNTER_CASTERS]);
+    let view_proj = frame.look.shadow_view_proj;
+    let source = (blades, clumps, ids);
+    let at = (group, groups, lane);
+    caster_triangles(at, frame, source, list, view_proj, indices, out_position);
+}
+
+/// [`shadow_mesh`] into the near cascade, its own casters (the list's second half).
+#[allow(clippy::too_many_arguments)]
+#[spirv(mesh_ext(
+    threads(32),
+    output_vertices = 128,
+    output_primitives_ext = 64,
+    output_triangles_ext
+))]
+pub fn shadow_near_mesh(
+    #[spirv(workgroup_id)] group: UVec3,
+    #[spirv(num_workgroups)] groups: UVec3,
+    #[spirv(local_invocation_index)] lane: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &[u32],
+    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 64],
+    #[spirv(position)] out_position: &mut [Vec4; 128],
+) {
+    let list = (casters, frame.grass.blades, counters[COUNTER_NEAR_CASTERS]);
+    let view_proj = frame.look.near_view_proj;
+    let source = (blades, clumps, ids);
+    let at = (group, groups, lane);
+    caster_triangles(at, frame, source, list, view_proj, indices, out_position);
 }

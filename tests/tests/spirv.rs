@@ -6,9 +6,10 @@ use ash::vk;
 use rspirv::dr::{Module, Operand};
 use rspirv::spirv::{BuiltIn, Decoration, ExecutionMode, ExecutionModel, Op, StorageClass};
 use runner::field::{BINDINGS, PUSH_CONSTANTS};
-use runner::passes::{overlay, temporal, tonemap};
+use runner::passes::{overlay, shade, temporal, tonemap};
 use runner::shaders;
 use runner::vulkan::descriptors::BindingSpec;
+use shared::draw::look::shadow::CASTERS_PER_GROUP;
 use shared::gpu::layout;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -171,7 +172,15 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::NATURAL_TES, ExecutionModel::TessellationEvaluation),
         (shaders::NATURAL_FS, ExecutionModel::Fragment),
         (shaders::NATURAL_VIEW_FS, ExecutionModel::Fragment),
-        (shaders::NATURAL_TAA_FS, ExecutionModel::Fragment),
+        (
+            shaders::NATURAL_VIS_TES,
+            ExecutionModel::TessellationEvaluation,
+        ),
+        (shaders::NATURAL_VIS_FS, ExecutionModel::Fragment),
+        (shaders::NATURAL_VIS_MESH, ExecutionModel::MeshEXT),
+        (shaders::SHADE_NATURAL, ExecutionModel::GLCompute),
+        (shaders::SHADOW_MESH, ExecutionModel::MeshEXT),
+        (shaders::SHADOW_NEAR_MESH, ExecutionModel::MeshEXT),
         (
             shaders::GRASS_TAA_TES,
             ExecutionModel::TessellationEvaluation,
@@ -287,7 +296,15 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
                     | StorageClass::UniformConstant => {
                         let set = decoration_value(&m, var, Decoration::DescriptorSet);
                         let binding = decoration_value(&m, var, Decoration::Binding);
-                        assert_eq!(set, Some(layout::SET), "{name}: descriptor set of id {var}");
+                        // The shading after the draw has a set of its own after the
+                        // field's.
+                        let bindings = match set {
+                            Some(1) if name == shaders::SHADE_NATURAL => &shade::BINDINGS[..],
+                            _ => {
+                                assert_eq!(set, Some(layout::SET), "{name}: set of id {var}");
+                                bindings
+                            }
+                        };
                         let binding = binding.expect("binding decoration");
                         let spec = bindings
                         .iter()
@@ -398,6 +415,13 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::SELECT_TILES, layout::SIMULATE_WORKGROUP),
         (shaders::PAPER_MESH, shared::draw::meshlet::MESH_THREADS),
         (shaders::NATURAL_MESH, shared::draw::meshlet::MESH_THREADS),
+        (
+            shaders::NATURAL_VIS_MESH,
+            shared::draw::meshlet::MESH_THREADS,
+        ),
+        (shaders::SHADOW_MESH, CASTERS_PER_GROUP),
+        (shaders::SHADOW_NEAR_MESH, CASTERS_PER_GROUP),
+        (shaders::SHADE_NATURAL, layout::TEMPORAL_WORKGROUP),
     ] {
         let m = module_of(name);
         let function = entry_points(&m)[name].2;
@@ -648,7 +672,27 @@ fn execution_mode(m: &Module, entry: &str, mode: ExecutionMode) -> Option<u32> {
 #[test]
 fn mesh_stages_declare_the_meshlet_limits() {
     use shared::draw::meshlet::{MESHLET_TRIANGLES, MESHLET_VERTICES};
-    for name in [shaders::PAPER_MESH, shaders::NATURAL_MESH] {
+    for name in [shaders::SHADOW_MESH, shaders::SHADOW_NEAR_MESH] {
+        // A caster a lane, four corners and two triangles each.
+        let m = module_of(name);
+        let vertices = execution_mode(&m, name, ExecutionMode::OutputVertices);
+        let triangles = execution_mode(&m, name, ExecutionMode::OutputPrimitivesEXT);
+        assert_eq!(
+            vertices,
+            Some(4 * CASTERS_PER_GROUP),
+            "{name}: output vertices"
+        );
+        assert_eq!(
+            triangles,
+            Some(2 * CASTERS_PER_GROUP),
+            "{name}: output triangles"
+        );
+    }
+    for name in [
+        shaders::PAPER_MESH,
+        shaders::NATURAL_MESH,
+        shaders::NATURAL_VIS_MESH,
+    ] {
         let m = module_of(name);
         let vertices = execution_mode(&m, name, ExecutionMode::OutputVertices);
         let triangles = execution_mode(&m, name, ExecutionMode::OutputPrimitivesEXT);
@@ -689,6 +733,7 @@ fn only_mesh_modules_need_mesh_shading() {
         let grass_mesh = [
             shaders::PAPER_MESH,
             shaders::NATURAL_MESH,
+            shaders::NATURAL_VIS_MESH,
             shaders::PAPER_MESH_CAPTURE,
             shaders::PAPER_TAA_MESH,
         ]

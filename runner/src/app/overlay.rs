@@ -201,7 +201,8 @@ fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) 
                     ("grass", t.grass),
                     ("compute raster", t.raster),
                     ("far resolve + MSAA resolve", t.resolve),
-                    ("sky + tone map", t.tone_map),
+                    ("shading (natural)", t.shade),
+                    ("TAA + sky + tone map", t.tone_map),
                     ("overlay", t.overlay),
                     ("GPU total", t.total),
                 ];

@@ -48,8 +48,8 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
     if let Some(t) = report.times {
         log::info!(
             "GPU ms: uploads + depth pyramid {:.3}, simulate+cull {:.3}, shadow map {:.3}, \
-             ground {:.3}, grass {:.3}, compute raster {:.3}, resolve {:.3}, sky + tone map \
-             {:.3}, total {:.3}",
+             ground {:.3}, grass {:.3}, compute raster {:.3}, resolve {:.3}, shading {:.3}, \
+             TAA + sky + tone map {:.3}, total {:.3}",
             t.depth_pyramid,
             t.simulate_cull,
             t.shadow,
@@ -57,6 +57,7 @@ pub fn run(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
             t.grass,
             t.raster,
             t.resolve,
+            t.shade,
             t.tone_map,
             t.total
         );

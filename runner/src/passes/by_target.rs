@@ -14,8 +14,12 @@ pub struct DrawTarget {
     pub format: vk::Format,
     /// Samples per pixel.
     pub samples: vk::SampleCountFlags,
-    /// A motion target follows the colour (temporal anti-aliasing).
+    /// A motion target follows the colour (temporal anti-aliasing, written by the
+    /// fragment stages).
     pub motion: bool,
+    /// The natural look's shaded view writes its blades' visibility into the colour,
+    /// shaded after the draw (`passes::shade`; one sample per pixel).
+    pub deferred: bool,
 }
 
 impl DrawTarget {
@@ -25,6 +29,7 @@ impl DrawTarget {
             format,
             samples: vk::SampleCountFlags::TYPE_1,
             motion: false,
+            deferred: false,
         }
     }
 
@@ -100,6 +105,7 @@ mod tests {
             format,
             samples,
             motion: false,
+            deferred: false,
         };
         let mut made = 0;
         let mut kept = ByTarget::new(t(srgb, one), "srgb 1");

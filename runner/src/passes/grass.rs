@@ -36,8 +36,9 @@ struct Looks {
 impl Looks {
     /// The pipelines of each look for `target`, their geometry stages in `paper` and
     /// `natural` (in order, the fragment stage left out); with a motion target the
-    /// shaded views write it (the paper look through its geometry stages in
-    /// `paper_motion`), the LOD and wireframe views keep it.
+    /// paper look's shaded view writes it (through its geometry stages in
+    /// `paper_motion`), the LOD and wireframe views keep it; on a `deferred` target
+    /// the natural look's shaded view packs its visibility (`natural_vis`).
     fn new(
         ctx: &Arc<Context>,
         desc: &GraphicsDesc,
@@ -57,16 +58,15 @@ impl Looks {
         };
         let (fill, line) = (vk::PolygonMode::FILL, vk::PolygonMode::LINE);
         let (paper, natural) = (stages.paper, stages.natural);
-        let (filled, natural_filled) = if target.motion {
-            (
-                make(stages.paper_motion, shaders::GRASS_TAA_FS, fill, true)?,
-                make(natural, shaders::NATURAL_TAA_FS, fill, true)?,
-            )
+        let filled = if target.motion {
+            make(stages.paper_motion, shaders::GRASS_TAA_FS, fill, true)?
         } else {
-            (
-                make(paper, shaders::GRASS_FS, fill, false)?,
-                make(natural, shaders::NATURAL_FS, fill, false)?,
-            )
+            make(paper, shaders::GRASS_FS, fill, false)?
+        };
+        let natural_filled = if target.deferred {
+            make(stages.natural_vis, shaders::NATURAL_VIS_FS, fill, false)?
+        } else {
+            make(natural, shaders::NATURAL_FS, fill, false)?
         };
         Ok(Self {
             filled,
@@ -96,6 +96,8 @@ struct LookStages<'a> {
     /// The paper look's, giving each vertex its motion (temporal anti-aliasing).
     paper_motion: &'a [(vk::ShaderStageFlags, &'a str)],
     natural: &'a [(vk::ShaderStageFlags, &'a str)],
+    /// The natural look's, for shading after the draw (`passes::shade`).
+    natural_vis: &'a [(vk::ShaderStageFlags, &'a str)],
 }
 
 /// The grass pipelines: tessellated, and with mesh stages where the device has them.
@@ -133,6 +135,11 @@ impl GrassPass {
             (St::TESSELLATION_CONTROL, shaders::NATURAL_TCS),
             (St::TESSELLATION_EVALUATION, shaders::NATURAL_TES),
         ];
+        let natural_vis = [
+            (St::VERTEX, shaders::NATURAL_VS),
+            (St::TESSELLATION_CONTROL, shaders::NATURAL_TCS),
+            (St::TESSELLATION_EVALUATION, shaders::NATURAL_VIS_TES),
+        ];
         let mut desc = GraphicsDesc::patches(
             module,
             &[],
@@ -145,6 +152,7 @@ impl GrassPass {
             paper: &paper,
             paper_motion: &paper_motion,
             natural: &natural,
+            natural_vis: &natural_vis,
         };
         let tess = Looks::new(ctx, &desc, target, &stages)?;
         let mesh = match &ctx.mesh_shader {
@@ -154,6 +162,7 @@ impl GrassPass {
                     paper: &[(St::MESH_EXT, shaders::PAPER_MESH)],
                     paper_motion: &[(St::MESH_EXT, shaders::PAPER_TAA_MESH)],
                     natural: &[(St::MESH_EXT, shaders::NATURAL_MESH)],
+                    natural_vis: &[(St::MESH_EXT, shaders::NATURAL_VIS_MESH)],
                 };
                 let looks = Looks::new(ctx, &desc, target, &stages)?;
                 Some((looks, commands.clone()))

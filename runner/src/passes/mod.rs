@@ -25,11 +25,17 @@
 //!    In the natural look they draw into a linear HDR target (multisampled with
 //!    `--msaa`, resolved when the last scope ends); with temporal anti-aliasing
 //!    (either look) into the HDR target and a motion target, each pixel's motion.
-//! 5. [`temporal`]: with temporal anti-aliasing, the resolve (reads the HDR image,
+//!
+//!    At one sample the natural look's grass draws only which blade covers each
+//!    pixel and where on it, packed into the HDR image.
+//! 5. [`shade`]: the natural look at one sample, shaded after the draw (reads the
+//!    packed pixels, the dressed blades, their previous control points and the
+//!    shadow map; writes the HDR image in place and, with TAA, the motion image).
+//! 6. [`temporal`]: with temporal anti-aliasing, the resolve (reads the HDR image,
 //!    the motion target, the depth and the last history; writes the next history).
-//! 6. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
+//! 7. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
 //!    image, or the history just written; writes the target).
-//! 7. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
+//! 8. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
 //!    colour).
 //!
 //! [`reference`](mod@reference) is no part of a frame: the benchmark's bandwidth and triangle
@@ -43,6 +49,7 @@ pub mod occlusion;
 pub mod overlay;
 pub mod raster;
 pub mod reference;
+pub mod shade;
 pub mod shadow;
 pub mod simulate;
 pub mod temporal;
@@ -74,6 +81,8 @@ pub enum Mark {
     /// After the last rendering scope ended: the compute rasterizer's resolve and the
     /// multisample resolve, when there are any.
     Resolve,
+    /// After the natural look's shading after the draw (one sample per pixel).
+    Shade,
     /// After the temporal resolve and the sky and the tone map (natural look, or
     /// temporal anti-aliasing).
     ToneMap,
@@ -83,7 +92,7 @@ pub enum Mark {
 
 impl Mark {
     /// Timestamps per frame.
-    pub const COUNT: u32 = 10;
+    pub const COUNT: u32 = 11;
 }
 
 /// Depth format of every pass.

@@ -14,9 +14,9 @@
 //! tests decide (a blade outside the view or turned edge-on still casts its shadow),
 //! dressed as the natural look draws it without the camera's fades
 //! (`shared::draw::look::clump::caster_blade`), at a fixed level of detail
-//! (`shadow::CASTER_LEVEL`):
-//! one patch of one segment (2 triangles) per caster. The map depends on where the
-//! camera is, not on where it looks.
+//! (`shadow::CASTER_LEVEL`): one segment (two triangles) per caster, through the
+//! grass's pipeline: a patch, or a lane of a mesh workgroup. The
+//! map depends on where the camera is, not on where it looks.
 
 use crate::field::Field;
 use crate::passes::DEPTH_FORMAT;
@@ -43,8 +43,10 @@ pub struct ShadowPass {
     map: Image,
     /// The comparison sampler the field's set names: kept alive with the map.
     _sampler: Sampler,
-    /// Surfaces and casters into each cascade: near, then far.
+    /// Surfaces and casters (tessellated) into each cascade: near, then far.
     cascades: [(Pipeline, Pipeline); 2],
+    /// The casters through mesh stages into each cascade, where the device has them.
+    mesh: Option<([Pipeline; 2], ash::ext::mesh_shader::Device)>,
 }
 
 impl ShadowPass {
@@ -82,9 +84,27 @@ impl ShadowPass {
                 Pipeline::graphics(ctx, &grass)?,
             ))
         };
+        let mesh = match &ctx.mesh_shader {
+            Ok(commands) => {
+                let make = |entry| {
+                    let stages = [(St::MESH_EXT, entry)];
+                    let mut desc =
+                        GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
+                    desc.patch_control_points = 0;
+                    Pipeline::graphics(ctx, &desc)
+                };
+                let pipelines = [
+                    make(shaders::SHADOW_NEAR_MESH)?,
+                    make(shaders::SHADOW_MESH)?,
+                ];
+                Some((pipelines, commands.clone()))
+            }
+            Err(_) => None,
+        };
         Ok(Self {
             map,
             _sampler: sampler,
+            mesh,
             cascades: [
                 cascade(
                     shaders::SHADOW_SURFACE_NEAR_VS,
@@ -177,9 +197,16 @@ impl ShadowPass {
         Ok(map)
     }
 
-    /// Records the map: surfaces, `balls` and the grass's casters; it is then ready
-    /// for the fragment stages to sample.
-    pub fn record(&self, rec: &Recorder, field: &Field, ground: &GroundPass, balls: &[Vec4]) {
+    /// Records the map: surfaces, `balls` and the grass's casters (through mesh stages
+    /// with `mesh`, where the device has them); it is then ready for the fragment
+    /// stages to sample.
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        field: &Field,
+        (ground, balls): (&GroundPass, &[Vec4]),
+        mesh: bool,
+    ) {
         let aspect = vk::ImageAspectFlags::DEPTH;
         let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
@@ -197,6 +224,8 @@ impl ShadowPass {
         let side = self.size();
         // Near first, with its own casters; then far, with all of them.
         let casters = [field.near_casters_draw(), field.casters_draw()];
+        let mesh_casters = field.casters_mesh_draws();
+        let mesh = self.mesh.as_ref().filter(|_| mesh);
         for (k, (surfaces, grass)) in self.cascades.iter().enumerate() {
             rec.set_viewport(vk::Rect2D {
                 offset: vk::Offset2D {
@@ -208,14 +237,24 @@ impl ShadowPass {
                     height: side,
                 },
             });
-            ground.record_with(surfaces, rec, field, balls);
+            let grass = mesh.map_or(grass, |(pipelines, _)| &pipelines[k]);
             rec.bind_pipeline(
                 vk::PipelineBindPoint::GRAPHICS,
                 grass.pipeline,
                 field.layout.layout,
                 field.descriptors.set,
             );
-            rec.draw_indirect_at(field.draws.buffer, casters[k]);
+            match mesh {
+                Some((_, commands)) => {
+                    // Near first: the mesh grids are all casters', then the near ones'.
+                    let at = mesh_casters[1 - k];
+                    rec.draw_mesh_tasks_indirect_at(commands, field.mesh_draw.buffer, at);
+                }
+                None => rec.draw_indirect_at(field.draws.buffer, casters[k]),
+            }
+            // After the casters: the ground under the grass then fails the early depth
+            // test instead of being written and written over.
+            ground.record_with(surfaces, rec, field, balls);
         }
         rec.end_rendering();
         rec.image_barrier(
@@ -231,5 +270,6 @@ impl ShadowPass {
     }
 }
 
-/// The stages that sample the map: the lit fragment stages.
-const READERS: S = S::FRAGMENT_SHADER;
+/// The stages that sample the map: the lit fragment stages and the natural look's
+/// shading after the draw (`passes::shade`).
+const READERS: S = S::from_raw(S::FRAGMENT_SHADER.as_raw() | S::COMPUTE_SHADER.as_raw());

@@ -58,6 +58,7 @@ impl Renderer {
             hdr: false,
             samples: 1,
             taa: false,
+            deferred: false,
         })?;
         // The caller's own depth makes no pyramid here, and its targets take one
         // sample, no history and no far blades.
@@ -84,7 +85,7 @@ impl Renderer {
         self.draw
             .record_over(rec, &self.field, &images, &plan, frame.ground, &stamp);
         // No compute rasterizer, resolve, tone map or overlay here.
-        for mark in [Mark::Raster, Mark::Resolve, Mark::ToneMap] {
+        for mark in [Mark::Raster, Mark::Resolve, Mark::Shade, Mark::ToneMap] {
             stamp(mark);
         }
         self.copy_counters(rec, queries);

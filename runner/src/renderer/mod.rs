@@ -17,6 +17,7 @@ use crate::field::{Field, FieldBlades};
 use crate::passes::draw::DrawPass;
 use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
+use crate::passes::shade::ShadePass;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::simulate::SimulatePass;
 use crate::passes::temporal::TemporalPass;
@@ -138,6 +139,7 @@ pub struct Renderer {
     shadow: ShadowPass,
     tonemap: ToneMapPass,
     temporal_pass: TemporalPass,
+    shade: ShadePass,
     overlay: Option<OverlayPass>,
     color_format: vk::Format,
     targets: Option<DrawTargets>,
@@ -197,6 +199,7 @@ impl Renderer {
         let shadow = ShadowPass::new(ctx, &pool, &module, &field, SHADOW_SIZES[0])?;
         let tonemap = ToneMapPass::new(ctx, &module, color_format)?;
         let temporal_pass = TemporalPass::new(ctx, &module)?;
+        let shade = ShadePass::new(ctx, &module, &field)?;
         Ok(Self {
             ctx: ctx.clone(),
             field,
@@ -213,6 +216,7 @@ impl Renderer {
             shadow,
             tonemap,
             temporal_pass,
+            shade,
             overlay: None,
             color_format,
             targets: None,
@@ -283,6 +287,7 @@ impl Renderer {
             hdr: natural || plan.taa,
             samples: plan.samples,
             taa: plan.taa,
+            deferred: natural,
         })?;
         self.temporal.begin(&plan, target.extent);
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
@@ -312,6 +317,10 @@ impl Renderer {
         self.draw
             .record(rec, &self.field, &images, &plan, balls, &stamp, triangles);
         stamp(Mark::Resolve);
+        if let Some(images) = targets.shaded() {
+            self.shade.record(rec, &self.field, images, target.extent);
+        }
+        stamp(Mark::Shade);
         self.copy_counters(rec, queries);
         let out = (target.image, target.view, target.extent);
         if let Some(images) = targets.temporal() {
@@ -454,7 +463,8 @@ impl Renderer {
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
             let ground = &self.draw.ground;
-            self.shadow.record(rec, &self.field, ground, balls);
+            let mesh = plan.mesh();
+            self.shadow.record(rec, &self.field, (ground, balls), mesh);
         }
         stamp(Mark::Shadow);
     }

@@ -98,7 +98,9 @@ pub struct PassTimes {
     pub raster: f64,
     /// The compute rasterizer's resolve and the multisample resolve.
     pub resolve: f64,
-    /// Sky and tone map.
+    /// The natural look's shading after the draw (one sample per pixel).
+    pub shade: f64,
+    /// Temporal resolve, sky and tone map.
     pub tone_map: f64,
     /// Overlay.
     pub overlay: f64,
@@ -118,7 +120,8 @@ impl PassTimes {
             ground: at(Mark::Ground) - at(Mark::Grass),
             raster: at(Mark::Raster) - at(Mark::Ground),
             resolve: at(Mark::Resolve) - at(Mark::Raster),
-            tone_map: at(Mark::ToneMap) - at(Mark::Resolve),
+            shade: at(Mark::Shade) - at(Mark::Resolve),
+            tone_map: at(Mark::ToneMap) - at(Mark::Shade),
             overlay: at(Mark::Overlay) - at(Mark::ToneMap),
             total: at(Mark::Overlay),
         }

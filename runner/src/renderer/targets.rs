@@ -10,6 +10,11 @@
 //! | natural, none | HDR | | tone map → target |
 //! | natural, MSAA | multisampled HDR | HDR | tone map → target |
 //! | either, TAA | HDR and motion | a history (the resolve) | tone map → target |
+//!
+//! At one sample the natural look draws its blades' visibility into the HDR image
+//! and shades it after the draw (`passes::shade`, which writes the motion with TAA):
+//! the HDR image is also a storage image, the motion image one the shading writes
+//! (four half floats) rather than a colour target.
 
 use super::{Renderer, SKY, Target};
 use crate::passes::by_target::{DrawTarget, MOTION_FORMAT};
@@ -32,6 +37,9 @@ pub struct TargetSpec {
     pub samples: u32,
     /// Temporal anti-aliasing: a motion target and the histories.
     pub taa: bool,
+    /// The natural look shaded after the draw (`passes::shade`), asked; kept only
+    /// at one sample per pixel.
+    pub deferred: bool,
 }
 
 /// The draw's images for one [`TargetSpec`].
@@ -75,7 +83,12 @@ impl DrawTargets {
         let hdr = spec
             .hdr
             .then(|| {
-                let usage = U::COLOR_ATTACHMENT | U::SAMPLED;
+                let shaded = if spec.deferred {
+                    U::STORAGE
+                } else {
+                    U::empty()
+                };
+                let usage = U::COLOR_ATTACHMENT | U::SAMPLED | shaded;
                 Image::new(ctx, "hdr", extent, HDR_FORMAT, usage, color)
             })
             .transpose()?;
@@ -106,17 +119,33 @@ impl DrawTargets {
         } else {
             (None, None)
         };
-        let (motion, history) = if spec.taa {
+        let motion = if spec.deferred {
+            // Written by the shading (a storage format every device has), then left
+            // in the colour attachment's layout as the draw leaves its targets.
+            let usage = U::STORAGE | U::SAMPLED | U::COLOR_ATTACHMENT;
+            Some(Image::new(ctx, "motion", extent, HDR_FORMAT, usage, color)?)
+        } else if spec.taa {
             let usage = U::COLOR_ATTACHMENT | U::SAMPLED;
-            let motion = Image::new(ctx, "motion", extent, MOTION_FORMAT, usage, color)?;
+            Some(Image::new(
+                ctx,
+                "motion",
+                extent,
+                MOTION_FORMAT,
+                usage,
+                color,
+            )?)
+        } else {
+            None
+        };
+        let history = if spec.taa {
             let usage = U::STORAGE | U::SAMPLED;
             let history = [
                 Image::new(ctx, "history 0", extent, HDR_FORMAT, usage, color)?,
                 Image::new(ctx, "history 1", extent, HDR_FORMAT, usage, color)?,
             ];
-            (Some(motion), Some(history))
+            Some(history)
         } else {
-            (None, None)
+            None
         };
         Ok(Self {
             spec,
@@ -139,6 +168,15 @@ impl DrawTargets {
         })
     }
 
+    /// The HDR and motion images the natural look's shading after the draw writes,
+    /// where it is shaded so.
+    pub fn shaded(&self) -> Option<(&Image, &Image)> {
+        match self.spec.deferred {
+            true => Some((self.hdr.as_ref()?, self.motion.as_ref()?)),
+            false => None,
+        }
+    }
+
     /// Format of the colour the draw writes.
     pub fn draw_format(spec_hdr: bool, target_format: vk::Format) -> vk::Format {
         if spec_hdr { HDR_FORMAT } else { target_format }
@@ -150,8 +188,10 @@ impl Renderer {
     /// what the device has), and the pipelines that draw into them.
     pub(super) fn ensure_targets(&mut self, spec: TargetSpec) -> Result<()> {
         let (extent, hdr, samples) = (spec.extent, spec.hdr, spec.samples);
+        let lowered = self.ctx.supported_samples(samples);
         let spec = TargetSpec {
-            samples: self.ctx.supported_samples(samples),
+            samples: lowered,
+            deferred: spec.deferred && lowered == 1,
             ..spec
         };
         let old = self.targets.as_ref().map(|t| t.spec);
@@ -176,10 +216,14 @@ impl Renderer {
         if let Some(images) = targets.temporal() {
             self.temporal_pass.set_images(images, &self.field);
         }
+        if let Some((hdr, motion)) = targets.shaded() {
+            self.shade.set_images(hdr, motion);
+        }
         let drawn_into = DrawTarget {
             format: DrawTargets::draw_format(hdr, self.color_format),
             samples: vk::SampleCountFlags::from_raw(spec.samples),
-            motion: spec.taa,
+            motion: spec.taa && !spec.deferred,
+            deferred: spec.deferred,
         };
         self.draw
             .retarget(&self.ctx, &self.module, &self.field, drawn_into)?;
@@ -206,6 +250,7 @@ impl Renderer {
                 hdr: false,
                 samples: 1,
                 taa: false,
+                deferred: false,
             },
         };
         self.ensure_targets(spec)?;
@@ -233,7 +278,11 @@ pub(super) fn draw_images<'t>(
         color,
         resolve,
         depth: targets.depth_ms.as_ref().unwrap_or(&targets.depth),
-        motion: targets.motion.as_ref().map(|m| (m.image, m.view)),
+        // Shaded after the draw, the motion is no colour target.
+        motion: match targets.spec.deferred {
+            true => None,
+            false => targets.motion.as_ref().map(|m| (m.image, m.view)),
+        },
         samples: targets.spec.samples,
         // The natural look's sky is drawn by the tone map where alpha leaves room.
         clear: if natural { [0.0; 4] } else { SKY },

@@ -64,7 +64,15 @@ impl PipelineLayout {
         set: vk::DescriptorSetLayout,
         push: (vk::ShaderStageFlags, u32),
     ) -> Result<Self> {
-        let sets = [set];
+        Self::of_sets(ctx, &[set], push)
+    }
+
+    /// A layout of `sets` (set k the k-th) and `push`, as [`Self::new`].
+    pub fn of_sets(
+        ctx: &Arc<Context>,
+        sets: &[vk::DescriptorSetLayout],
+        push: (vk::ShaderStageFlags, u32),
+    ) -> Result<Self> {
         let ranges = [vk::PushConstantRange {
             stage_flags: push.0,
             offset: 0,
@@ -72,7 +80,7 @@ impl PipelineLayout {
         }];
         let ranges: &[_] = if push.1 == 0 { &[] } else { &ranges };
         let info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&sets)
+            .set_layouts(sets)
             .push_constant_ranges(ranges);
         let layout = unsafe { ctx.device.create_pipeline_layout(&info, None) }
             .context("create pipeline layout")?;

@@ -185,6 +185,26 @@ impl<'a> Recorder<'a> {
         }
     }
 
+    /// Binds `pipeline` and `sets` from set 0 on, through `layout`.
+    pub fn bind_pipeline_sets(
+        &self,
+        bind_point: vk::PipelineBindPoint,
+        pipeline: vk::Pipeline,
+        layout: vk::PipelineLayout,
+        sets: &[vk::DescriptorSet],
+    ) {
+        unsafe {
+            self.device
+                .cmd_bind_pipeline(self.cmd, bind_point, pipeline);
+            self.device
+                .cmd_bind_descriptor_sets(self.cmd, bind_point, layout, 0, sets, &[]);
+        }
+        let point = usize::from(bind_point == vk::PipelineBindPoint::COMPUTE);
+        let mut bound = self.bound.get();
+        bound[point] = sets.first().map(|&set| (layout, set));
+        self.bound.set(bound);
+    }
+
     /// Sets push constants from offset 0; `stages` must be every stage of the
     /// layout's range.
     pub fn push_constants(
@@ -441,6 +461,17 @@ impl<'a> Recorder<'a> {
     ) {
         let stride = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32;
         unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, 0, count, stride) };
+    }
+
+    /// One mesh-task draw, its grid at `offset` of `buffer`.
+    pub fn draw_mesh_tasks_indirect_at(
+        &self,
+        mesh: &ash::ext::mesh_shader::Device,
+        buffer: vk::Buffer,
+        offset: u64,
+    ) {
+        let stride = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32;
+        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, offset, 1, stride) };
     }
 }
 

@@ -3,6 +3,7 @@
 
 use shared::cull::lod::chunk_range;
 use shared::draw::look::LOOK_NATURAL;
+use shared::draw::look::shadow::caster_grid;
 use shared::draw::meshlet::{
     BUCKETS, StripBlade, bucket_segments, mesh_grid, packed_bucket, top_segments, unpack_level,
 };
@@ -120,6 +121,10 @@ pub fn write_draws(
             first_vertex: frame.grass.blades,
             first_instance: 0,
         };
+        // The same casters through the mesh path, a triangle a lane.
+        let buckets = BUCKETS as usize;
+        mesh_draws[buckets] = caster_grid(counters[COUNTER_CASTERS]).into();
+        mesh_draws[buckets + 1] = caster_grid(counters[COUNTER_NEAR_CASTERS]).into();
         // The rasterizer's dispatch and the resolve's three vertices, if there are far
         // blades.
         let far = counters[COUNTER_FAR];

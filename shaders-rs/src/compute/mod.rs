@@ -7,6 +7,7 @@ pub mod draws;
 pub mod hiz;
 pub mod raster;
 pub mod reference;
+pub mod shade;
 pub mod simulate;
 pub mod temporal;
 pub mod tiles;

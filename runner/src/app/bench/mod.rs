@@ -360,6 +360,7 @@ fn measure(
         grass: pass(|t| t.grass),
         raster: pass(|t| t.raster),
         resolve: pass(|t| t.resolve),
+        shade: pass(|t| t.shade),
         tone_map: pass(|t| t.tone_map),
         triangles,
         difference: 0.0,

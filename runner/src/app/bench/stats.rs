@@ -89,8 +89,10 @@ pub struct Point {
     pub raster: Spread,
     /// The compute rasterizer's resolve and the multisample resolve.
     pub resolve: Spread,
-    /// Sky and tone map.
+    /// Temporal resolve, sky and tone map.
     pub tone_map: Spread,
+    /// The natural look's shading after the draw.
+    pub shade: Spread,
     /// Triangles the grass draw generated (median; pipeline statistics, where the
     /// device has them).
     pub triangles: Option<f64>,

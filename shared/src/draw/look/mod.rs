@@ -18,6 +18,7 @@ pub mod shadow;
 pub mod sky;
 #[cfg(test)]
 mod tests;
+pub mod visibility;
 
 use spirv_std::glam::{Mat4, Vec3};
 

@@ -48,6 +48,18 @@ pub fn in_shadow_map(view_proj: Mat4, blade: &Blade) -> bool {
 /// detail either (a blade's `lod.fewest` is the camera's setting).
 pub const CASTER_LEVEL: f32 = 1.0;
 
+/// Casters one mesh workgroup draws (`mesh::shadow_mesh`): one a lane, its one
+/// segment as four corners and two triangles.
+pub const CASTERS_PER_GROUP: u32 = 32;
+
+/// The mesh workgroups for `count` casters, [`CASTERS_PER_GROUP`] each, as (x, y, 1)
+/// no wider than `meshlet::MESH_GRID_WIDTH`.
+pub fn caster_grid(count: u32) -> spirv_std::glam::UVec3 {
+    let groups = count.div_ceil(CASTERS_PER_GROUP);
+    let y = groups.div_ceil(crate::draw::meshlet::MESH_GRID_WIDTH);
+    spirv_std::glam::UVec3::new(groups.div_ceil(y.max(1)), y, 1)
+}
+
 /// Radius of the near cascade, in units: the shadows of the blades nearest the camera,
 /// in texels four times finer than the far cascade's at its most reach (48 units).
 pub const NEAR_REACH: f32 = 12.0;

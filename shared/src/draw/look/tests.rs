@@ -296,3 +296,20 @@ fn the_near_cascade_takes_what_it_holds_and_the_far_one_the_rest() {
     // A small scene: one sphere for both.
     assert_eq!(near_sphere((Vec3::ZERO, 8.0), camera), (Vec3::ZERO, 8.0));
 }
+
+/// The casters' mesh grid covers every caster in whole workgroups of 32, none
+/// wider than the grid's limit (hand-worked: 100 casters, 4 groups; 2^22, 131,072
+/// groups as 32,768 x 4).
+#[test]
+fn caster_grid_covers_every_caster() {
+    use spirv_std::glam::UVec3;
+    assert_eq!(caster_grid(0), UVec3::new(0, 0, 1));
+    assert_eq!(caster_grid(100), UVec3::new(4, 1, 1));
+    assert_eq!(caster_grid(1 << 22), UVec3::new(32_768, 4, 1));
+    for count in [1, 31, 32, 33, 1_000_001, 5_000_000] {
+        let g = caster_grid(count);
+        assert!(g.x * g.y * CASTERS_PER_GROUP >= count, "{count}: {g}");
+        assert!((g.x * g.y - 1) * CASTERS_PER_GROUP < count + CASTERS_PER_GROUP * g.y);
+        assert!(g.x <= crate::draw::meshlet::MESH_GRID_WIDTH);
+    }
+}

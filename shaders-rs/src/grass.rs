@@ -204,8 +204,8 @@ pub fn natural_tes(
     in_slot: [u32; 1],
     in_level: [f32; 1],
     #[spirv(position)] out_position: &mut Vec4,
-    out_normal: &mut Vec4,
-    out_world: &mut Vec4,
+    out_normal: &mut Vec3,
+    out_world: &mut Vec3,
     out_uv_level: &mut Vec3,
     #[spirv(flat)] out_tint: &mut Vec4,
     #[spirv(flat)] out_width_dir: &mut Vec3,
@@ -214,8 +214,8 @@ pub fn natural_tes(
     let grass = &frame.grass;
     let p = surface_point(&drawn.blade, coord.x, coord.y, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal = p.normal.extend(0.0);
-    *out_world = p.position.extend(0.0);
+    *out_normal = p.normal;
+    *out_world = p.position;
     *out_uv_level = coord.truncate().extend(in_level[0]);
     *out_tint = drawn.tint;
     *out_width_dir = p.width_dir;
@@ -276,8 +276,8 @@ pub(crate) fn point_motion(
 #[allow(clippy::too_many_arguments)]
 #[spirv(fragment)]
 pub fn natural_fs(
-    normal: Vec4,
-    world: Vec4,
+    normal: Vec3,
+    world: Vec3,
     uv_level: Vec3,
     #[spirv(flat)] tint: Vec4,
     #[spirv(flat)] width_dir: Vec3,
@@ -286,31 +286,9 @@ pub fn natural_fs(
     #[spirv(descriptor_set = 0, binding = 10)] shadow_sampler: &Sampler,
     out_color: &mut Vec4,
 ) {
-    let shadow = (shadow_map, shadow_sampler);
-    natural_fs_with(
+    let leaf = Leaf {
         normal,
         world,
-        uv_level,
-        (tint, width_dir),
-        frame,
-        shadow,
-        out_color,
-    );
-}
-
-/// [`natural_fs`]'s body: the varyings' leaf shaded into `out_color`.
-fn natural_fs_with(
-    normal: Vec4,
-    world: Vec4,
-    uv_level: Vec3,
-    (tint, width_dir): (Vec4, Vec3),
-    frame: &FrameUniforms,
-    (shadow_map, shadow_sampler): (&ShadowMap, &Sampler),
-    out_color: &mut Vec4,
-) {
-    let leaf = Leaf {
-        normal: normal.xyz(),
-        world: world.xyz(),
         uv: uv_level.truncate(),
         tint,
         width_dir,
@@ -321,14 +299,14 @@ fn natural_fs_with(
 /// The natural look's LOD and wireframe views, as in the paper look.
 #[spirv(fragment)]
 pub fn natural_view_fs(
-    normal: Vec4,
-    world: Vec4,
+    normal: Vec3,
+    world: Vec3,
     uv_level: Vec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
     out_color: &mut Vec4,
 ) {
-    let n = normal.xyz().normalize_or_zero();
-    let facing = facing_normal(n, n.dot(frame.camera.position - world.xyz()) >= 0.0);
+    let n = normal.normalize_or_zero();
+    let facing = facing_normal(n, n.dot(frame.camera.position - world) >= 0.0);
     let (view, light) = (frame.grass.view, frame.light);
     *out_color = blade_colour(view, facing, light, uv_level.y, uv_level.z).extend(1.0);
 }
@@ -457,6 +435,12 @@ fn caster_point(
     coord: Vec3,
 ) -> Vec3 {
     let blade = caster(frame, blades, clumps, ids, index);
+    caster_surface(frame, &blade, coord.x, coord.y)
+}
+
+/// The world point at (`u`, `v`) of a caster's surface (`blade`, dressed by
+/// [`caster`]).
+pub(crate) fn caster_surface(frame: &FrameUniforms, blade: &Blade, u: f32, v: f32) -> Vec3 {
     let grass = &frame.grass;
-    surface_point(&blade, coord.x, coord.y, grass.shape, grass.tip_start).position
+    surface_point(blade, u, v, grass.shape, grass.tip_start).position
 }

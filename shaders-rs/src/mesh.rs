@@ -10,7 +10,7 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
-use crate::grass::{caster, point_motion};
+use crate::grass::{caster, caster_surface, point_motion};
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::look::shadow::CASTERS_PER_GROUP;
@@ -219,8 +219,8 @@ pub fn natural_mesh(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &[StripBlade],
     #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 30],
     #[spirv(position)] out_position: &mut [Vec4; 32],
-    out_normal: &mut [Vec4; 32],
-    out_world: &mut [Vec4; 32],
+    out_normal: &mut [Vec3; 32],
+    out_world: &mut [Vec3; 32],
     out_uv_level: &mut [Vec3; 32],
     #[spirv(flat)] out_tint: &mut [Vec4; 32],
     #[spirv(flat)] out_width_dir: &mut [Vec3; 32],
@@ -232,8 +232,8 @@ pub fn natural_mesh(
         let drawn = &dressed[strip.source as usize];
         let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
-        out_normal[k] = p.normal.extend(0.0);
-        out_world[k] = p.position.extend(0.0);
+        out_normal[k] = p.normal;
+        out_world[k] = p.position;
         out_uv_level[k] = uvl;
         out_tint[k] = drawn.tint;
         out_width_dir[k] = p.width_dir;
@@ -277,9 +277,9 @@ pub fn natural_vis_mesh(
 }
 
 /// The sun's shadow map through mesh stages: a caster a lane, its one segment as
-/// two triangles (`shadow::CASTER_LEVEL`), the workgroup's casters from `first` of the casters'
-/// list counted by counter `counter`, into the cascade of `view_proj`. No tessellator:
-/// the caster is dressed once (`grass::caster`), not at each vertex.
+/// two triangles (`shadow::CASTER_LEVEL`), the workgroup's share of the `count`
+/// casters from `first` of the casters' list, into the cascade of `view_proj`. No
+/// tessellator: the caster is dressed once (`grass::caster`), not at each vertex.
 #[allow(clippy::too_many_arguments)]
 fn caster_triangles(
     (group, groups, lane): (UVec3, UVec3, u32),
@@ -308,11 +308,10 @@ fn caster_triangles(
     }
 }
 
-/// The clip position in the cascade of `view_proj` of `blade`'s caster at (`u`, `v`).
+/// The clip position in the cascade of `view_proj` of a caster's surface at (`u`,
+/// `v`) (`grass::caster_surface`).
 fn caster_clip(frame: &FrameUniforms, blade: &Blade, view_proj: Mat4, u: f32, v: f32) -> Vec4 {
-    let grass = &frame.grass;
-    let p = surface_point(blade, u, v, grass.shape, grass.tip_start);
-    view_proj * p.position.extend(1.0)
+    view_proj * caster_surface(frame, blade, u, v).extend(1.0)
 }
 
 /// The shadow map's far cascade through mesh stages: every caster

@@ -248,7 +248,7 @@ impl ShadowPass {
                 Some((_, commands)) => {
                     // Near first: the mesh grids are all casters', then the near ones'.
                     let at = mesh_casters[1 - k];
-                    rec.draw_mesh_tasks_indirect_at(commands, field.mesh_draw.buffer, at);
+                    rec.draw_mesh_tasks_indirect_at(commands, field.mesh_draw.buffer, (at, 1));
                 }
                 None => rec.draw_indirect_at(field.draws.buffer, casters[k]),
             }

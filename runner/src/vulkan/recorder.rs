@@ -459,19 +459,18 @@ impl<'a> Recorder<'a> {
         buffer: vk::Buffer,
         count: u32,
     ) {
-        let stride = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32;
-        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, 0, count, stride) };
+        self.draw_mesh_tasks_indirect_at(mesh, buffer, (0, count));
     }
 
-    /// One mesh-task draw, its grid at `offset` of `buffer`.
+    /// `count` mesh-task draws, their grids from `offset` of `buffer` on.
     pub fn draw_mesh_tasks_indirect_at(
         &self,
         mesh: &ash::ext::mesh_shader::Device,
         buffer: vk::Buffer,
-        offset: u64,
+        (offset, count): (u64, u32),
     ) {
         let stride = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32;
-        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, offset, 1, stride) };
+        unsafe { mesh.cmd_draw_mesh_tasks_indirect(self.cmd, buffer, offset, count, stride) };
     }
 }
 

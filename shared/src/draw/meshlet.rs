@@ -186,7 +186,12 @@ pub struct StripBlade {
 /// [`strips_per_group`], as (x, y, 1) no wider than [`MESH_GRID_WIDTH`], with fewer
 /// than y workgroups past the last strip; (0, 0, 1) for an empty bucket.
 pub fn mesh_grid(count: u32, segments: u32) -> UVec3 {
-    let groups = count.div_ceil(strips_per_group(segments));
+    group_grid(count.div_ceil(strips_per_group(segments)))
+}
+
+/// `groups` mesh workgroups as a grid (x, y, 1) no wider than [`MESH_GRID_WIDTH`],
+/// with fewer than y workgroups past the last; (0, 0, 1) for none.
+pub fn group_grid(groups: u32) -> UVec3 {
     let y = groups.div_ceil(MESH_GRID_WIDTH);
     UVec3::new(groups.div_ceil(y.max(1)), y, 1)
 }

@@ -52,12 +52,10 @@ pub const CASTER_LEVEL: f32 = 1.0;
 /// segment as four corners and two triangles.
 pub const CASTERS_PER_GROUP: u32 = 32;
 
-/// The mesh workgroups for `count` casters, [`CASTERS_PER_GROUP`] each, as (x, y, 1)
-/// no wider than `meshlet::MESH_GRID_WIDTH`.
+/// The mesh workgroups for `count` casters, [`CASTERS_PER_GROUP`] each
+/// (`meshlet::group_grid`).
 pub fn caster_grid(count: u32) -> spirv_std::glam::UVec3 {
-    let groups = count.div_ceil(CASTERS_PER_GROUP);
-    let y = groups.div_ceil(crate::draw::meshlet::MESH_GRID_WIDTH);
-    spirv_std::glam::UVec3::new(groups.div_ceil(y.max(1)), y, 1)
+    crate::draw::meshlet::group_grid(count.div_ceil(CASTERS_PER_GROUP))
 }
 
 /// Radius of the near cascade, in units: the shadows of the blades nearest the camera,

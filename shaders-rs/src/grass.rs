@@ -224,6 +224,7 @@ pub fn natural_tes(
 /// The natural look drawn for shading after the draw (one sample per pixel,
 /// `shared::draw::look::visibility`): each vertex's surface coordinates and, flat,
 /// the blade's slot; nothing to shade with.
+#[allow(clippy::too_many_arguments)]
 #[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
 pub fn natural_vis_tes(
     #[spirv(tess_coord)] coord: Vec3,

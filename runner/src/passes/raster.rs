@@ -168,7 +168,8 @@ impl RasterPass {
     /// clears the visibility buffer and copies the hardware's depth for the
     /// rasterizer from `depth`, the scope's depth image with `samples` per pixel (the
     /// farthest of them), in DEPTH_ATTACHMENT_OPTIMAL and left so; then one thread per
-    /// far blade (an indirect dispatch), ready for the resolve's fragment stage.
+    /// far blade (an indirect dispatch), ready for the resolve's fragment stage or
+    /// the shading after the draw.
     pub fn record(
         &self,
         rec: &Recorder,
@@ -221,10 +222,12 @@ impl RasterPass {
         // As many threads as far blades (the compute pass wrote the counts).
         let at = (layout::RASTER_DISPATCH * 4) as u64;
         rec.dispatch_indirect(field.raster_args.buffer, at);
+        // Read by the resolve's fragment stage, a capture's copy, or the natural look's
+        // shading after the draw.
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (
-                S::FRAGMENT_SHADER | S::COPY,
+                S::FRAGMENT_SHADER | S::COMPUTE_SHADER | S::COPY,
                 A::SHADER_STORAGE_READ | A::TRANSFER_READ,
             ),
         );

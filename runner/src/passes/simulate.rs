@@ -100,10 +100,16 @@ impl SimulatePass {
             rec.bind_pipeline(compute, self.bin_blades.pipeline, layout, set);
             rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
         }
+        // For the draws, a capture's copy, and the compute passes after the draw (the
+        // rasterizer and the natural look's shading read the far count's arguments).
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (
-                S::DRAW_INDIRECT | S::VERTEX_SHADER | S::PRE_RASTERIZATION_SHADERS | S::COPY,
+                S::DRAW_INDIRECT
+                    | S::VERTEX_SHADER
+                    | S::PRE_RASTERIZATION_SHADERS
+                    | S::COPY
+                    | S::COMPUTE_SHADER,
                 A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ | A::TRANSFER_READ,
             ),
         );

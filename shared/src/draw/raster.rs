@@ -92,6 +92,21 @@ pub fn unpack(value: u64) -> (f32, u32, f32) {
     )
 }
 
+/// The value [`pack`] made, read as its two 32-bit words (low first, as a buffer of
+/// `u32` holds it, for a stage without 64-bit integers): (depth, slot, v) as
+/// [`unpack`] gives them, or `None` where the pixel holds [`EMPTY`].
+pub fn unpack_words(low: u32, high: u32) -> Option<(f32, u32, f32)> {
+    if low == u32::MAX && high == u32::MAX {
+        return None;
+    }
+    let v_max = ((1u32 << V_BITS) - 1) as f32;
+    Some((
+        f32::from_bits(high),
+        low >> V_BITS,
+        (low & ((1 << V_BITS) - 1)) as f32 / v_max,
+    ))
+}
+
 /// Whether a far blade's sample at `depth` is in front of `hardware`, the depth the
 /// fixed-function pipeline left at its pixel: the resolve's depth test
 /// (`LESS_OR_EQUAL`, as every pipeline's), taken before the atomic, so a pixel the

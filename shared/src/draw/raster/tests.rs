@@ -19,6 +19,25 @@ fn packing_orders_by_depth_and_round_trips() {
 }
 
 #[test]
+fn the_two_words_read_as_the_value() {
+    // A buffer of u32 holds the low word first (little-endian), as the shading reads it.
+    let words = |value: u64| (value as u32, (value >> 32) as u32);
+    for (depth, slot, v) in [
+        (0.25, 7, 0.5),
+        (1.0, (1 << SLOT_BITS) - 1, 1.0),
+        (0.0, 0, 0.0),
+    ] {
+        let (low, high) = words(pack(depth, slot, v));
+        assert_eq!(unpack_words(low, high), Some(unpack(pack(depth, slot, v))));
+    }
+    let (low, high) = words(EMPTY);
+    assert_eq!(unpack_words(low, high), None);
+    // The far plane at the largest slot and v is still a blade, not the empty value.
+    let (low, high) = words(pack(1.0, (1 << SLOT_BITS) - 1, 1.0));
+    assert!(unpack_words(low, high).is_some());
+}
+
+#[test]
 fn thin_blades_keep_their_expected_coverage() {
     // Over many blades a quarter-pixel blade is drawn about a quarter of the time,
     // and the same blade always alike.

@@ -188,7 +188,7 @@ pub fn select_far_tiles(
 /// simulated: in the pose the frame's gravity and wind settle them into
 /// (`tiles::far_blade`).
 #[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(64)))]
+#[spirv(compute(threads(256)))]
 pub fn generate_far(
     #[spirv(workgroup_id)] group: UVec3,
     #[spirv(local_invocation_index)] local: u32,

@@ -161,7 +161,7 @@ pub const TILES_LIST: usize = TILES_POOL + POOL_WORDS * MAX_POOL_TILES;
 /// Words per far tile in the list.
 pub const TILE_WORDS: usize = 4;
 /// Threads per workgroup of the far blades' generation (one workgroup per tile).
-pub const GENERATE_WORKGROUP: u32 = 64;
+pub const GENERATE_WORKGROUP: u32 = 256;
 
 /// What the GPU's tile selection pushes: the camera, the square of candidate tiles
 /// (`first`, `count` along x and z), the layout, the ground's height range and the

@@ -400,13 +400,13 @@ fn descriptor_bindings_and_push_constants_match_the_runner() {
 #[test]
 fn compute_workgroup_sizes_match_the_dispatches() {
     for (name, size) in [
-        (shaders::SIMULATE_CULL, layout::SIMULATE_WORKGROUP),
-        (shaders::SIMULATE_CULL_NATURAL, layout::SIMULATE_WORKGROUP),
+        (shaders::SIMULATE_CULL, layout::CULL_WORKGROUP),
+        (shaders::SIMULATE_CULL_NATURAL, layout::CULL_WORKGROUP),
         (shaders::WRITE_DRAWS, layout::CHUNK_WORKGROUP),
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
         (shaders::CLUMP_BLADES, layout::SIMULATE_WORKGROUP),
-        (shaders::BIN_BLADES, layout::SIMULATE_WORKGROUP),
+        (shaders::BIN_BLADES, layout::CULL_WORKGROUP),
         (shaders::RASTER_FAR, layout::SIMULATE_WORKGROUP),
         (shaders::RASTER_FAR_NATURAL, layout::SIMULATE_WORKGROUP),
         (shaders::RASTER_PREPARE, layout::PREPARE_WORKGROUP),

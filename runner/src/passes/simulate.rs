@@ -7,7 +7,9 @@ use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::gpu::layout::{CHUNK_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SimulatePush};
+use shared::gpu::layout::{
+    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SimulatePush,
+};
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -81,7 +83,7 @@ impl SimulatePass {
         };
         rec.bind_pipeline(compute, simulate.pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
+        rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
         // The visible count is complete before the chunk pass reads it.
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
@@ -98,7 +100,7 @@ impl SimulatePass {
             // Reads the counts the chunk pass reads; neither writes what the other
             // reads. One thread per slot the visible list can have.
             rec.bind_pipeline(compute, self.bin_blades.pipeline, layout, set);
-            rec.dispatch(self.workgroups(field.blade_count, SIMULATE_WORKGROUP));
+            rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
         }
         // For the draws, a capture's copy, and the compute passes after the draw (the
         // rasterizer and the natural look's shading read the far count's arguments).

@@ -11,8 +11,8 @@ use shared::draw::raster::{RASTER_GRID_WIDTH, prepare_dispatch, raster_dispatch}
 use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_FAR, COUNTER_NEAR_CASTERS, COUNTER_VISIBLE};
 use shared::gpu::counters::{binned_counter, bucket_base, strip_counter};
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, ChunkPush, FrameUniforms, PREPARE_WORKGROUP, RASTER_DISPATCH, RASTER_DRAW,
-    RASTER_PREPARE, SIMULATE_WORKGROUP, flat_index,
+    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, FrameUniforms, PREPARE_WORKGROUP, RASTER_DISPATCH,
+    RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, flat_index,
 };
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::UVec3;
@@ -27,7 +27,7 @@ use spirv_std::spirv;
 /// its slots of a bucket with one device atomic: a device atomic per blade on nine
 /// counters cost 1 ms at 4 M blades on the NVIDIA H100.
 #[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(64)))]
+#[spirv(compute(threads(128)))]
 pub fn bin_blades(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(local_invocation_index)] local: u32,
@@ -43,7 +43,7 @@ pub fn bin_blades(
         tally[local as usize] = 0;
     }
     workgroup_memory_barrier_with_group_sync();
-    let slot = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    let slot = flat_index(id, workgroups, CULL_WORKGROUP);
     let mut bucket = BUCKETS;
     let mut level = 0.0;
     let mut place = 0;

@@ -17,9 +17,7 @@ use shared::gpu::counters::{
     COUNTER_VISIBLE, far_slot,
 };
 use shared::gpu::layout::IDS_WORDS;
-use shared::gpu::layout::{
-    FrameUniforms, PIPELINE_MESH, SIMULATE_WORKGROUP, SimulatePush, flat_index,
-};
+use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, PIPELINE_MESH, SimulatePush, flat_index};
 use shared::sim::simulate::simulate;
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
@@ -52,7 +50,7 @@ pub struct BladeBuffers<'a> {
 /// levels buffer and is counted by strip length, for [`bin_blades`]. The paper look's
 /// entry point: nothing of the natural look is compiled in.
 #[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(64)))]
+#[spirv(compute(threads(128)))]
 pub fn simulate_cull(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(local_invocation_index)] local: u32,
@@ -115,7 +113,7 @@ pub fn simulate_cull(
 /// its level of detail on the mesh path is the dressed blade's, 0 for a thin blade its
 /// coverage leaves out.
 #[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(64)))]
+#[spirv(compute(threads(128)))]
 pub fn simulate_cull_natural(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(local_invocation_index)] local: u32,
@@ -242,7 +240,7 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     workgroup_memory_barrier_with_group_sync();
 
-    let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
+    let index = flat_index(id, workgroups, CULL_WORKGROUP);
     let grass = &frame.grass;
     let tiled = grass.tiled != 0;
     let simulated = index < grass.simulated;

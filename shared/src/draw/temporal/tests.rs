@@ -71,21 +71,26 @@ fn the_depth_motion_of_a_still_camera_is_nil_whatever_the_jitter() {
     assert!(close(depth_motion(ndc, depth, &params), Vec2::ZERO));
 }
 
-#[test]
-fn the_depth_motion_of_a_moved_camera_is_the_points_move_on_screen() {
-    let (before, now) = (
-        camera(Vec3::new(1.0, 2.0, 3.0)),
-        camera(Vec3::new(1.2, 2.0, 3.0)),
-    );
-    let j = Vec2::new(-0.002, 0.003);
-    let params = TemporalParams::new(now, j, Some(before));
+/// The point (0.3, 0.1, −0.2) seen by a camera at `now` (eye) jittered by `jitter`
+/// after one at (1, 2, 3): the frame's parameters, the point, its drawn device
+/// position and depth, and its move on screen worked by hand (unjittered).
+fn moved_point(now: Vec3, jitter: Vec2) -> (TemporalParams, Vec4, Vec2, f32, Vec2) {
+    let (before, now) = (camera(Vec3::new(1.0, 2.0, 3.0)), camera(now));
+    let params = TemporalParams::new(now, jitter, Some(before));
     let p = Vec4::new(0.3, 0.1, -0.2, 1.0);
-    let drawn = jittered(now, j) * p;
+    let drawn = jittered(now, jitter) * p;
     let (ndc, depth) = (drawn.xy() / drawn.w, drawn.z / drawn.w);
     let (a, b) = (now * p, before * p);
-    let by_hand = a.xy() / a.w - b.xy() / b.w;
+    (params, p, ndc, depth, a.xy() / a.w - b.xy() / b.w)
+}
+
+#[test]
+fn the_depth_motion_of_a_moved_camera_is_the_points_move_on_screen() {
+    let (params, p, ndc, depth, by_hand) =
+        moved_point(Vec3::new(1.2, 2.0, 3.0), Vec2::new(-0.002, 0.003));
     assert!(close(depth_motion(ndc, depth, &params), by_hand));
     // A point that did not move has no motion of its own.
+    let before = camera(Vec3::new(1.0, 2.0, 3.0));
     assert!(close(object_motion(p.xyz(), p.xyz(), before), Vec2::ZERO));
 }
 
@@ -93,17 +98,8 @@ fn the_depth_motion_of_a_moved_camera_is_the_points_move_on_screen() {
 fn a_surface_over_the_depth_buffer_moves_as_itself() {
     // A far blade's point, composited over the ground after the depth was written:
     // the resolve adds the camera's motion of the ground's depth to what it wrote.
-    let (before, now) = (
-        camera(Vec3::new(1.0, 2.0, 3.0)),
-        camera(Vec3::new(1.2, 2.1, 2.5)),
-    );
-    let j = Vec2::new(0.001, -0.003);
-    let params = TemporalParams::new(now, j, Some(before));
-    let p = Vec4::new(0.3, 0.1, -0.2, 1.0);
-    let drawn = jittered(now, j) * p;
-    let (ndc, depth) = (drawn.xy() / drawn.w, drawn.z / drawn.w);
-    let (a, b) = (now * p, before * p);
-    let by_hand = a.xy() / a.w - b.xy() / b.w;
+    let (params, _, ndc, depth, by_hand) =
+        moved_point(Vec3::new(1.2, 2.1, 2.5), Vec2::new(0.001, -0.003));
     for behind in [depth + 0.001, 0.999, 1.0] {
         let wrote = motion_over(ndc, depth, behind, &params);
         assert!(close(pixel_motion(ndc, behind, wrote, &params), by_hand));

@@ -277,7 +277,10 @@ fn a_lost_device_is_made_again_and_the_viewer_carries_on() {
 /// least 5 % of its pixels grass green (green above red and blue by 20) and at least
 /// 0.2 % the ball's orange (red above green by 60), as lavapipe draws the default
 /// scene. Planted fault: the swapchain's BGRA saved as RGBA failed (the ball came out
-/// blue: 0 orange pixels). Names never collide: every name a shot of the next minutes
+/// blue: 0 orange pixels). The overlay's panel is in each shot, which lays its kept
+/// picture over the frame (planted fault: the picture laid over only in frames where
+/// the interface ran: none of the corner dark in the second shot), and not with
+/// `--no-overlay`. Names never collide: every name a shot of the next minutes
 /// would take first is already there, and the two shots go beside them, leaving them
 /// as they were.
 #[test]
@@ -344,8 +347,54 @@ fn screenshots_are_the_window_s_frame_and_never_overwrite() {
             green > 0.05 && orange > 0.002,
             "green {green}, orange {orange}"
         );
+        let panel = panel_share(&image);
+        println!("{}: overlay panel {panel}", shot.display());
+        assert!(
+            panel > 0.8,
+            "the overlay's panel covers {panel} of its corner"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
+    // Hidden from the start, no panel.
+    let _ = std::fs::create_dir_all(&dir);
+    let args = [
+        "--frames",
+        "3",
+        "--screenshot-at",
+        "2",
+        "--screenshot-dir",
+        dir_arg,
+        "--width",
+        "800",
+        "--height",
+        "450",
+        "--no-overlay",
+    ];
+    let (ok, log) = run_viewer(&display, &args, &[], Duration::from_secs(300));
+    assert!(ok, "{log}");
+    let shot = std::fs::read_dir(&dir)
+        .expect("the folder")
+        .find_map(|e| e.ok().map(|e| e.path()))
+        .expect("a screenshot");
+    let panel = panel_share(&image::open(&shot).expect("a PNG").to_rgba8());
+    println!("{}: overlay panel {panel} (hidden)", shot.display());
+    assert!(panel < 0.05, "hidden, yet {panel} of the corner is dark");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The share of the pixels in the frame's top-left corner (x 20 to 200, y 40 to 200)
+/// as dark as the overlay's panel (every channel under 70); the default scene's sky
+/// and grass there are lighter.
+fn panel_share(image: &image::RgbaImage) -> f32 {
+    let (mut dark, mut all) = (0, 0);
+    for y in 40..200 {
+        for x in 20..200 {
+            let p = image.get_pixel(x, y);
+            dark += usize::from(p[0] < 70 && p[1] < 70 && p[2] < 70);
+            all += 1;
+        }
+    }
+    dark as f32 / all as f32
 }
 
 /// A screenshot that cannot be written (its folder removed while the viewer runs) is

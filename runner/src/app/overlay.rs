@@ -9,11 +9,18 @@ use shared::settings::{
     Antialiasing, BladeShape, GrassPipeline, Look, SHADOW_SIZES, Settings, View, WindField,
 };
 use std::collections::VecDeque;
+use std::time::{Duration, Instant};
 use winit::event::WindowEvent;
 use winit::window::Window;
 
 /// Frames in the frame-time graph.
 const HISTORY: usize = 240;
+
+/// How often the readings (frame rate, graph, pass times, counts) refresh while
+/// nothing else changes the overlay. Between runs of the interface its last picture
+/// is kept and laid over each frame (`passes::overlay`): a software device then
+/// draws the interface twice a second, not every frame.
+pub const REFRESH: Duration = Duration::from_millis(500);
 
 /// What the overlay shows besides the settings.
 pub struct Readings {
@@ -38,6 +45,9 @@ pub struct Readings {
 
 /// egui's output for one frame, ready for the overlay pass.
 pub struct Painted {
+    /// egui ran this frame: `primitives` replace the overlay's last picture. When
+    /// false the picture is kept and `primitives` and `textures` are empty.
+    pub changed: bool,
     /// Tessellated meshes.
     pub primitives: Vec<ClippedPrimitive>,
     /// Texture changes.
@@ -58,6 +68,25 @@ pub struct Overlay {
     /// The "save settings" button was pressed (the viewer writes the file and clears
     /// this).
     pub save_settings: bool,
+    /// egui took an event that asks for a new picture since it last ran.
+    input: bool,
+    /// When egui last ran and what it showed then besides the readings.
+    last: Option<(Instant, Shown)>,
+    /// When egui asked to run again (an animation), if it did.
+    repaint_at: Option<Instant>,
+}
+
+/// What the overlay shows that can change between its refreshes: a change runs the
+/// interface at once.
+#[derive(Clone, PartialEq)]
+struct Shown {
+    settings: Settings,
+    ball_on: bool,
+    fly: Fly,
+    full_distance: Option<f32>,
+    notice: Option<String>,
+    saved: Option<(String, bool)>,
+    size: (u32, u32),
 }
 
 impl Overlay {
@@ -79,6 +108,9 @@ impl Overlay {
             frame_ms: VecDeque::with_capacity(HISTORY),
             device,
             save_settings: false,
+            input: false,
+            last: None,
+            repaint_at: None,
         }
     }
 
@@ -89,6 +121,8 @@ impl Overlay {
             return false;
         }
         let response = self.state.on_window_event(window, event);
+        // egui asks for a picture on every redraw request: only input counts.
+        self.input |= response.repaint && !matches!(event, WindowEvent::RedrawRequested);
         response.consumed
             || self.ctx.egui_wants_pointer_input()
             || self.ctx.egui_wants_keyboard_input()
@@ -102,8 +136,10 @@ impl Overlay {
         self.frame_ms.push_back(ms);
     }
 
-    /// Runs the interface for one frame: shows `readings`, lets the user edit
-    /// `settings` and `ball_on`, and returns what to paint (nothing when hidden).
+    /// Runs the interface for one frame when its picture is due (input for it, an
+    /// animation, a changed setting or message, the window's size, or [`REFRESH`]
+    /// passed): shows `readings`, lets the user edit `settings` and `ball_on`, and
+    /// returns what to paint (nothing when hidden; the last picture kept when not due).
     pub fn run(
         &mut self,
         window: &Window,
@@ -112,8 +148,36 @@ impl Overlay {
         (ball_on, fly, full_distance): (&mut bool, &mut Fly, &mut Option<f32>),
     ) -> Option<Painted> {
         if !self.visible {
+            self.last = None;
             return None;
         }
+        let now = Instant::now();
+        let size = window.inner_size();
+        let shown = |settings: &Settings, ball_on: bool, fly: Fly, full_distance| Shown {
+            settings: *settings,
+            ball_on,
+            fly,
+            full_distance,
+            notice: readings.notice.clone(),
+            saved: readings.saved.clone(),
+            size: (size.width, size.height),
+        };
+        let before = shown(settings, *ball_on, *fly, *full_distance);
+        let due = self.input
+            || self.repaint_at.is_some_and(|at| now >= at)
+            || self
+                .last
+                .as_ref()
+                .is_none_or(|(at, was)| now.duration_since(*at) >= REFRESH || *was != before);
+        if !due {
+            return Some(Painted {
+                changed: false,
+                primitives: Vec::new(),
+                textures: TexturesDelta::default(),
+                pixels_per_point: 1.0,
+            });
+        }
+        self.input = false;
         let input = self.state.take_egui_input(window);
         let frame_ms: &[f32] = self.frame_ms.make_contiguous();
         let mut save = false;
@@ -136,9 +200,16 @@ impl Overlay {
         self.save_settings |= save;
         self.state
             .handle_platform_output(window, output.platform_output);
+        let delay = output
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .map_or(Duration::MAX, |v| v.repaint_delay);
+        self.repaint_at = now.checked_add(delay);
+        self.last = Some((now, shown(settings, *ball_on, *fly, *full_distance)));
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
         Some(Painted {
+            changed: true,
             primitives,
             textures: output.textures_delta,
             pixels_per_point,

@@ -163,6 +163,9 @@ pub struct ViewArgs {
     /// number added when two come in the same second): a folder that exists.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
+    /// Start with the overlay hidden (the O key shows it).
+    #[arg(long)]
+    pub no_overlay: bool,
 }
 
 impl Default for ViewArgs {
@@ -174,6 +177,7 @@ impl Default for ViewArgs {
             resize_storm: false,
             screenshot_at: Vec::new(),
             screenshot_dir: PathBuf::from("."),
+            no_overlay: false,
         }
     }
 }

@@ -179,6 +179,7 @@ impl DrawPass {
             color_resolve: if far { None } else { resolve.map(|r| r.1) },
             second: images.motion.map(|m| (m.1, true)),
             depth: Some((depth.view, true)),
+            area: None,
         };
         rec.begin_rendering_with(&hardware, images.extent);
         if let Some(pool) = triangles {
@@ -210,6 +211,7 @@ impl DrawPass {
             color_resolve: resolve.map(|r| r.1),
             second: images.motion.map(|m| (m.1, false)),
             depth: Some((depth.view, false)),
+            area: None,
         };
         rec.begin_rendering_with(&far_blades, images.extent);
         self.raster.record_resolve(rec, field, plan.view, plan.look);
@@ -241,6 +243,7 @@ impl DrawPass {
             color_resolve: None,
             second: None,
             depth: Some((images.depth, false)),
+            area: None,
         };
         rec.begin_rendering_with(&loaded, images.extent);
         self.grass

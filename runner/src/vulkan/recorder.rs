@@ -18,6 +18,8 @@ pub struct Attachments {
     pub second: Option<(vk::ImageView, bool)>,
     /// The depth view, cleared to 1 (`true`) or loaded.
     pub depth: Option<(vk::ImageView, bool)>,
+    /// The pixels rendered, cleared and stored, inside the extent (`None`: all).
+    pub area: Option<vk::Rect2D>,
 }
 
 /// A command buffer being recorded on a device.
@@ -241,8 +243,8 @@ impl<'a> Recorder<'a> {
         self.begin_rendering_with(&attachments, extent);
     }
 
-    /// Begins dynamic rendering into `attachments` over `extent`, with the viewport
-    /// and scissor covering it.
+    /// Begins dynamic rendering into `attachments` over `extent` (or its `area`),
+    /// with the viewport covering the extent and the scissor the area.
     pub fn begin_rendering_with(&self, attachments: &Attachments, extent: vk::Extent2D) {
         let load = |clear: bool| {
             if clear {
@@ -299,10 +301,10 @@ impl<'a> Recorder<'a> {
                     },
                 })
         });
-        let area = vk::Rect2D {
+        let area = attachments.area.unwrap_or(vk::Rect2D {
             offset: vk::Offset2D::default(),
             extent,
-        };
+        });
         let mut info = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)

@@ -18,6 +18,11 @@ impl Sampler {
         Self::clamped(ctx, vk::Filter::LINEAR, None)
     }
 
+    /// Nearest texel, coordinates clamped to the edge: an image read pixel for pixel.
+    pub fn nearest_clamped(ctx: &Arc<Context>) -> Result<Self> {
+        Self::clamped(ctx, vk::Filter::NEAREST, None)
+    }
+
     /// A depth-comparison sampler for shadow maps of `format`: LESS_OR_EQUAL against
     /// the reference, coordinates clamped, bilinear over the four nearest results
     /// where the format can be filtered (else the nearest texel's).

@@ -196,7 +196,8 @@ impl Running {
         let ctx = Gpu::context(&window, common)?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
         let gpu = Gpu::new(&ctx, &scene)?;
-        let overlay = Overlay::new(&window, ctx.device_name());
+        let mut overlay = Overlay::new(&window, ctx.device_name());
+        overlay.visible = !args.no_overlay;
         log::info!("{CONTROLS}");
         // The ball starts at the path's start, else in front of the camera's target.
         let start = common
@@ -341,6 +342,7 @@ impl Running {
         let spec = FrameSpec {
             request: self.settings.request(&eye, &balls),
             overlay: painted.as_ref().map(|p| OverlayFrame {
+                changed: p.changed,
                 primitives: &p.primitives,
                 textures: &p.textures,
                 pixels_per_point: p.pixels_per_point,
@@ -380,6 +382,7 @@ impl Running {
         if let Some(counts) = self.gpu.driver.readback.counts {
             log::info!("{}", super::render::describe(&counts));
         }
+        log::debug!("pass times {:?}", self.gpu.driver.readback.times);
     }
 
     /// One turn of the event loop under `--resize-storm`: the next scripted change.

@@ -281,6 +281,7 @@ pub fn current(
         ("no-cull-distance", switch(!tests.distance)),
         ("no-cull-occlusion", switch(!tests.occlusion)),
         ("orientation-threshold", number(cull.orientation_threshold)),
+        ("edge-on-pixels", number(cull.edge_on_pixels)),
         ("frustum-tolerance", number(cull.frustum_tolerance)),
         ("max-distance", number(cull.max_distance)),
         ("buckets", Some(cull.buckets.to_string())),

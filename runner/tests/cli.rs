@@ -492,6 +492,7 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("no-cull-occlusion", None, "Settings"),
     ("no-lod", None, "Settings"),
     ("orientation-threshold", Some("0.5"), "Settings"),
+    ("edge-on-pixels", Some("5"), "Settings"),
     ("frustum-tolerance", Some("1"), "Settings"),
     ("max-distance", Some("30"), "Settings"),
     ("buckets", Some("4"), "Settings"),

@@ -67,6 +67,9 @@ fn cull_every_blade(bencher: Bencher) {
         max_distance: 60.0,
         buckets: 8,
         enabled: cull::ALL,
+        edge_on_pixels: 2.0,
+        focal_pixels: 1000.0,
+        padding: [0; 2],
     };
     bencher
         .counter(divan::counter::ItemsCount::new(BLADES))

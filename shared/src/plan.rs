@@ -245,6 +245,9 @@ impl Settings {
                 max_distance: cull.max_distance,
                 buckets: cull.buckets,
                 enabled: cull.tests.mask() & !unplanned,
+                edge_on_pixels: cull.edge_on_pixels,
+                focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
+                padding: [0; 2],
             },
             look: self.look_params(plan, eye),
             raster: RasterParams {

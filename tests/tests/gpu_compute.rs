@@ -79,7 +79,10 @@ fn near_threshold(b: &Blade, u: &FrameUniforms) -> bool {
     let p = u.cull;
     let cam = u.camera.position;
     let eps = THRESHOLD_EPSILON;
-    let orientation = (cull::orientation_alignment(b, cam) - p.orientation_threshold).abs() < eps;
+    let alignment = cull::orientation_alignment(b, cam);
+    let pixels = cull::edge_on_pixels(b, cam, alignment, p.focal_pixels);
+    let orientation = (alignment - p.orientation_threshold).abs() < eps
+        || (pixels - p.edge_on_pixels).abs() < eps * p.edge_on_pixels.max(1.0);
     let frustum = [b.root(), b.midpoint(), b.tip()].iter().any(|pt| {
         let c = u.camera.view_proj * pt.extend(1.0);
         cull::clip_margin(c, p.frustum_tolerance).abs() < eps * c.w.abs().max(1.0)
@@ -231,7 +234,7 @@ fn compute_pass_matches_the_host_and_culls_the_same_blades() {
             let mut removed = [0u32; 3];
             for (id, b) in host.iter().enumerate() {
                 let id = id as u32;
-                removed[0] += cull::cull_orientation(b, cam, p.orientation_threshold) as u32;
+                removed[0] += cull::cull_orientation(b, cam, &p) as u32;
                 let view_proj = uniforms.camera.view_proj;
                 removed[1] += cull::cull_frustum(b, view_proj, p.frustum_tolerance) as u32;
                 removed[2] += cull::cull_distance(b, id, cam, p.max_distance, p.buckets) as u32;

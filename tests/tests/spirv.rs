@@ -568,6 +568,9 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(CullParams, max_distance),
                 offset_of!(CullParams, buckets),
                 offset_of!(CullParams, enabled),
+                offset_of!(CullParams, edge_on_pixels),
+                offset_of!(CullParams, focal_pixels),
+                offset_of!(CullParams, padding),
             ],
         ),
         (

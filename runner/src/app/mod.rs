@@ -366,6 +366,7 @@ pub fn settings(common: &Common, scene: &Scene, device: &Capabilities) -> Result
     let cull = &common.cull;
     s.cull.tests = cull.tests();
     s.cull.orientation_threshold = cull.orientation_threshold;
+    s.cull.edge_on_pixels = cull.edge_on_pixels;
     s.cull.frustum_tolerance = cull.frustum_tolerance;
     s.cull.max_distance = cull.max_distance.unwrap_or(s.cull.max_distance);
     s.cull.buckets = cull.buckets;

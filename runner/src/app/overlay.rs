@@ -489,6 +489,8 @@ fn culling(ui: &mut egui::Ui, s: &mut Settings) {
     ui.add(
         egui::Slider::new(&mut c.orientation_threshold, 0.0..=1.0).text("orientation threshold"),
     );
+    ui.add(egui::Slider::new(&mut c.edge_on_pixels, 0.0..=16.0).text("edge-on pixels"))
+        .on_hover_text("an edge-on blade is removed only where it is narrower than this; 0: every one (the paper)");
     ui.add(egui::Slider::new(&mut c.frustum_tolerance, 0.0..=2.0).text("frustum tolerance"));
     ui.add(
         egui::Slider::new(&mut c.max_distance, 1.0..=1000.0)

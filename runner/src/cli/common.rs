@@ -241,6 +241,10 @@ pub struct CullArgs {
     /// Orientation test: remove a blade when |view · width direction| exceeds this.
     #[arg(long, global = true, default_value_t = 0.9, value_parser = range(0.0, 1.0))]
     pub orientation_threshold: f32,
+    /// Orientation test: remove such a blade only where it is narrower than this many
+    /// pixels on screen; 0 removes every one (the paper's test).
+    #[arg(long, global = true, default_value_t = shared::settings::EDGE_ON_PIXELS, value_parser = range(0.0, 1000.0))]
+    pub edge_on_pixels: f32,
     /// Frustum test: slack around the view volume, in clip-space units.
     #[arg(long, global = true, default_value_t = 0.5, value_parser = range(0.0, 10.0))]
     pub frustum_tolerance: f32,

@@ -173,6 +173,7 @@ fn every_setting_is_saved_and_read_back() {
     s.stiffness = 2.5;
     s.cull.tests = CullTests::NONE;
     s.cull.orientation_threshold = 0.7;
+    s.cull.edge_on_pixels = 3.5;
     s.cull.frustum_tolerance = 1.25;
     s.cull.max_distance = 123.5;
     s.cull.buckets = 5;

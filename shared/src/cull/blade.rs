@@ -22,6 +22,14 @@ pub struct CullParams {
     /// Which tests run: a mask of [`ORIENTATION`], [`FRUSTUM`], [`DISTANCE`],
     /// [`OCCLUSION`].
     pub enabled: u32,
+    /// Orientation: an edge-on blade is removed only where its sliver is narrower
+    /// than this many pixels ([`edge_on_pixels`]); 0 removes every one (the paper).
+    pub edge_on_pixels: f32,
+    /// The camera's focal length in pixels (`cull::lod::focal_pixels`), for
+    /// [`edge_on_pixels`].
+    pub focal_pixels: f32,
+    /// Padding: the frame block's next member starts 16-byte aligned.
+    pub padding: [u32; 2],
 }
 
 /// Bit of [`CullParams::enabled`] for the orientation test.
@@ -59,9 +67,24 @@ pub fn orientation_alignment(blade: &Blade, camera: Vec3) -> f32 {
     view.dot(blade.width_dir()).abs()
 }
 
-/// Orientation test: a blade seen edge-on covers almost no pixels.
-pub fn cull_orientation(blade: &Blade, camera: Vec3, threshold: f32) -> bool {
-    orientation_alignment(blade, camera) > threshold
+/// The width in pixels of a blade seen from `camera` at `alignment`
+/// ([`orientation_alignment`]): w·√(1 − a²)·f/d, its width across the view, f the
+/// focal length in pixels and d the distance to its midpoint.
+pub fn edge_on_pixels(blade: &Blade, camera: Vec3, alignment: f32, focal_pixels: f32) -> f32 {
+    let distance = (blade.midpoint() - camera).length().max(1e-6);
+    let across = (1.0 - alignment * alignment).max(0.0).sqrt();
+    blade.width() * across * focal_pixels / distance
+}
+
+/// Orientation test: a blade seen edge-on (|dir_view · t1| above the threshold, the
+/// paper's test) covers almost no pixels. Near the camera such a blade is still a
+/// sliver several pixels wide, whose removal shows: it is removed only where it is
+/// narrower than `p.edge_on_pixels` on screen (every one where that is 0).
+pub fn cull_orientation(blade: &Blade, camera: Vec3, p: &CullParams) -> bool {
+    let alignment = orientation_alignment(blade, camera);
+    alignment > p.orientation_threshold
+        && (p.edge_on_pixels <= 0.0
+            || edge_on_pixels(blade, camera, alignment, p.focal_pixels) < p.edge_on_pixels)
 }
 
 /// Signed distance of a clip-space point to the nearest plane of the view volume
@@ -132,7 +155,7 @@ pub fn cull_outcome(
     pyramid: &[f32],
     hiz: &HiZLayout,
 ) -> u32 {
-    if p.enabled & ORIENTATION != 0 && cull_orientation(blade, camera, p.orientation_threshold) {
+    if p.enabled & ORIENTATION != 0 && cull_orientation(blade, camera, p) {
         BY_ORIENTATION
     } else if p.enabled & FRUSTUM != 0 && cull_frustum(blade, view_proj, p.frustum_tolerance) {
         BY_FRUSTUM
@@ -161,9 +184,19 @@ mod tests {
         Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 10.0)
     }
 
+    /// The paper's orientation test at `threshold`: every edge-on blade removed.
+    fn paper(threshold: f32) -> CullParams {
+        CullParams {
+            orientation_threshold: threshold,
+            ..Default::default()
+        }
+    }
+
     #[test]
     fn orientation_on_both_sides_of_the_threshold() {
         let b = blade();
+        let cull_orientation =
+            |b: &Blade, camera, threshold| cull_orientation(b, camera, &paper(threshold));
         // Camera along the width axis, high up: projected view is ±X → edge-on.
         assert!(cull_orientation(&b, Vec3::new(-10.0, 50.0, 0.0), 0.9));
         // Camera in front: view along Z, perpendicular to the width → kept.
@@ -177,6 +210,36 @@ mod tests {
         assert!(!cull_orientation(&b, at(30.0), 0.9));
         // Straight above: no projected direction, never culled.
         assert!(!cull_orientation(&b, Vec3::new(0.0, 10.0, 0.0), 0.9));
+    }
+
+    #[test]
+    fn an_edge_on_blade_wider_than_the_guard_is_kept() {
+        let b = blade();
+        // 20 degrees off the width axis, 10 units away: |cos 20°| = 0.94 > 0.9, the
+        // width across the view 0.1·sin 20° = 0.0342; at a focal length of 1,000
+        // pixels and 10.11 units from the midpoint (0, 1.5, 0): 3.38 pixels.
+        let a = 20f32.to_radians();
+        let camera = Vec3::new(-a.cos(), 0.0, -a.sin()) * 10.0;
+        let d = (b.midpoint() - camera).length();
+        assert!((d - 10.11).abs() < 0.01, "{d}");
+        let px = edge_on_pixels(&b, camera, orientation_alignment(&b, camera), 1000.0);
+        assert!((px - 3.382).abs() < 1e-3, "{px}");
+        let guard = |pixels| CullParams {
+            edge_on_pixels: pixels,
+            focal_pixels: 1000.0,
+            ..paper(0.9)
+        };
+        assert!(!cull_orientation(&b, camera, &guard(2.0)));
+        assert!(cull_orientation(&b, camera, &guard(4.0)));
+        assert!(cull_orientation(&b, camera, &guard(0.0)));
+        // Ten times as far: 0.34 pixels, under a guard of 2.
+        assert!(cull_orientation(&b, camera * 10.0, &guard(2.0)));
+        // Not edge-on: kept whatever the guard.
+        assert!(!cull_orientation(
+            &b,
+            Vec3::new(0.0, 1.0, -100.0),
+            &guard(2.0)
+        ));
     }
 
     #[test]
@@ -242,6 +305,7 @@ mod tests {
             max_distance: 100.0,
             buckets: 10,
             enabled: DISTANCE,
+            ..Default::default()
         };
         assert!(!is_visible(&b, 0, far, Mat4::IDENTITY, &p));
         p.enabled = 0;
@@ -261,6 +325,7 @@ mod tests {
             max_distance: 100.0,
             buckets: 10,
             enabled: ALL,
+            ..Default::default()
         };
         let outcome =
             |p: &CullParams| cull_outcome(&b, 0, camera, view_proj, p, &[], &HiZLayout::default());

@@ -155,7 +155,9 @@ pub fn dress(
     cull: &crate::cull::blade::CullParams,
     look: &LookParams,
 ) -> (Blade, Vec4) {
-    use crate::cull::blade::{DISTANCE, ORIENTATION, orientation_alignment, projected_distance};
+    use crate::cull::blade::{
+        DISTANCE, ORIENTATION, edge_on_pixels, orientation_alignment, projected_distance,
+    };
     let h1 = blade_jitter(id, look.seed);
     let h2 = hash_unit(hash_u32(id) ^ 0x9e37_79b9);
     let dproj = projected_distance(blade, camera);
@@ -166,8 +168,13 @@ pub fn dress(
         density = kept_share(dproj, cull.max_distance, cull.buckets);
     }
     if cull.enabled & ORIENTATION != 0 {
+        // Only a blade the test would remove once edge-on (narrower on screen than
+        // the test's guard) narrows as it turns.
         let alignment = orientation_alignment(blade, camera);
-        fade *= orientation_fade(alignment, cull.orientation_threshold);
+        let pixels = edge_on_pixels(blade, camera, alignment, cull.focal_pixels);
+        if cull.edge_on_pixels <= 0.0 || pixels < cull.edge_on_pixels {
+            fade *= orientation_fade(alignment, cull.orientation_threshold);
+        }
     }
     let distance = (blade.midpoint() - camera).length();
     let (width, alpha) = thin_coverage(blade.width() * fade, look.pixel_angle * distance);

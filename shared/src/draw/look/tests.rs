@@ -160,6 +160,10 @@ fn fades_reach_zero_where_the_tests_remove_the_blade() {
         assert!(removed_at.is_some());
     }
     assert_eq!(distance_fade(0.0, dmax, n, 7), 1.0);
+    // Whole until the last quarter of its bucket: bucket 7 is removed where
+    // 8·(1 − d/40) < 7, d > 5; at d = 3.5 the position is 7.3.
+    assert_eq!(distance_fade(3.5, dmax, n, 7), 1.0);
+    assert!((distance_fade(4.5, dmax, n, 7) - 0.4).abs() < 1e-4);
     // Orientation: 0 at the threshold, 1 a band below.
     assert_eq!(orientation_fade(0.9, 0.9), 0.0);
     assert!(orientation_fade(0.9 - ORIENTATION_BAND, 0.9) > 0.9999);
@@ -167,7 +171,11 @@ fn fades_reach_zero_where_the_tests_remove_the_blade() {
     let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 9.0);
     let camera = Vec3::new(-10.0, 2.0, 0.5);
     let a = orientation_alignment(&b, camera);
-    assert!(cull_orientation(&b, camera, 0.9) && orientation_fade(a, 0.9) == 0.0);
+    let paper = crate::cull::blade::CullParams {
+        orientation_threshold: 0.9,
+        ..Default::default()
+    };
+    assert!(cull_orientation(&b, camera, &paper) && orientation_fade(a, 0.9) == 0.0);
     assert_eq!(kept_share(0.0, dmax, n), 1.0);
     assert!(kept_share(35.0, dmax, n) < 0.3);
 }

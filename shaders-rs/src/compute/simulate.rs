@@ -104,6 +104,7 @@ pub fn simulate_cull(
         prepare,
         |_, _| {},
         |_| (false, false),
+        |_, _, blade: &Blade| *blade,
         true,
     );
 }
@@ -187,8 +188,15 @@ pub fn simulate_cull_natural(
             && casts_shadow(look.shadow_view_proj, blade, camera, look.caster_distance);
         (far, far && in_shadow_map(look.near_view_proj, blade))
     };
+    // The tests see the blade as drawn: leaned and grown by its clump, whose tip can
+    // reach into the view (or out from behind a surface) where the stored blade's
+    // does not.
+    let tested = |index: u32, id: u32, blade: &Blade| {
+        let clump = Clump::unpack(clumps[index as usize]);
+        caster_blade(blade, &clump, id, frame.look.seed)
+    };
     simulate_and_cull(
-        id, local, workgroups, frame, push, buffers, tally, prepare, store, casts, false,
+        id, local, workgroups, frame, push, buffers, tally, prepare, store, casts, tested, false,
     );
 }
 
@@ -203,7 +211,8 @@ pub fn simulate_cull_natural(
 /// not drawn).
 /// Every blade in the field that `casts` says casts a shadow, whatever the camera's
 /// tests decide, goes to the shadow casters' list, and to the near cascade's where
-/// it says so too.
+/// it says so too. The culling tests take the blade as `tested(index, id, blade)`
+/// gives it: as the look draws it.
 /// In a tiled field (`GrassParams::tiled`) only the pool's blades are simulated, the
 /// far tiles' blades count as far as this frame generated them, an empty blade
 /// (width 0: a free slot, a blade its rank left) is skipped, and a blade's name is
@@ -220,6 +229,7 @@ fn simulate_and_cull<T: Copy + Default>(
     mut prepare: impl FnMut(u32, u32, &Blade, BladeMotion, &[u32], Vec2) -> (T, BladeMotion, f32),
     mut store: impl FnMut(usize, T),
     casts: impl Fn(&Blade) -> (bool, bool),
+    tested: impl Fn(u32, u32, &Blade) -> Blade,
     motion_by_index: bool,
 ) {
     let BladeBuffers {
@@ -334,7 +344,7 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     if drawn {
         outcome = cull_outcome(
-            &blade,
+            &tested(index, name, &blade),
             name,
             frame.camera.position,
             frame.camera.view_proj,

@@ -422,6 +422,8 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::SHADOW_MESH, CASTERS_PER_GROUP),
         (shaders::SHADOW_NEAR_MESH, CASTERS_PER_GROUP),
         (shaders::SHADE_NATURAL, layout::TEMPORAL_WORKGROUP),
+        (shaders::RESOLVE_TAA, layout::TEMPORAL_WORKGROUP),
+        (shaders::GENERATE_FAR, layout::GENERATE_WORKGROUP),
     ] {
         let m = module_of(name);
         let function = entry_points(&m)[name].2;

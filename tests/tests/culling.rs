@@ -6,8 +6,9 @@ use runner::app::driver::FrameDriver;
 use runner::app::headless::{FORMAT, Offscreen};
 use runner::renderer::{CullCounts, Renderer};
 use runner::scene::{BladeCount, Scene, SceneKind};
+use shared::Blade;
 use shared::cull::blade as cull;
-use shared::cull::blade::cull_outcome;
+use shared::cull::blade::cull_outcome_as_drawn;
 use shared::cull::hiz;
 use shared::draw::look::LOOK_NATURAL;
 use shared::draw::look::clump::{caster_blade, clump_at};
@@ -215,9 +216,10 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             for (id, b) in scene.blades.iter().enumerate() {
                 // The natural look's tests take the blade as drawn, dressed by its clump.
                 let clump = clump_at(b.root(), look.clump_size, look.seed);
-                let drawn = caster_blade(b, &clump, id as u32, look.seed);
-                let outcome = cull_outcome(
-                    &drawn,
+                let drawn = |b: &Blade| caster_blade(b, &clump, id as u32, look.seed);
+                let outcome = cull_outcome_as_drawn(
+                    b,
+                    drawn,
                     id as u32,
                     cam,
                     uniforms.camera.view_proj,

@@ -2,7 +2,7 @@
 //! compaction of the survivors into the visible list.
 
 use shared::Blade;
-use shared::cull::blade::{KEPT, cull_outcome};
+use shared::cull::blade::{KEPT, cull_outcome_as_drawn};
 use shared::cull::lod::blade_level;
 use shared::draw::look::clump::{Clump, DressedBlade, caster_blade, dress};
 use shared::draw::look::coverage::unpack_coverage;
@@ -343,8 +343,9 @@ fn simulate_and_cull<T: Copy + Default>(
         };
     }
     if drawn {
-        outcome = cull_outcome(
-            &tested(index, name, &blade),
+        outcome = cull_outcome_as_drawn(
+            &blade,
+            |b: &Blade| tested(index, name, b),
             name,
             frame.camera.position,
             frame.camera.view_proj,

@@ -155,9 +155,31 @@ pub fn cull_outcome(
     pyramid: &[f32],
     hiz: &HiZLayout,
 ) -> u32 {
+    let same = |b: &Blade| *b;
+    cull_outcome_as_drawn(blade, same, id, camera, view_proj, p, pyramid, hiz)
+}
+
+/// [`cull_outcome`] for a look that draws a blade otherwise than it is stored (the
+/// natural look leans and grows it by its clump): the orientation test takes the
+/// stored blade (its orientation and width are the drawn one's), and the blades it
+/// keeps are tested as `drawn(blade)` gives them, so a blade it removes costs nothing
+/// more.
+#[allow(clippy::too_many_arguments)]
+pub fn cull_outcome_as_drawn(
+    blade: &Blade,
+    drawn: impl Fn(&Blade) -> Blade,
+    id: u32,
+    camera: Vec3,
+    view_proj: Mat4,
+    p: &CullParams,
+    pyramid: &[f32],
+    hiz: &HiZLayout,
+) -> u32 {
     if p.enabled & ORIENTATION != 0 && cull_orientation(blade, camera, p) {
-        BY_ORIENTATION
-    } else if p.enabled & FRUSTUM != 0 && cull_frustum(blade, view_proj, p.frustum_tolerance) {
+        return BY_ORIENTATION;
+    }
+    let blade = &drawn(blade);
+    if p.enabled & FRUSTUM != 0 && cull_frustum(blade, view_proj, p.frustum_tolerance) {
         BY_FRUSTUM
     } else if p.enabled & DISTANCE != 0
         && cull_distance(blade, id, camera, p.max_distance, p.buckets)
@@ -240,6 +262,47 @@ mod tests {
             Vec3::new(0.0, 1.0, -100.0),
             &guard(2.0)
         ));
+    }
+
+    #[test]
+    fn the_tests_after_orientation_take_the_blade_as_drawn() {
+        // Identity "clip space": the stored blade (x 5 to 5) is outside |x| <= 1.5,
+        // the drawn one moved to x = 0 inside.
+        let stored = Blade::at_rest(Vec3::new(5.0, 0.0, 0.5), Vec3::Y, 0.0, 0.5, 0.1, 10.0);
+        let moved = |b: &Blade| {
+            let back = Vec3::new(-5.0, 0.0, 0.0);
+            let mut m = b.with_curve(b.guide() + back, b.tip() + back);
+            m.v0 = (b.root() + back).extend(b.orientation());
+            m
+        };
+        let p = CullParams {
+            frustum_tolerance: 0.5,
+            enabled: FRUSTUM,
+            ..Default::default()
+        };
+        let (camera, view_proj) = (Vec3::new(0.0, 0.0, -10.0), Mat4::IDENTITY);
+        let none = HiZLayout::default();
+        assert_eq!(
+            cull_outcome(&stored, 0, camera, view_proj, &p, &[], &none),
+            BY_FRUSTUM
+        );
+        let drawn = cull_outcome_as_drawn(&stored, moved, 0, camera, view_proj, &p, &[], &none);
+        assert_eq!(drawn, KEPT);
+        // A blade the orientation test removes is never dressed.
+        let calls = core::cell::Cell::new(0);
+        let counted = |b: &Blade| {
+            calls.set(calls.get() + 1);
+            *b
+        };
+        let edge_on = CullParams {
+            orientation_threshold: 0.9,
+            enabled: ORIENTATION | FRUSTUM,
+            ..Default::default()
+        };
+        let along = Vec3::new(-10.0, 0.5, 0.5);
+        let outcome =
+            cull_outcome_as_drawn(&stored, counted, 0, along, view_proj, &edge_on, &[], &none);
+        assert_eq!((outcome, calls.get()), (BY_ORIENTATION, 0));
     }
 
     #[test]

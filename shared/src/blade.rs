@@ -4,23 +4,25 @@ use spirv_std::glam::{Vec3, Vec4};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
-/// A blade as the GPU stores it: four `vec4`, 64 bytes.
+/// A blade as the GPU stores it: four `vec4`, 64 bytes, the curve's two moving
+/// points first: the simulation moves only `v1` and `v2`, so the compute pass writes
+/// back one 32-byte memory sector a blade rather than all 64 bytes.
 ///
 /// | field | xyz | w |
 /// |---|---|---|
-/// | `v0` | root on the surface | orientation θ (radians) |
 /// | `v1` | Bezier guide above `v0` | height h |
 /// | `v2` | tip guide, where forces act | width w |
+/// | `v0` | root on the surface | orientation θ (radians) |
 /// | `up` | unit surface normal at `v0` | stiffness s |
 #[repr(C)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Blade {
-    /// Root position (xyz) and orientation θ (w).
-    pub v0: Vec4,
     /// Middle control point (xyz) and height h (w).
     pub v1: Vec4,
     /// Tip control point (xyz) and width w (w).
     pub v2: Vec4,
+    /// Root position (xyz) and orientation θ (w).
+    pub v0: Vec4,
     /// Surface normal (xyz) and stiffness s (w).
     pub up: Vec4,
 }

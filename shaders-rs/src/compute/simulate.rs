@@ -307,9 +307,10 @@ fn simulate_and_cull<T: Copy + Default>(
             drawn = pool_width > 0.0;
         }
         if simulated {
+            let held = strengths[i];
             let strength;
             (blade, strength) = simulate(
-                (blade, strengths[i]),
+                (blade, held),
                 &frame.forces,
                 &frame.colliders,
                 push.first_step,
@@ -321,8 +322,13 @@ fn simulate_and_cull<T: Copy + Default>(
                 let far = far_blade(rest_tile, k, blade.root(), params, paint, &frame.forces);
                 blade = fade_to_far(&blade, &far, fade);
             }
-            blades[i] = blade;
-            strengths[i] = strength;
+            // Only the curve moved: one 32-byte sector written back (`Blade`).
+            blades[i].v1 = blade.v1;
+            blades[i].v2 = blade.v2;
+            // Unchanged (no collider near, none lingering): nothing to write back.
+            if strength != held {
+                strengths[i] = strength;
+            }
         }
     }
     if drawn {

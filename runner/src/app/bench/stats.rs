@@ -169,10 +169,11 @@ pub fn mean_difference(a: &[u8], b: &[u8]) -> f64 {
 }
 
 /// Bytes the simulate-and-cull pass moves for `blades` blades of which `drawn` survive:
-/// each blade and its collision strength read and written (2 × 68 bytes), each
-/// survivor's index written (4 bytes).
+/// each blade and its collision strength read (68 bytes), its curve (`v1`, `v2`: the
+/// blade's first 32 bytes) and strength written (36 bytes), each survivor's index
+/// written (4 bytes).
 pub fn compute_bytes(blades: u32, drawn: f64) -> f64 {
-    2.0 * 68.0 * f64::from(blades) + 4.0 * drawn
+    (68.0 + 36.0) * f64::from(blades) + 4.0 * drawn
 }
 
 /// The simulate-and-cull pass's bandwidth at point `p`, GB/s.
@@ -186,8 +187,8 @@ mod tests {
 
     #[test]
     fn compute_bytes_by_hand() {
-        // 1,000 blades × 136 bytes + 500 survivors × 4 bytes.
-        assert_eq!(compute_bytes(1000, 500.0), 136_000.0 + 2_000.0);
+        // 1,000 blades × 104 bytes + 500 survivors × 4 bytes.
+        assert_eq!(compute_bytes(1000, 500.0), 104_000.0 + 2_000.0);
     }
 
     #[test]

@@ -1,5 +1,6 @@
-//! The SPIR-V modules built from `shaders-rs` by `build.rs`, one per entry point, and
-//! the entry points' names.
+//! The SPIR-V modules of `shaders-rs`, one per entry point (`build.rs`: those kept
+//! in `runner/spirv`, or with the `rebuild-shaders` feature compiled by this build),
+//! and the entry points' names.
 
 include!(env!("GRASS_SHADER_MODULES"));
 

@@ -186,7 +186,7 @@ impl GrassField {
         let mut scene = Scene::build(&kind, file, count, desc.seed, |_| Ok(()))?;
         let ctx = Context::from_external(device, features);
         if desc.tiled {
-            scene.make_tiled(crate::app::tiled_spec(&scene, &ctx, 1.0));
+            scene.make_tiled(crate::scene::tiled_spec(&scene, ctx.is_software(), 1.0));
         }
         let meshes = Meshes {
             has_occluders: false,

@@ -12,6 +12,15 @@
 //! which it branches on) and builds the shaders' numbers in one place,
 //! `Settings::uniforms`.
 //!
+//! # Features
+//!
+//! - `app` (default): the `grass` program and what only it uses: the window viewer
+//!   and its egui overlay, the headless commands and their charts, and the frame
+//!   driver ([`app`]). Without it (`default-features = false`) the library keeps
+//!   the renderer and [`embed`], and builds with far fewer crates.
+//! - `rebuild-shaders`: the shaders compiled from `shaders-rs` by rust-gpu (the
+//!   pinned nightly) instead of the SPIR-V kept in `runner/spirv`.
+//!
 //! # Rendering from your own program
 //!
 //! The library drives a frame the way `grass render` does: a [`vulkan::Context`] (the
@@ -126,6 +135,7 @@
 
 #![warn(missing_docs)]
 
+#[cfg(feature = "app")]
 pub mod app;
 pub mod camera;
 pub mod cli;

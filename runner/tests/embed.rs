@@ -157,7 +157,7 @@ fn check_frame(args: &example::Args) {
         100.0 * cube_share
     );
     // A tiled field on a software device keeps its full density to 4.5 units only
-    // (`app::tiled_spec`): farther, fewer and wider blades.
+    // (`scene::tiled_spec`): farther, fewer and wider blades.
     let floor = if tiled { 0.3 } else { 0.4 };
     assert!(
         grass_share > floor,

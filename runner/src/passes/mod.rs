@@ -46,6 +46,7 @@ pub mod draw;
 pub mod grass;
 pub mod ground;
 pub mod occlusion;
+#[cfg(feature = "app")]
 pub mod overlay;
 pub mod raster;
 pub mod reference;

@@ -16,6 +16,7 @@ pub use readback::{CullCounts, FrameQueries, Mark, PassTimes, Readback};
 use crate::field::{Field, FieldBlades};
 use crate::passes::draw::DrawPass;
 use crate::passes::occlusion::OcclusionPass;
+#[cfg(feature = "app")]
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::shade::ShadePass;
 use crate::passes::shadow::ShadowPass;
@@ -94,7 +95,11 @@ pub struct FrameInput<'a> {
     /// Receives the rendered pixels (target left in TRANSFER_SRC_OPTIMAL).
     pub capture: Option<vk::Buffer>,
     /// The overlay to draw over the frame, if any.
+    #[cfg(feature = "app")]
     pub overlay: Option<OverlayFrame<'a>>,
+    /// Without the program (the `app` feature) there is no overlay: always `None`.
+    #[cfg(not(feature = "app"))]
+    pub overlay: Option<std::marker::PhantomData<&'a ()>>,
 }
 
 /// What the renderer draws: the blades and the surfaces under them.
@@ -140,6 +145,7 @@ pub struct Renderer {
     tonemap: ToneMapPass,
     temporal_pass: TemporalPass,
     shade: ShadePass,
+    #[cfg(feature = "app")]
     overlay: Option<OverlayPass>,
     color_format: vk::Format,
     targets: Option<DrawTargets>,
@@ -217,6 +223,7 @@ impl Renderer {
             tonemap,
             temporal_pass,
             shade,
+            #[cfg(feature = "app")]
             overlay: None,
             color_format,
             targets: None,
@@ -230,6 +237,7 @@ impl Renderer {
 
     /// Builds the overlay pipeline for `slots` frames in flight: frames may then
     /// carry an [`OverlayFrame`].
+    #[cfg(feature = "app")]
     pub fn enable_overlay(&mut self, slots: usize) -> Result<()> {
         if self.overlay.is_none() {
             let pass = OverlayPass::new(&self.ctx, &self.module, self.color_format, slots)?;
@@ -246,21 +254,29 @@ impl Renderer {
     }
 
     /// The device.
+    // Used by the program (`app`).
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     pub(crate) fn context(&self) -> &Arc<Context> {
         &self.ctx
     }
 
     /// The shader modules the pipelines are made from.
+    // Used by the program (`app`).
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     pub(crate) fn modules(&self) -> &ShaderModules {
         &self.module
     }
 
     /// The colour format of the frame's target.
+    // Used by the program (`app`).
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     pub(crate) fn color_format(&self) -> vk::Format {
         self.color_format
     }
 
     /// Records `record` into a one-time command buffer and waits for it.
+    // Used by the program (`app`).
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     pub(crate) fn one_shot(&self, record: impl FnOnce(&Recorder)) -> Result<()> {
         self.pool.one_shot(record)
     }
@@ -268,6 +284,7 @@ impl Renderer {
     /// Records one whole frame into `rec`: uniforms and counters, the depth pyramid,
     /// simulate and cull, ground, grass and overlay, the capture; its counters,
     /// timestamps and triangles go to `queries`, its overlay geometry to slot `slot`.
+    #[cfg_attr(not(feature = "app"), allow(unused_variables))]
     pub fn record(
         &mut self,
         rec: &Recorder,
@@ -290,6 +307,7 @@ impl Renderer {
             deferred: natural,
         })?;
         self.temporal.begin(&plan, target.extent);
+        #[cfg(feature = "app")]
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             pass.update_textures(&self.pool, frame.textures)?;
         }
@@ -339,6 +357,7 @@ impl Renderer {
         }
         self.temporal.end(&plan, &input.request);
         stamp(Mark::ToneMap);
+        #[cfg(feature = "app")]
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             rec.memory_barrier(
                 (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
@@ -471,7 +490,9 @@ impl Renderer {
 
     /// After the frame of `input` was submitted: frees the overlay textures it
     /// retired.
+    #[cfg_attr(not(feature = "app"), allow(unused_variables))]
     pub fn submitted(&mut self, input: &FrameInput) -> Result<()> {
+        #[cfg(feature = "app")]
         if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             pass.free_textures(frame.textures)?;
         }

@@ -239,6 +239,8 @@ impl Renderer {
 
     /// The single-sample depth image (image, view) for a target of `extent`, the
     /// frames' other draw images kept as they are.
+    // Used by the program (`app`).
+    #[cfg_attr(not(feature = "app"), allow(dead_code))]
     pub(crate) fn single_depth(
         &mut self,
         extent: vk::Extent2D,

@@ -44,6 +44,7 @@ pub struct ContextOptions<'a> {
     /// Instance extensions the window system needs (empty when headless).
     pub surface_extensions: &'a [*const std::ffi::c_char],
     /// Create a surface for this window and pick a device that can present to it.
+    #[cfg(feature = "app")]
     pub window: Option<&'a winit::window::Window>,
 }
 
@@ -210,10 +211,14 @@ impl Context {
         };
 
         let surface_fn = khr::surface::Instance::new(&entry, &instance);
+        #[cfg(feature = "app")]
         let surface = match options.window {
             Some(window) => Some(create_surface(&entry, &instance, window)?),
             None => None,
         };
+        // Without the program's window system only headless contexts are made.
+        #[cfg(not(feature = "app"))]
+        let surface = None;
 
         let (physical, queue_family) = pick_device(&instance, &surface_fn, surface)?;
         let mut features = DeviceFeatures::query(&instance, physical)?;
@@ -430,6 +435,7 @@ impl Drop for Context {
     }
 }
 
+#[cfg(feature = "app")]
 fn create_surface(
     entry: &ash::Entry,
     instance: &ash::Instance,

@@ -7,7 +7,10 @@ use common::{grass, grass_with, runs_here, scratch, stderr_of};
 
 /// Renders `scene` (one tiny frame) and returns (exit success, stderr).
 fn render_scene(scene: &str, extra: &[&str]) -> (bool, String) {
-    let out = std::env::temp_dir().join(format!("grass-cli-{}.png", std::process::id()));
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = scratch(&format!("render-{call}"));
+    let out = dir.join("frame.png");
     let out = out.to_str().expect("utf-8 temp path");
     let mut args = vec![
         "render", "--scene", scene, "--frames", "1", "--width", "16", "--height", "16", "--out",

@@ -10,7 +10,8 @@ use common::{grass_with, runs_here, scratch, stderr_of};
 
 /// A tiny headless render of 8 frames, with `env` set.
 fn render(env: &[(&str, &str)]) -> (Option<i32>, String) {
-    let out = scratch("faults").join("shot.png");
+    let dir = scratch("faults-shot");
+    let out = dir.join("shot.png");
     let out = out.to_str().unwrap().to_string();
     let args = [
         "render", "--frames", "8", "--blades", "64", "--width", "32", "--height", "32", "--out",
@@ -79,7 +80,8 @@ fn the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back() {
     if no_device_here("the_mesh_pipeline_without_mesh_shaders_is_named_and_auto_falls_back") {
         return;
     }
-    let out = scratch("faults").join("mesh.png");
+    let dir = scratch("faults-mesh");
+    let out = dir.join("mesh.png");
     let out = out.to_str().unwrap().to_string();
     let env = [("GRASS_FAULT", "missing-feature:meshShader")];
     let run = |pipeline: &str| {
@@ -124,7 +126,8 @@ fn the_compute_rasterizer_without_64_bit_atomics_is_named_and_the_default_runs()
     {
         return;
     }
-    let out = scratch("faults").join("raster.png");
+    let dir = scratch("faults-raster");
+    let out = dir.join("raster.png");
     let out = out.to_str().unwrap().to_string();
     let env = [("GRASS_FAULT", "missing-feature:shaderBufferInt64Atomics")];
     let run = |below: Option<&str>| {

@@ -420,7 +420,7 @@ fn a_screenshot_that_cannot_be_written_ends_nothing() {
         "180",
     ];
     // The folder goes once the viewer has its device (it was checked before).
-    let gone = dir.clone();
+    let gone = dir.to_path_buf();
     let remove = move |line: &str| {
         if line.contains("device:") {
             let _ = std::fs::remove_dir_all(&gone);

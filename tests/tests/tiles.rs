@@ -272,9 +272,10 @@ fn textured_world() -> (Scene, runner::tiles::TiledSpec) {
     }
     let path = std::env::temp_dir().join(format!("grass-textured-{}.obj", std::process::id()));
     std::fs::write(&path, obj).unwrap();
-    let kind = SceneKind::File(path);
+    let kind = SceneKind::File(path.clone());
     let file = kind.read().unwrap();
     let mut scene = Scene::build(&kind, file, BladeCount::Total(64), 5, |_| Ok(())).unwrap();
+    let _ = std::fs::remove_file(&path);
     assert!(scene.surface.has_uvs());
     let left_black = shared::world::paint::grey(&[0, 0, 0, 0, 255, 255, 255, 255]);
     scene.paint =

@@ -3,11 +3,27 @@
 use super::*;
 use clap::Parser as _;
 
-/// A file in the temporary folder holding `text`, and its path.
-fn file(name: &str, text: &str) -> std::path::PathBuf {
+/// A file in the temporary folder, removed when dropped.
+struct Written(std::path::PathBuf);
+
+impl std::ops::Deref for Written {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Written {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+/// A file in the temporary folder holding `text` (one `name` a test).
+fn file(name: &str, text: &str) -> Written {
     let path = std::env::temp_dir().join(format!("grass-config-{}-{name}", std::process::id()));
     std::fs::write(&path, text).expect("write the file");
-    path
+    Written(path)
 }
 
 /// `grass render` with `extra` after `--config path`, through the file.

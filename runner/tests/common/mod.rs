@@ -2,14 +2,40 @@
 
 #![allow(dead_code, unused_imports)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// A scratch folder for this test's files.
-pub fn scratch(name: &str) -> PathBuf {
+/// A test's scratch folder, removed with what is in it when the test ends without a
+/// panic (a failed test's files stay for a look).
+pub struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+/// A scratch folder for this test's files, named after `name` (one name a test: the
+/// tests of a binary run in parallel in one process).
+pub fn scratch(name: &str) -> Scratch {
     let dir = std::env::temp_dir().join(format!("grass-cli-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("create scratch folder");
-    dir
+    Scratch(dir)
 }
 
 pub use runner::vulkan::gpu_required;

@@ -51,6 +51,12 @@ fn build() -> Result<(), Error> {
         }
         modules
     } else {
+        if std::env::var_os("GRASS_UPDATE_SHADERS").is_some() {
+            println!(
+                "cargo::warning=GRASS_UPDATE_SHADERS does nothing without a shader build: \
+                 add --features rebuild-shaders"
+            );
+        }
         println!("cargo::rerun-if-changed={}", kept.display());
         kept_modules(&kept, sources.as_deref())?
     };

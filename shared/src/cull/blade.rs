@@ -82,9 +82,15 @@ pub fn edge_on_pixels(blade: &Blade, camera: Vec3, alignment: f32, focal_pixels:
 /// narrower than `p.edge_on_pixels` on screen (every one where that is 0).
 pub fn cull_orientation(blade: &Blade, camera: Vec3, p: &CullParams) -> bool {
     let alignment = orientation_alignment(blade, camera);
-    alignment > p.orientation_threshold
-        && (p.edge_on_pixels <= 0.0
-            || edge_on_pixels(blade, camera, alignment, p.focal_pixels) < p.edge_on_pixels)
+    alignment > p.orientation_threshold && under_edge_on_guard(blade, camera, alignment, p)
+}
+
+/// Whether a blade seen from `camera` at `alignment` is narrow enough for the
+/// orientation test to remove it once edge-on: narrower on screen than
+/// `p.edge_on_pixels` ([`edge_on_pixels`]), or any blade where that is 0 (the paper).
+pub fn under_edge_on_guard(blade: &Blade, camera: Vec3, alignment: f32, p: &CullParams) -> bool {
+    p.edge_on_pixels <= 0.0
+        || edge_on_pixels(blade, camera, alignment, p.focal_pixels) < p.edge_on_pixels
 }
 
 /// Signed distance of a clip-space point to the nearest plane of the view volume

@@ -156,7 +156,7 @@ pub fn dress(
     look: &LookParams,
 ) -> (Blade, Vec4) {
     use crate::cull::blade::{
-        DISTANCE, ORIENTATION, edge_on_pixels, orientation_alignment, projected_distance,
+        DISTANCE, ORIENTATION, orientation_alignment, projected_distance, under_edge_on_guard,
     };
     let h1 = blade_jitter(id, look.seed);
     let h2 = hash_unit(hash_u32(id) ^ 0x9e37_79b9);
@@ -171,8 +171,7 @@ pub fn dress(
         // Only a blade the test would remove once edge-on (narrower on screen than
         // the test's guard) narrows as it turns.
         let alignment = orientation_alignment(blade, camera);
-        let pixels = edge_on_pixels(blade, camera, alignment, cull.focal_pixels);
-        if cull.edge_on_pixels <= 0.0 || pixels < cull.edge_on_pixels {
+        if under_edge_on_guard(blade, camera, alignment, cull) {
             fade *= orientation_fade(alignment, cull.orientation_threshold);
         }
     }

@@ -11,7 +11,8 @@
 //! 3. [`GrassField::new`] uploads the blades of its ground ([`Ground`]: the built-in
 //!    hills or plane, or your triangle mesh, checked like a scene file) and builds its
 //!    pipelines for your colour format. Your depth image must be [`DEPTH_FORMAT`],
-//!    with depth 0 near and 1 far (the field tests `LESS_OR_EQUAL`).
+//!    with depth 0 near and 1 far (the field tests `LESS_OR_EQUAL`), or reversed
+//!    (1 near, 0 far: [`FieldDesc::reverse_z`], the field tests `GREATER_OR_EQUAL`).
 //! 4. Each frame, after drawing your scene into your colour and depth images (left in
 //!    `COLOR_ATTACHMENT_OPTIMAL` and `DEPTH_ATTACHMENT_OPTIMAL`) and outside any
 //!    rendering scope, call [`GrassField::record`] with your command buffer, camera
@@ -38,6 +39,9 @@
 //!
 //! `runner/examples/embed/` is a whole program: its own spinning cube and this grass
 //! in one frame, in a window or headless (`--out frame.png`).
+
+#[cfg(feature = "wgpu")]
+pub mod wgpu;
 
 use crate::renderer::external::ExternalFrame;
 use crate::renderer::{FrameQueries, Meshes, Renderer};
@@ -129,6 +133,9 @@ pub struct FieldDesc {
     pub color_format: vk::Format,
     /// Draw the ground too (else only the blades: your scene has its ground).
     pub draw_ground: bool,
+    /// Your depth is reversed: 1 near, 0 far (Bevy's; the field's depth test keeps
+    /// the greater). Else 0 near, 1 far.
+    pub reverse_z: bool,
 }
 
 /// One frame of the field.
@@ -157,6 +164,7 @@ pub struct GrassField {
     solid: IndexedMesh,
     blades: u32,
     draw_ground: bool,
+    reverse_z: bool,
     ctx: Arc<Context>,
 }
 
@@ -209,6 +217,7 @@ impl GrassField {
             blades: scene.blade_count(),
             solid: scene.solid,
             draw_ground: desc.draw_ground,
+            reverse_z: desc.reverse_z,
             ctx,
         })
     }
@@ -239,6 +248,7 @@ impl GrassField {
             request,
             push,
             ground: self.draw_ground,
+            reverse_z: self.reverse_z,
         };
         let rec = Recorder::new(&self.ctx.device, cmd);
         self.renderer

@@ -118,6 +118,7 @@
 //!     color_format: format,
 //!     draw_ground: true,
 //!     tiled: false, // true: generated tile by tile around the camera, to the horizon
+//!     reverse_z: false, // true: your depth is 1 near, 0 far
 //! };
 //! let mut field = GrassField::new(device, &features, desc)?;
 //!
@@ -137,6 +138,8 @@
 
 #[cfg(feature = "app")]
 pub mod app;
+#[cfg(feature = "bevy")]
+pub mod bevy;
 pub mod camera;
 pub mod cli;
 pub mod collider;

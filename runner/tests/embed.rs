@@ -1,5 +1,6 @@
-//! The embedding example (`runner/examples/embed/`) run headless, in this process:
-//! its own device and cube, and the grass of `runner::embed` in the same frame, with
+//! The embedding examples run headless, in this process: `runner/examples/embed/`
+//! (its own device and cube, and the grass of `runner::embed` in the same frame) and
+//! `runner/examples/wgpu/` (the cube drawn by wgpu, the grass on wgpu's device), with
 //! the validation layer (core and synchronization) silent where it is installed (CI).
 //!
 //! Checked by content: the host projects the cube's corners with the matrices the
@@ -10,6 +11,11 @@
 #[path = "../examples/embed/main.rs"]
 #[allow(dead_code)]
 mod example;
+
+// Both examples take their stage from `examples/embed/stage.rs`.
+#[path = "../examples/wgpu/main.rs"]
+#[allow(dead_code, clippy::duplicate_mod)]
+mod wgpu_example;
 
 use glam::Vec2;
 use runner::vulkan::gpu_required;
@@ -120,9 +126,31 @@ fn check_frame(args: &example::Args) {
     let shot = example::render_headless(args).unwrap_or_else(|e| panic!("embed example: {e:#}"));
     let errors = example::VALIDATION_ERRORS.load(Ordering::SeqCst);
     assert_eq!(errors, 0, "validation errors in the embed example");
+    let picture = Picture {
+        rgba: &shot.rgba,
+        size: shot.size,
+        cube_corners: &shot.cube_corners,
+        drawn: shot.drawn,
+    };
+    check_picture(&format!("{look:?}, tiled {tiled}"), &picture, tiled);
+}
+
+/// A frame of the cube and the grass, as the examples read it back.
+struct Picture<'a> {
+    /// RGBA8 (sRGB), row by row.
+    rgba: &'a [u8],
+    size: (u32, u32),
+    /// The cube's corners in pixels.
+    cube_corners: &'a [Vec2],
+    /// Blades drawn.
+    drawn: u32,
+}
+
+/// Checks `shot` by content (module docs), a tiled field's (sparser far out) or not.
+fn check_picture(name: &str, shot: &Picture, tiled: bool) {
     let (w, h) = shot.size;
     assert_eq!(shot.rgba.len(), (w * h * 4) as usize);
-    let silhouette = hull(shot.cube_corners.clone());
+    let silhouette = hull(shot.cube_corners.to_vec());
     let (mut inside, mut cube_inside, mut outside, mut grass_outside, mut cube_outside) =
         (0, 0, 0, 0, 0);
     for y in 0..h {
@@ -144,7 +172,7 @@ fn check_frame(args: &example::Args) {
     let cube_share = cube_inside as f32 / inside as f32;
     let grass_share = grass_outside as f32 / outside as f32;
     eprintln!(
-        "{look:?}, tiled {tiled}: cube: {inside} px inside its silhouette, {:.1} % magenta; outside: {:.1} % grass, \
+        "{name}: cube: {inside} px inside its silhouette, {:.1} % magenta; outside: {:.1} % grass, \
          {cube_outside} magenta px; {} blades drawn",
         100.0 * cube_share,
         100.0 * grass_share,
@@ -170,6 +198,33 @@ fn check_frame(args: &example::Args) {
     );
     let least = if tiled { 200 } else { 1000 };
     assert!(shot.drawn > least, "{} blades drawn", shot.drawn);
+}
+
+/// The wgpu example (`runner/examples/wgpu/`): wgpu draws the cube on a device made
+/// for wgpu and the grass, the field draws the grass into wgpu's textures; checked by
+/// content as the embed example's frame is, with the validation layer silent.
+#[test]
+fn the_wgpu_example_draws_its_cube_and_the_grass_in_one_frame() {
+    if !runs_here("the wgpu example", &[]) {
+        return;
+    }
+    let args = wgpu_example::Args {
+        out: "unused.png".into(),
+        frames: 30,
+        size: (320, 180),
+        blades: 20_000,
+        validation: Probe::once().validation_layer,
+    };
+    let shot = wgpu_example::render(&args).unwrap_or_else(|e| panic!("wgpu example: {e:#}"));
+    let errors = wgpu_example::VALIDATION_ERRORS.load(Ordering::SeqCst);
+    assert_eq!(errors, 0, "validation errors in the wgpu example");
+    let picture = Picture {
+        rgba: &shot.rgba,
+        size: shot.size,
+        cube_corners: &shot.cube_corners,
+        drawn: shot.drawn,
+    };
+    check_picture("wgpu", &picture, false);
 }
 
 /// What the field needs is asked before anything is made, and what a device lacks is

@@ -1,9 +1,8 @@
 //! The command line: what to draw, and where.
 
-use anyhow::Result;
 use shared::settings::Look;
 
-use super::frame::*;
+use super::stage::*;
 
 /// The command line: what to draw, and where.
 #[derive(clap::Parser, Debug, Clone)]
@@ -53,16 +52,5 @@ impl Default for Args {
             resize_through: Vec::new(),
             validation: false,
         }
-    }
-}
-
-/// `WIDTHxHEIGHT`, both from 1 to 8192.
-pub(crate) fn size(text: &str) -> Result<(u32, u32), String> {
-    let parsed = text
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)));
-    match parsed {
-        Some((w, h)) if (1..=8192).contains(&w) && (1..=8192).contains(&h) => Ok((w, h)),
-        _ => Err(format!("{text:?} is no size: WIDTHxHEIGHT, each 1 to 8192")),
     }
 }

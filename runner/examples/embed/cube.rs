@@ -3,14 +3,8 @@
 
 use anyhow::{Context as _, Result};
 use ash::vk;
-use glam::Vec3;
 use runner::embed::{self};
 use shared::example::cube::CubePush;
-
-/// The cube's colour (linear): a magenta nothing else in the frame has.
-pub const CUBE_COLOR: Vec3 = Vec3::new(0.8, 0.06, 0.5);
-/// Half the cube's side.
-pub const CUBE_HALF: f32 = 1.0;
 
 /// The program's own pipeline: the cube, from its vertex index.
 pub struct Cube {

@@ -166,6 +166,7 @@ impl Gpu {
             color_format: format,
             draw_ground: true,
             tiled,
+            reverse_z: false,
         };
         GrassField::new(device, &self.features, desc)
     }

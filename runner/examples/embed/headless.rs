@@ -13,6 +13,7 @@ use super::args::*;
 use super::cube::*;
 use super::frame::*;
 use super::gpu::*;
+use super::stage::*;
 use vk::AccessFlags2 as A;
 use vk::ImageLayout as L;
 use vk::PipelineStageFlags2 as S;

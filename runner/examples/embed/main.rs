@@ -26,6 +26,7 @@ mod cube;
 mod frame;
 mod gpu;
 mod headless;
+mod stage;
 mod window;
 
 use anyhow::{Result, bail};

@@ -20,6 +20,9 @@ pub struct DrawTarget {
     /// The natural look's shaded view writes its blades' visibility into the colour,
     /// shaded after the draw (`passes::shade`; one sample per pixel).
     pub deferred: bool,
+    /// The depth is reversed (1 near, 0 far: a caller's, as Bevy's): the depth
+    /// test keeps the greater.
+    pub reverse_z: bool,
 }
 
 impl DrawTarget {
@@ -30,6 +33,16 @@ impl DrawTarget {
             samples: vk::SampleCountFlags::TYPE_1,
             motion: false,
             deferred: false,
+            reverse_z: false,
+        }
+    }
+
+    /// The depth test of pipelines drawing here.
+    pub fn depth_compare(&self) -> vk::CompareOp {
+        if self.reverse_z {
+            vk::CompareOp::GREATER_OR_EQUAL
+        } else {
+            vk::CompareOp::LESS_OR_EQUAL
         }
     }
 
@@ -106,6 +119,7 @@ mod tests {
             samples,
             motion: false,
             deferred: false,
+            reverse_z: false,
         };
         let mut made = 0;
         let mut kept = ByTarget::new(t(srgb, one), "srgb 1");

@@ -148,6 +148,7 @@ impl GrassPass {
             super::DEPTH_FORMAT,
         );
         desc.samples = target.samples;
+        desc.depth_compare = target.depth_compare();
         let stages = LookStages {
             paper: &paper,
             paper_motion: &paper_motion,

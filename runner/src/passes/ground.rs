@@ -171,6 +171,7 @@ impl GroundPass {
             GraphicsDesc::opaque(module, stages, &field.layout, &input, color_format, depth);
         desc.samples = target.samples;
         desc.second_color = target.second_color(false);
+        desc.depth_compare = target.depth_compare();
         Pipeline::graphics(ctx, &desc)
     }
 

@@ -106,6 +106,7 @@ impl RasterPass {
                 patch_control_points: 0,
                 samples: target.samples,
                 second_color: target.second_color(false),
+                depth_compare: target.depth_compare(),
                 ..GraphicsDesc::patches(
                     module,
                     &stages,

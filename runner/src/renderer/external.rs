@@ -22,7 +22,8 @@ use shared::plan::{FramePlan, FrameRequest};
 pub struct ExternalTargets {
     /// The colour view (of the format the renderer was made for).
     pub color: vk::ImageView,
-    /// The depth view ([`crate::passes::DEPTH_FORMAT`]; 0 near, 1 far).
+    /// The depth view ([`crate::passes::DEPTH_FORMAT`]; 0 near and 1 far, or
+    /// reversed, as [`ExternalFrame::reverse_z`] says).
     pub depth: vk::ImageView,
     /// Their size.
     pub extent: vk::Extent2D,
@@ -39,6 +40,9 @@ pub struct ExternalFrame {
     pub push: SimulatePush,
     /// Draw the ground the blades grow on (else only the blades).
     pub ground: bool,
+    /// The caller's depth is reversed: 1 near, 0 far (the depth test keeps the
+    /// greater).
+    pub reverse_z: bool,
 }
 
 impl Renderer {
@@ -59,6 +63,7 @@ impl Renderer {
             samples: 1,
             taa: false,
             deferred: false,
+            reverse_z: frame.reverse_z,
         })?;
         // The caller's own depth makes no pyramid here, and its targets take one
         // sample, no history and no far blades.

@@ -305,6 +305,7 @@ impl Renderer {
             samples: plan.samples,
             taa: plan.taa,
             deferred: natural,
+            reverse_z: false,
         })?;
         self.temporal.begin(&plan, target.extent);
         #[cfg(feature = "app")]

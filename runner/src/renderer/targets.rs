@@ -40,6 +40,8 @@ pub struct TargetSpec {
     /// The natural look shaded after the draw (`passes::shade`), asked; kept only
     /// at one sample per pixel.
     pub deferred: bool,
+    /// The caller's depth is reversed (1 near, 0 far; [`DrawTarget::reverse_z`]).
+    pub reverse_z: bool,
 }
 
 /// The draw's images for one [`TargetSpec`].
@@ -224,6 +226,7 @@ impl Renderer {
             samples: vk::SampleCountFlags::from_raw(spec.samples),
             motion: spec.taa && !spec.deferred,
             deferred: spec.deferred,
+            reverse_z: spec.reverse_z,
         };
         self.draw
             .retarget(&self.ctx, &self.module, &self.field, drawn_into)?;
@@ -253,6 +256,7 @@ impl Renderer {
                 samples: 1,
                 taa: false,
                 deferred: false,
+                reverse_z: false,
             },
         };
         self.ensure_targets(spec)?;

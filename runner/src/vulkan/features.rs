@@ -42,6 +42,22 @@ pub struct DeviceFeatures {
     /// `Ok` when 64-bit integers and 64-bit storage-buffer atomics are enabled (the
     /// compute rasterizer's visibility buffer, `shared::raster`); else what is missing.
     pub int64_atomics: Result<(), String>,
+    /// The same features in per-feature structs, for [`Self::enable_beside`].
+    beside: Beside,
+}
+
+/// The renderer's Vulkan 1.1 to 1.3 features in the structs of the extensions that
+/// brought them, and the core features merged with another program's
+/// ([`DeviceFeatures::enable_beside`]).
+#[derive(Default)]
+struct Beside {
+    core: vk::PhysicalDeviceFeatures,
+    draw_parameters: vk::PhysicalDeviceShaderDrawParametersFeatures<'static>,
+    memory_model: vk::PhysicalDeviceVulkanMemoryModelFeatures<'static>,
+    int64_atomics: vk::PhysicalDeviceShaderAtomicInt64Features<'static>,
+    dynamic_rendering: vk::PhysicalDeviceDynamicRenderingFeatures<'static>,
+    synchronization2: vk::PhysicalDeviceSynchronization2Features<'static>,
+    maintenance4: vk::PhysicalDeviceMaintenance4Features<'static>,
 }
 
 /// The features the renderer cannot run without, as (name, present) pairs.
@@ -137,6 +153,7 @@ impl DeviceFeatures {
                 .mesh_shader(mesh_shader.is_ok()),
             mesh_shader,
             int64_atomics,
+            beside: Beside::default(),
         })
     }
 
@@ -166,6 +183,171 @@ impl DeviceFeatures {
             Err(_) => info,
         }
     }
+
+    /// `info`, whose chain another program already filled (wgpu-hal's
+    /// `PhysicalDeviceFeatures::add_to_device_create` chains one struct per extension
+    /// and core features through `pEnabledFeatures`), with these features enabled
+    /// beside its own: each set in the struct of the chain that holds it (a
+    /// per-extension struct or a `Vulkan11/12/13Features`), the rest in structs of
+    /// their own pushed onto the chain (a chain may not hold two structs of one type,
+    /// nor a per-extension struct beside the `Vulkan1xFeatures` that holds the same
+    /// feature), the core features merged with the ones it points at. Add
+    /// [`Self::extensions`] to its extension names.
+    pub fn enable_beside<'a>(
+        &'a mut self,
+        info: vk::DeviceCreateInfo<'a>,
+    ) -> vk::DeviceCreateInfo<'a> {
+        let theirs = unsafe { info.p_enabled_features.as_ref() }.copied();
+        self.beside.core = merged(theirs.unwrap_or_default(), &self.core);
+        let Self {
+            v11,
+            v12,
+            v13,
+            mesh,
+            beside,
+            ..
+        } = self;
+        let or = |to: &mut vk::Bool32, from: vk::Bool32| *to |= from;
+        // Which of the renderer's structs the chain already covers.
+        let (mut draw, mut model, mut int64, mut dynamic, mut sync2, mut m4, mut has_mesh) =
+            (false, false, false, false, false, false, false);
+        let mut next = info.p_next as *mut vk::BaseOutStructure;
+        // SAFETY: each struct of the chain is the type its sType names, and `info`
+        // (so its chain) is borrowed mutably for 'a by the caller.
+        while !next.is_null() {
+            use vk::StructureType as T;
+            let (s_type, following) = unsafe { ((*next).s_type, (*next).p_next) };
+            let at = next.cast::<u8>();
+            unsafe {
+                match s_type {
+                    T::PHYSICAL_DEVICE_VULKAN_1_1_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceVulkan11Features>();
+                        or(&mut f.shader_draw_parameters, v11.shader_draw_parameters);
+                        draw = true;
+                    }
+                    T::PHYSICAL_DEVICE_VULKAN_1_2_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceVulkan12Features>();
+                        or(&mut f.vulkan_memory_model, v12.vulkan_memory_model);
+                        or(
+                            &mut f.vulkan_memory_model_device_scope,
+                            v12.vulkan_memory_model_device_scope,
+                        );
+                        or(
+                            &mut f.shader_buffer_int64_atomics,
+                            v12.shader_buffer_int64_atomics,
+                        );
+                        (model, int64) = (true, true);
+                    }
+                    T::PHYSICAL_DEVICE_VULKAN_1_3_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceVulkan13Features>();
+                        or(&mut f.dynamic_rendering, v13.dynamic_rendering);
+                        or(&mut f.synchronization2, v13.synchronization2);
+                        or(&mut f.maintenance4, v13.maintenance4);
+                        (dynamic, sync2, m4) = (true, true, true);
+                    }
+                    T::PHYSICAL_DEVICE_SHADER_DRAW_PARAMETERS_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceShaderDrawParametersFeatures>();
+                        or(&mut f.shader_draw_parameters, v11.shader_draw_parameters);
+                        draw = true;
+                    }
+                    T::PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceVulkanMemoryModelFeatures>();
+                        or(&mut f.vulkan_memory_model, v12.vulkan_memory_model);
+                        or(
+                            &mut f.vulkan_memory_model_device_scope,
+                            v12.vulkan_memory_model_device_scope,
+                        );
+                        model = true;
+                    }
+                    T::PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceShaderAtomicInt64Features>();
+                        or(
+                            &mut f.shader_buffer_int64_atomics,
+                            v12.shader_buffer_int64_atomics,
+                        );
+                        int64 = true;
+                    }
+                    T::PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceDynamicRenderingFeatures>();
+                        or(&mut f.dynamic_rendering, v13.dynamic_rendering);
+                        dynamic = true;
+                    }
+                    T::PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceSynchronization2Features>();
+                        or(&mut f.synchronization2, v13.synchronization2);
+                        sync2 = true;
+                    }
+                    T::PHYSICAL_DEVICE_MAINTENANCE_4_FEATURES => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceMaintenance4Features>();
+                        or(&mut f.maintenance4, v13.maintenance4);
+                        m4 = true;
+                    }
+                    T::PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT => {
+                        let f = &mut *at.cast::<vk::PhysicalDeviceMeshShaderFeaturesEXT>();
+                        or(&mut f.mesh_shader, mesh.mesh_shader);
+                        has_mesh = true;
+                    }
+                    _ => {}
+                }
+            }
+            next = following;
+        }
+        let mut info = info.enabled_features(&beside.core);
+        let on = |flag: vk::Bool32| flag == vk::TRUE;
+        if !draw && on(v11.shader_draw_parameters) {
+            beside.draw_parameters.shader_draw_parameters = vk::TRUE;
+            info = info.push_next(&mut beside.draw_parameters);
+        }
+        if !model {
+            beside.memory_model.vulkan_memory_model = v12.vulkan_memory_model;
+            beside.memory_model.vulkan_memory_model_device_scope =
+                v12.vulkan_memory_model_device_scope;
+            info = info.push_next(&mut beside.memory_model);
+        }
+        if !int64 && on(v12.shader_buffer_int64_atomics) {
+            beside.int64_atomics.shader_buffer_int64_atomics = vk::TRUE;
+            info = info.push_next(&mut beside.int64_atomics);
+        }
+        if !dynamic {
+            beside.dynamic_rendering.dynamic_rendering = v13.dynamic_rendering;
+            info = info.push_next(&mut beside.dynamic_rendering);
+        }
+        if !sync2 {
+            beside.synchronization2.synchronization2 = v13.synchronization2;
+            info = info.push_next(&mut beside.synchronization2);
+        }
+        if !m4 {
+            beside.maintenance4.maintenance4 = v13.maintenance4;
+            info = info.push_next(&mut beside.maintenance4);
+        }
+        if !has_mesh && on(mesh.mesh_shader) {
+            info = info.push_next(mesh);
+        }
+        info
+    }
+}
+
+/// Every core feature on in `theirs` or `ours`.
+fn merged(
+    theirs: vk::PhysicalDeviceFeatures,
+    ours: &vk::PhysicalDeviceFeatures,
+) -> vk::PhysicalDeviceFeatures {
+    const N: usize = size_of::<vk::PhysicalDeviceFeatures>() / size_of::<vk::Bool32>();
+    let mut out = theirs;
+    // SAFETY: VkPhysicalDeviceFeatures is N VkBool32s and nothing else.
+    let (to, from) = unsafe {
+        (
+            std::slice::from_raw_parts_mut((&raw mut out).cast::<vk::Bool32>(), N),
+            std::slice::from_raw_parts(
+                (ours as *const vk::PhysicalDeviceFeatures).cast::<vk::Bool32>(),
+                N,
+            ),
+        )
+    };
+    for (to, from) in to.iter_mut().zip(from) {
+        *to |= from;
+    }
+    out
 }
 
 /// `Ok` when `physical` has `VK_EXT_mesh_shader` with mesh stages,

@@ -180,7 +180,7 @@ impl Pipeline {
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(has_depth)
             .depth_write_enable(has_depth)
-            .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+            .depth_compare_op(desc.depth_compare);
         let mut attachment = vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA);
         if desc.premultiplied_blend {
@@ -276,6 +276,9 @@ pub struct GraphicsDesc<'a> {
     pub second_color: Option<(vk::Format, bool)>,
     /// Depth attachment format (tested and written); `UNDEFINED` for none.
     pub depth_format: vk::Format,
+    /// The depth test: `LESS_OR_EQUAL` (depth 0 near, 1 far), or `GREATER_OR_EQUAL`
+    /// into a caller's reversed depth (1 near, 0 far, as Bevy's).
+    pub depth_compare: vk::CompareOp,
     /// Blend premultiplied-alpha colour over the target instead of replacing it.
     pub premultiplied_blend: bool,
     /// Samples per pixel of the targets.
@@ -321,6 +324,7 @@ impl<'a> GraphicsDesc<'a> {
             color_format,
             second_color: None,
             depth_format,
+            depth_compare: vk::CompareOp::LESS_OR_EQUAL,
             premultiplied_blend: false,
             samples: vk::SampleCountFlags::TYPE_1,
         }

@@ -8,13 +8,11 @@ use gpu_allocator::vulkan::{
     Allocation, AllocationCreateDesc, AllocationScheme, Allocator, AllocatorCreateDesc,
 };
 use runner::embed::{self, FieldDesc, GrassField, Ground};
-use std::ffi::{CStr, c_char, c_void};
-use std::mem::ManuallyDrop;
-use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Mutex};
 
-/// Validation errors the layer reported (with `--validation`).
-pub static VALIDATION_ERRORS: AtomicU32 = AtomicU32::new(0);
+pub use super::validation::{VALIDATION_ERRORS, debug_messenger};
+use std::ffi::{CStr, c_char};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
 
 /// The program's own Vulkan objects: what any ash renderer has before it adds grass.
 pub struct Gpu {
@@ -301,36 +299,4 @@ pub(crate) fn transition(
         .dst_access_mask(dst.1)];
     let info = vk::DependencyInfo::default().image_memory_barriers(&barrier);
     unsafe { device.cmd_pipeline_barrier2(cmd, &info) };
-}
-
-/// Counts the validation layer's errors and prints every message.
-pub(crate) fn debug_messenger(
-    entry: &ash::Entry,
-    instance: &ash::Instance,
-) -> Result<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)> {
-    unsafe extern "system" fn callback(
-        severity: vk::DebugUtilsMessageSeverityFlagsEXT,
-        _types: vk::DebugUtilsMessageTypeFlagsEXT,
-        data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
-        _user: *mut c_void,
-    ) -> vk::Bool32 {
-        let message = unsafe { data.as_ref() }
-            .and_then(|d| unsafe { d.message_as_c_str() })
-            .map(|m| m.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
-            VALIDATION_ERRORS.fetch_add(1, Ordering::SeqCst);
-        }
-        eprintln!("validation: {message}");
-        vk::FALSE
-    }
-    use vk::DebugUtilsMessageSeverityFlagsEXT as Sev;
-    use vk::DebugUtilsMessageTypeFlagsEXT as Ty;
-    let utils = ash::ext::debug_utils::Instance::new(entry, instance);
-    let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(Sev::ERROR | Sev::WARNING)
-        .message_type(Ty::GENERAL | Ty::VALIDATION)
-        .pfn_user_callback(Some(callback));
-    let messenger = unsafe { utils.create_debug_utils_messenger(&info, None)? };
-    Ok((utils, messenger))
 }

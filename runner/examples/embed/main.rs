@@ -27,6 +27,7 @@ mod frame;
 mod gpu;
 mod headless;
 mod stage;
+mod validation;
 mod window;
 
 use anyhow::{Result, bail};

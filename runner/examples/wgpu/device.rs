@@ -5,11 +5,9 @@
 use anyhow::{Context as _, Result};
 use ash::vk;
 use runner::embed::wgpu::GrassDevice;
-use std::ffi::c_void;
-use std::sync::atomic::{AtomicU32, Ordering};
 
-/// Errors the validation layer reported (with `--validation`).
-pub static VALIDATION_ERRORS: AtomicU32 = AtomicU32::new(0);
+pub use super::validation::VALIDATION_ERRORS;
+use super::validation::debug_messenger;
 
 /// What wgpu needs of its device here: the cube's SPIR-V from `shaders-rs` passed
 /// through as it is (no WGSL, no translation), and its push constants (wgpu's
@@ -60,33 +58,4 @@ impl Drop for Devices {
             unsafe { utils.destroy_debug_utils_messenger(messenger, None) };
         }
     }
-}
-
-/// Counts the validation layer's errors and prints them.
-fn debug_messenger(
-    entry: &ash::Entry,
-    instance: &ash::Instance,
-) -> Result<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)> {
-    unsafe extern "system" fn callback(
-        _severity: vk::DebugUtilsMessageSeverityFlagsEXT,
-        _types: vk::DebugUtilsMessageTypeFlagsEXT,
-        data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
-        _user: *mut c_void,
-    ) -> vk::Bool32 {
-        let message = unsafe { data.as_ref() }
-            .and_then(|d| unsafe { d.message_as_c_str() })
-            .map(|m| m.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        VALIDATION_ERRORS.fetch_add(1, Ordering::SeqCst);
-        eprintln!("validation: {message}");
-        vk::FALSE
-    }
-    use vk::DebugUtilsMessageSeverityFlagsEXT as Sev;
-    let utils = ash::ext::debug_utils::Instance::new(entry, instance);
-    let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(Sev::ERROR)
-        .message_type(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION)
-        .pfn_user_callback(Some(callback));
-    let messenger = unsafe { utils.create_debug_utils_messenger(&info, None)? };
-    Ok((utils, messenger))
 }

@@ -18,6 +18,8 @@ mod device;
 mod scene;
 #[path = "../embed/stage.rs"]
 mod stage;
+#[path = "../embed/validation.rs"]
+mod validation;
 
 use anyhow::{Context as _, Result, bail};
 use glam::Vec2;

@@ -264,6 +264,7 @@ pub fn current(
             "msaa",
             (look.aa == Antialiasing::Msaa).then(|| look.msaa.to_string()),
         ),
+        ("render-scale", number(look.render_scale)),
         ("shadow-size", Some(look.shadow_size.to_string())),
         ("exposure", number(look.exposure)),
         ("fog-density", number(look.fog_density)),

@@ -510,6 +510,7 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("shadows", None, "Settings"),
     ("aa", Some("msaa"), "Settings"),
     ("msaa", Some("2"), "Settings"),
+    ("render-scale", Some("0.5"), "Settings"),
     ("shadow-size", Some("1024"), "Settings"),
     ("pipeline", Some("tess"), "Settings"),
     ("exposure", Some("2"), "Settings"),

@@ -42,8 +42,9 @@ pub fn tonemap_vs(
 
 /// The HDR pixel over what lies behind it (its alpha is the share of the pixel the
 /// scene covers; the rest shows the sky or the meadow, with the sun disc), exposed and
-/// tone-mapped. The HDR image has the target's size: each pixel fetches its own texel
-/// (no sampler, which a software rasteriser pays dearly for).
+/// tone-mapped. Each pixel fetches the texel under it (no sampler, which a software
+/// rasteriser pays dearly for): its own, or where the scene was drawn smaller
+/// (`push.source`) the nearest.
 #[spirv(fragment)]
 pub fn tonemap_fs(
     #[spirv(frag_coord)] frag: Vec4,
@@ -53,7 +54,11 @@ pub fn tonemap_fs(
     #[spirv(descriptor_set = 0, binding = 0)] hdr: &Image!(2D, type=f32, sampled),
     out_color: &mut Vec4,
 ) {
-    let texel = UVec2::new(frag.x as u32, frag.y as u32);
+    // The source's pixel under this one (nearest: a scaled frame's pixels grow).
+    let texel = UVec2::new(
+        (frag.x * push.source.x) as u32,
+        (frag.y * push.source.y) as u32,
+    );
     let pixel: Vec4 = hdr.fetch(texel);
     *out_color = finish(pixel, ray, behind, push);
 }

@@ -17,7 +17,8 @@ use crate::draw::raster::RasterParams;
 use crate::draw::temporal::{TemporalParams, jitter, jittered};
 use crate::gpu::layout::{FrameUniforms, GrassParams};
 use crate::settings::{
-    Antialiasing, GrassPipeline, Look, RASTER_SEGMENTS, Settings, View, Viewpoint, shadow_sphere,
+    Antialiasing, GrassPipeline, Look, MIN_RENDER_SCALE, NATURAL_EDGE_ON_SHARE, RASTER_SEGMENTS,
+    Settings, View, Viewpoint, shadow_sphere,
 };
 use crate::sim::collide::MAX_COLLIDERS;
 use crate::sim::simulate::Environment;
@@ -111,6 +112,9 @@ pub struct FramePlan {
     pub samples: u32,
     /// Temporal anti-aliasing: a jittered frame blended into a history.
     pub taa: bool,
+    /// Share of the output's width and height the scene is drawn at
+    /// (`LookSettings::render_scale`, within its range).
+    pub scale: f32,
     /// The sun's shadow map's side, where the natural look casts shadows.
     pub shadows: Option<u32>,
     /// The occluders' depth pyramid is built and the occlusion test reads it.
@@ -136,6 +140,7 @@ impl FramePlan {
                 1
             },
             taa: look.aa == Antialiasing::Taa,
+            scale: look.render_scale.clamp(MIN_RENDER_SCALE, 1.0),
             shadows: (natural && look.shadows).then_some(look.shadow_size),
             occlusion: settings.cull.tests.occlusion,
             far: settings.compute_raster_below > 0.0,
@@ -163,6 +168,18 @@ impl FramePlan {
     pub fn mesh(&self) -> bool {
         self.pipeline == GrassPipeline::Mesh
     }
+
+    /// Drawn smaller than the output (a render scale under 1).
+    pub fn scaled(&self) -> bool {
+        self.scale < 1.0
+    }
+
+    /// The size the scene is drawn at for an output of `output` pixels (width,
+    /// height): each side times the scale, rounded up.
+    pub fn drawn_size(&self, output: (u32, u32)) -> (u32, u32) {
+        let side = |n: u32| ((n as f32 * self.scale).ceil() as u32).clamp(1, n.max(1));
+        (side(output.0), side(output.1))
+    }
 }
 
 impl Settings {
@@ -184,6 +201,11 @@ impl Settings {
         balls: &[Vec4],
         facts: &FrameFacts,
     ) -> FrameUniforms {
+        // Drawn smaller than the output, the camera's pixels are the drawn image's.
+        let eye = &Viewpoint {
+            height: plan.drawn_size((1, eye.height)).1,
+            ..*eye
+        };
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
         let used = balls.len().min(MAX_COLLIDERS);
         colliders[..used].copy_from_slice(&balls[..used]);
@@ -245,7 +267,12 @@ impl Settings {
                 max_distance: cull.max_distance,
                 buckets: cull.buckets,
                 enabled: cull.tests.mask() & !unplanned,
-                edge_on_pixels: cull.edge_on_pixels,
+                edge_on_pixels: cull.edge_on_pixels
+                    * if plan.natural() {
+                        NATURAL_EDGE_ON_SHARE
+                    } else {
+                        1.0
+                    },
                 focal_pixels: focal_pixels(eye.fov_y, eye.height as f32),
                 padding: [0; 2],
             },
@@ -298,6 +325,24 @@ mod tests {
     use crate::cull::blade::{FRUSTUM, ORIENTATION};
     use crate::draw::shape::SHAPE_QUADRATIC;
     use spirv_std::glam::{Mat4, Vec3};
+
+    /// The drawn size by hand: each side times the scale, rounded up, at least a
+    /// pixel; the scale kept within its range.
+    #[test]
+    fn the_drawn_size_by_hand() {
+        let mut s = Settings::default();
+        assert!(!FramePlan::of(&s).scaled());
+        assert_eq!(FramePlan::of(&s).drawn_size((1280, 720)), (1280, 720));
+        s.look.render_scale = 0.5;
+        let plan = FramePlan::of(&s);
+        assert!(plan.scaled());
+        assert_eq!(plan.drawn_size((1280, 720)), (640, 360));
+        assert_eq!(plan.drawn_size((1281, 1)), (641, 1));
+        s.look.render_scale = 0.01;
+        assert_eq!(FramePlan::of(&s).drawn_size((1280, 720)), (320, 180));
+        s.look.render_scale = 3.0;
+        assert_eq!(FramePlan::of(&s).drawn_size((1280, 720)), (1280, 720));
+    }
 
     #[test]
     fn the_block_by_hand() {

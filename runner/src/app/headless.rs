@@ -18,6 +18,9 @@ pub struct Offscreen {
     pub color: Image,
     /// Receives the pixels of a frame that asks for them.
     pub capture: Buffer,
+    /// The overlay may copy into the image (made to take transfer writes); false
+    /// has it blend all it covers.
+    pub transfer_dst: bool,
 }
 
 impl Offscreen {
@@ -29,7 +32,9 @@ impl Offscreen {
             "offscreen colour",
             extent,
             FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
             vk::ImageAspectFlags::COLOR,
         )?;
         let capture = Buffer::new(
@@ -39,7 +44,11 @@ impl Offscreen {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        Ok(Self { color, capture })
+        Ok(Self {
+            color,
+            capture,
+            transfer_dst: true,
+        })
     }
 
     /// The frame target (left ready for the capture copy).
@@ -49,6 +58,7 @@ impl Offscreen {
             view: self.color.view,
             extent: self.color.extent,
             final_layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            transfer_dst: self.transfer_dst,
         }
     }
 

@@ -363,6 +363,18 @@ fn device_defaults(settings: &mut Settings, common: &Common, device: &Capabiliti
         (None, _) => 0.0,
     };
     (settings.look.aa, settings.look.msaa) = antialiasing(common, device.software)?;
+    let software_taa = device.software && settings.look.aa == Antialiasing::Taa;
+    settings.look.render_scale = match common.render_scale {
+        Some(scale) => scale,
+        None if software_taa => {
+            log::info!(
+                "software device, temporal anti-aliasing: the scene drawn at \
+                 {RENDER_SCALE_SOFTWARE_TAA} of the output's size (--render-scale 1: all of it)"
+            );
+            RENDER_SCALE_SOFTWARE_TAA
+        }
+        None => 1.0,
+    };
     settings.look.shadows = if common.no_shadows {
         false
     } else {
@@ -435,6 +447,12 @@ pub fn antialiasing(common: &Common, software: bool) -> Result<(Antialiasing, u3
 /// blades at the edge in 3.6 ms against 6.2 without (docs/compute-rasterizer.md).
 /// Off on a software device, where it gained nothing measured.
 pub const DEFAULT_COMPUTE_RASTER_BELOW_GPU: f32 = 16.0;
+
+/// The render scale of temporal anti-aliasing on a software device when
+/// `--render-scale` is not given: a software rasteriser pays for every pixel of every
+/// pass, and the resolve adds two passes over the frame (docs/look.md,
+/// "Anti-aliasing on a software device").
+pub const RENDER_SCALE_SOFTWARE_TAA: f32 = 0.5;
 
 /// Samples per pixel of multisampling when `--msaa` is not given.
 pub const DEFAULT_MSAA: u32 = 4;

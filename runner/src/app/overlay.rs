@@ -6,7 +6,8 @@ use crate::passes::tiles::PoolStats;
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
 use shared::settings::{
-    Antialiasing, BladeShape, GrassPipeline, Look, SHADOW_SIZES, Settings, View, WindField,
+    Antialiasing, BladeShape, GrassPipeline, Look, MIN_RENDER_SCALE, SHADOW_SIZES, Settings, View,
+    WindField,
 };
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -54,6 +55,9 @@ pub struct Painted {
     pub textures: TexturesDelta,
     /// Pixels per point.
     pub pixels_per_point: f32,
+    /// Where the picture is opaque (the window's fill, in points): the pass copies
+    /// these pixels instead of blending them (`passes::overlay`).
+    pub opaque: Option<egui::Rect>,
 }
 
 /// egui state of the viewer's window.
@@ -175,27 +179,27 @@ impl Overlay {
                 primitives: Vec::new(),
                 textures: TexturesDelta::default(),
                 pixels_per_point: 1.0,
+                opaque: None,
             });
         }
         self.input = false;
         let input = self.state.take_egui_input(window);
         let frame_ms: &[f32] = self.frame_ms.make_contiguous();
         let mut save = false;
+        let mut window_rect = None;
         let output = self.ctx.run_pass(input, |ctx| {
-            egui::Window::new("grass")
-                .default_pos([12.0, 12.0])
-                .default_width(300.0)
-                .show(ctx, |ui| {
-                    performance(ui, readings, &self.device, frame_ms);
-                    counts(ui, readings);
-                    tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
-                    controls(ui, settings, ball_on);
-                    ui.separator();
-                    save |= ui
-                        .button("save settings (grass-settings.toml)")
-                        .on_hover_text("read back with --config grass-settings.toml")
-                        .clicked();
-                });
+            let shown = panel().show(ctx, |ui| {
+                performance(ui, readings, &self.device, frame_ms);
+                counts(ui, readings);
+                tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
+                controls(ui, settings, ball_on);
+                ui.separator();
+                save |= ui
+                    .button("save settings (grass-settings.toml)")
+                    .on_hover_text("read back with --config grass-settings.toml")
+                    .clicked();
+            });
+            window_rect = shown.map(|s| s.response.rect);
         });
         self.save_settings |= save;
         self.state
@@ -208,13 +212,37 @@ impl Overlay {
         self.last = Some((now, shown(settings, *ball_on, *fly, *full_distance)));
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
+        let opaque = window_rect.and_then(|rect| opaque_part(&self.ctx.global_style(), rect));
         Some(Painted {
             changed: true,
             primitives,
             textures: output.textures_delta,
             pixels_per_point,
+            opaque,
         })
     }
+}
+
+/// The overlay's window, at the top left. It appears at once, not fading in: its
+/// fill is opaque from the first frame ([`opaque_part`]).
+pub fn panel() -> egui::Window<'static> {
+    egui::Window::new("grass")
+        .default_pos([12.0, 12.0])
+        .default_width(300.0)
+        .fade_in(false)
+}
+
+/// The part of a window of `rect` that its fill covers opaquely: inside its rounded
+/// corners and its stroke, when the style's fill is opaque. Whatever egui draws there
+/// lies on that fill (a popup too), so the picture is opaque there.
+pub fn opaque_part(style: &egui::Style, rect: egui::Rect) -> Option<egui::Rect> {
+    let v = &style.visuals;
+    if v.window_fill.a() < 255 {
+        return None;
+    }
+    let r = v.window_corner_radius;
+    let inset = f32::from(r.nw.max(r.ne).max(r.sw).max(r.se)) + v.window_stroke.width + 1.0;
+    Some(rect.shrink(inset)).filter(|r| r.is_positive())
 }
 
 /// FPS, the frame-time graph and GPU time per pass.
@@ -433,6 +461,12 @@ fn look(ui: &mut egui::Ui, s: &mut Settings) {
                 }
             }
         });
+    ui.add(
+        egui::Slider::new(&mut look.render_scale, MIN_RENDER_SCALE..=1.0)
+            .step_by(0.05)
+            .text("render scale"),
+    )
+    .on_hover_text("the scene drawn at this share of the window's width and height");
     ui.add_enabled(
         natural,
         egui::Slider::new(&mut look.exposure, 0.05..=8.0)

@@ -141,6 +141,7 @@ impl FrameTarget for Presenter {
                 view: swapchain.views[i],
                 extent: swapchain.extent,
                 final_layout: vk::ImageLayout::PRESENT_SRC_KHR,
+                transfer_dst: swapchain.transfer_dst,
             },
             wait: Some(available),
             signal: Some(swapchain.render_finished[i].semaphore),

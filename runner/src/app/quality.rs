@@ -74,6 +74,8 @@ pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
     let mut reference_settings = run.settings;
     reference_settings.look.aa = Antialiasing::Msaa;
     reference_settings.look.msaa = most;
+    // Drawn at its own size, whatever --render-scale asks of the methods.
+    reference_settings.look.render_scale = 1.0;
     // The orientation test's guard counts the shown frame's pixels: the reference
     // removes the same edge-on blades.
     reference_settings.cull.edge_on_pixels *= args.scale as f32;

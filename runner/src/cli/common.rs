@@ -7,7 +7,9 @@ use crate::scene::{BladeCount, SceneKind};
 use crate::vulkan::ValidationChecks;
 use clap::{Args, ValueEnum};
 use glam::Vec3;
-use shared::settings::{Antialiasing, BladeShape, CullTests, Look, LookSettings, View, WindField};
+use shared::settings::{
+    Antialiasing, BladeShape, CullTests, Look, LookSettings, MIN_RENDER_SCALE, View, WindField,
+};
 use std::path::PathBuf;
 
 /// Where a field's blades come from (`--field`).
@@ -183,6 +185,11 @@ pub struct Common {
     /// has); more than one means --aa msaa [default: 4].
     #[arg(long, global = true, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
+    /// Draw the scene at this share of the output's width and height, 0.25 to 1: the
+    /// tone map scales the frame up [default: 0.5 with --aa taa on a software device,
+    /// 1 otherwise].
+    #[arg(long, global = true, value_parser = range(MIN_RENDER_SCALE, 1.0))]
+    pub render_scale: Option<f32>,
     /// Side of each of the sun's two shadow cascades in texels: 256, 512, 1024, 2048
     /// or 4096 [default: 1024 on a GPU, 512 on a software device].
     #[arg(long, global = true, value_parser = parse_shadow_size)]
@@ -242,7 +249,8 @@ pub struct CullArgs {
     #[arg(long, global = true, default_value_t = 0.9, value_parser = range(0.0, 1.0))]
     pub orientation_threshold: f32,
     /// Orientation test: remove such a blade only where it is narrower than this many
-    /// pixels on screen; 0 removes every one (the paper's test).
+    /// pixels on screen (three quarters of that in the natural look, whose blades
+    /// stand out more); 0 removes every one (the paper's test).
     #[arg(long, global = true, default_value_t = shared::settings::EDGE_ON_PIXELS, value_parser = range(0.0, 1000.0))]
     pub edge_on_pixels: f32,
     /// Frustum test: slack around the view volume, in clip-space units.

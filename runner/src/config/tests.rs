@@ -204,6 +204,7 @@ fn every_setting_is_saved_and_read_back() {
     s.look.shadows = false;
     s.look.aa = Antialiasing::Msaa;
     s.look.msaa = 2;
+    s.look.render_scale = 0.75;
     s.look.shadow_size = 512;
     s.look.exposure = 1.5;
     s.look.fog_density = 0.004;

@@ -41,6 +41,7 @@
 //! [`reference`](mod@reference) is no part of a frame: the benchmark's bandwidth and triangle
 //! references.
 
+pub mod area;
 pub mod by_target;
 pub mod draw;
 pub mod grass;

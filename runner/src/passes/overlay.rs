@@ -1,11 +1,13 @@
 //! The overlay: egui's tessellated output drawn over the frame, with rust-gpu shaders
 //! like every other pass. egui's meshes are drawn into a layer of the target's size
-//! when they change, and the layer is laid over every frame as one quad over the
-//! pixels it covers: on a software device drawing the interface's text every frame
-//! cost about a third of a 1080p frame. Textures (the font atlas) are uploaded as
-//! egui changes them; vertices and indices go through a host-visible buffer per frame
-//! slot.
+//! when they change, and the layer is laid over every frame: its opaque part (the
+//! window's fill) copied, the rest of the pixels it covers blended as quads. On a
+//! software device drawing the interface's text every frame cost about a third of a
+//! 1080p frame, and blending the layer over the window's pixels a sixth. Textures
+//! (the font atlas) are uploaded as egui changes them; vertices and indices go
+//! through a host-visible buffer per frame slot.
 
+use super::area::{around, bottom, rect, right};
 use crate::shaders;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
@@ -44,6 +46,8 @@ pub struct OverlayFrame<'a> {
     pub textures: &'a TexturesDelta,
     /// Pixels per egui point.
     pub pixels_per_point: f32,
+    /// Where the meshes are opaque (in points): copied, not blended.
+    pub opaque: Option<egui::Rect>,
 }
 
 struct Texture {
@@ -59,11 +63,13 @@ struct Geometry {
 }
 
 /// The overlay's last picture: egui's meshes over transparent black, premultiplied,
-/// in the target's format, and the pixels they cover.
+/// in the target's format, the pixels they cover, and of those the pixels they
+/// cover opaquely.
 struct Layer {
     image: Image,
     set: DescriptorSet,
     covered: Option<vk::Rect2D>,
+    opaque: Option<vk::Rect2D>,
 }
 
 /// The overlay pipeline, egui's textures and the layer.
@@ -237,14 +243,13 @@ impl OverlayPass {
         })
     }
 
-    /// Lays the overlay over `view` (loaded, not cleared) of size `extent`: first,
-    /// when the frame's meshes are new (or the size changed), draws them into the
-    /// layer through the slot's buffers.
-    pub fn record(
+    /// Makes the layer ready for a target of `extent`: when the frame's meshes are
+    /// new (or the size changed), draws them into it through the slot's buffers.
+    /// Recorded before the frame's passes: it touches only the layer.
+    pub fn prepare(
         &mut self,
         rec: &Recorder,
         slot: usize,
-        view: vk::ImageView,
         extent: vk::Extent2D,
         frame: &OverlayFrame,
     ) -> Result<()> {
@@ -255,11 +260,19 @@ impl OverlayPass {
         if frame.changed || resized {
             self.draw_layer(rec, slot, extent, frame)?;
         }
-        self.lay_over(rec, slot, view, extent)
+        Ok(())
+    }
+
+    /// The pixels [`Self::lay_over`] will copy into a target that takes transfer
+    /// writes: what is drawn there before is hidden.
+    pub fn opaque(&self) -> Option<vk::Rect2D> {
+        self.layer.as_ref()?.opaque
     }
 
     fn new_layer(&self, extent: vk::Extent2D) -> Result<Layer> {
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
         let color = vk::ImageAspectFlags::COLOR;
         let image = Image::new(
             &self.ctx,
@@ -275,11 +288,13 @@ impl OverlayPass {
             image,
             set,
             covered: None,
+            opaque: None,
         })
     }
 
     /// egui's meshes into the layer, cleared first where they fall (the last frame
-    /// that read the layer is earlier on the queue: the barrier waits for its reads).
+    /// that read or copied the layer is earlier on the queue: the barrier waits for
+    /// it).
     fn draw_layer(
         &mut self,
         rec: &Recorder,
@@ -307,6 +322,7 @@ impl OverlayPass {
         let covered = meshes.iter().map(|m| m.2).reduce(union);
         let layer = self.layer.as_mut().context("overlay layer")?;
         layer.covered = covered;
+        layer.opaque = covered.and_then(|c| inner_pixels(frame.opaque?, ppp, c));
         let Some(area) = covered else {
             return Ok(());
         };
@@ -344,7 +360,10 @@ impl OverlayPass {
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             ),
-            (S::FRAGMENT_SHADER, A::SHADER_READ),
+            (
+                S::FRAGMENT_SHADER | S::COPY,
+                A::SHADER_READ | A::TRANSFER_READ,
+            ),
             (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
         );
         let target = Attachments {
@@ -387,14 +406,16 @@ impl OverlayPass {
         Ok(())
     }
 
-    /// The layer over `view`: one quad (two triangles, positions in pixels, white)
-    /// over the pixels egui covered, blended as egui's meshes are.
-    fn lay_over(
+    /// The layer over `target` (image, view, size; in COLOR_ATTACHMENT_OPTIMAL,
+    /// loaded): its opaque pixels copied when the image takes transfer writes
+    /// (`copy`), the rest of the pixels egui covered as quads (two triangles each,
+    /// positions in pixels, white), blended as egui's meshes are.
+    pub fn lay_over(
         &mut self,
         rec: &Recorder,
         slot: usize,
-        view: vk::ImageView,
-        extent: vk::Extent2D,
+        (image, view, extent): (vk::Image, vk::ImageView, vk::Extent2D),
+        copy: bool,
     ) -> Result<()> {
         let Some(layer) = self.layer.as_ref() else {
             return Ok(());
@@ -402,30 +423,42 @@ impl OverlayPass {
         let Some(rect) = layer.covered else {
             return Ok(());
         };
+        let blended = match layer.opaque.filter(|_| copy) {
+            Some(opaque) => {
+                copy_opaque(rec, layer.image.image, image, opaque);
+                around(rect, opaque)
+            }
+            None => vec![rect],
+        };
+        if blended.is_empty() {
+            return Ok(());
+        }
         let (w, h) = (extent.width as f32, extent.height as f32);
-        let (x0, y0) = (rect.offset.x as f32, rect.offset.y as f32);
-        let (x1, y1) = (
-            x0 + rect.extent.width as f32,
-            y0 + rect.extent.height as f32,
-        );
-        let corner = |x: f32, y: f32| Vertex {
-            pos: egui::pos2(x, y),
-            uv: egui::pos2(x / w, y / h),
+        let corner = |x: i32, y: i32| Vertex {
+            pos: egui::pos2(x as f32, y as f32),
+            uv: egui::pos2(x as f32 / w, y as f32 / h),
             color: egui::Color32::WHITE,
         };
-        let (a, b, c, d) = (
-            corner(x0, y0),
-            corner(x1, y0),
-            corner(x1, y1),
-            corner(x0, y1),
-        );
-        let quad = [a, b, c, a, c, d];
+        let quads: Vec<Vertex> = blended
+            .iter()
+            .flat_map(|r| {
+                let (x0, y0) = (r.offset.x, r.offset.y);
+                let (x1, y1) = (x0 + r.extent.width as i32, y0 + r.extent.height as i32);
+                let (a, b, c, d) = (
+                    corner(x0, y0),
+                    corner(x1, y0),
+                    corner(x1, y1),
+                    corner(x0, y1),
+                );
+                [a, b, c, a, c, d]
+            })
+            .collect();
         let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
         let buffer = upload(
             &self.ctx,
             &mut self.quads[slot],
-            "overlay quad",
-            &quad,
+            "overlay quads",
+            &quads,
             usage,
         )?;
         let layout = self.layout.layout;
@@ -446,10 +479,60 @@ impl OverlayPass {
             bytemuck::bytes_of(&push),
         );
         rec.bind_vertex_buffer(buffer);
-        rec.draw(0, quad.len() as u32);
+        rec.draw(0, quads.len() as u32);
         rec.end_rendering();
         Ok(())
     }
+}
+
+/// Copies the `area` of the layer (SHADER_READ_ONLY_OPTIMAL) into the target
+/// (COLOR_ATTACHMENT_OPTIMAL, written by the passes before), leaving both as found.
+fn copy_opaque(rec: &Recorder, layer: vk::Image, target: vk::Image, area: vk::Rect2D) {
+    use vk::ImageLayout as L;
+    let color = vk::ImageAspectFlags::COLOR;
+    let attachment = (
+        S::COLOR_ATTACHMENT_OUTPUT,
+        A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
+    );
+    rec.image_barrier(
+        target,
+        color,
+        (L::COLOR_ATTACHMENT_OPTIMAL, L::TRANSFER_DST_OPTIMAL),
+        attachment,
+        (S::COPY, A::TRANSFER_WRITE),
+    );
+    rec.image_barrier(
+        layer,
+        color,
+        (L::SHADER_READ_ONLY_OPTIMAL, L::TRANSFER_SRC_OPTIMAL),
+        (S::FRAGMENT_SHADER, A::NONE),
+        (S::COPY, A::TRANSFER_READ),
+    );
+    rec.copy_image(layer, target, area);
+    rec.image_barrier(
+        target,
+        color,
+        (L::TRANSFER_DST_OPTIMAL, L::COLOR_ATTACHMENT_OPTIMAL),
+        (S::COPY, A::TRANSFER_WRITE),
+        attachment,
+    );
+    rec.image_barrier(
+        layer,
+        color,
+        (L::TRANSFER_SRC_OPTIMAL, L::SHADER_READ_ONLY_OPTIMAL),
+        (S::COPY, A::NONE),
+        (S::FRAGMENT_SHADER, A::SHADER_READ),
+    );
+}
+
+/// The whole pixels inside `opaque` (in points, times `ppp`: rounded in), within
+/// `covered`; `None` when empty.
+fn inner_pixels(opaque: egui::Rect, ppp: f32, covered: vk::Rect2D) -> Option<vk::Rect2D> {
+    let x0 = ((opaque.min.x * ppp).ceil() as i32).max(covered.offset.x);
+    let y0 = ((opaque.min.y * ppp).ceil() as i32).max(covered.offset.y);
+    let x1 = ((opaque.max.x * ppp).floor() as i32).min(right(covered));
+    let y1 = ((opaque.max.y * ppp).floor() as i32).min(bottom(covered));
+    rect(x0, y0, x1, y1)
 }
 
 /// The pixels a mesh can touch: its vertices' bounds (in points, times `ppp`),
@@ -465,30 +548,17 @@ fn bounds(vertices: &[Vertex], ppp: f32, clip: vk::Rect2D) -> Option<vk::Rect2D>
     }
     let x0 = ((min.x * ppp).floor() as i32).max(clip.offset.x);
     let y0 = ((min.y * ppp).floor() as i32).max(clip.offset.y);
-    let x1 = ((max.x * ppp).ceil() as i32).min(clip.offset.x + clip.extent.width as i32);
-    let y1 = ((max.y * ppp).ceil() as i32).min(clip.offset.y + clip.extent.height as i32);
-    (x1 > x0 && y1 > y0).then_some(vk::Rect2D {
-        offset: vk::Offset2D { x: x0, y: y0 },
-        extent: vk::Extent2D {
-            width: (x1 - x0) as u32,
-            height: (y1 - y0) as u32,
-        },
-    })
+    let x1 = ((max.x * ppp).ceil() as i32).min(right(clip));
+    let y1 = ((max.y * ppp).ceil() as i32).min(bottom(clip));
+    rect(x0, y0, x1, y1)
 }
 
 /// The smallest rectangle holding `a` and `b`.
 fn union(a: vk::Rect2D, b: vk::Rect2D) -> vk::Rect2D {
     let x0 = a.offset.x.min(b.offset.x);
     let y0 = a.offset.y.min(b.offset.y);
-    let x1 = (a.offset.x + a.extent.width as i32).max(b.offset.x + b.extent.width as i32);
-    let y1 = (a.offset.y + a.extent.height as i32).max(b.offset.y + b.extent.height as i32);
-    vk::Rect2D {
-        offset: vk::Offset2D { x: x0, y: y0 },
-        extent: vk::Extent2D {
-            width: (x1 - x0) as u32,
-            height: (y1 - y0) as u32,
-        },
-    }
+    let (x1, y1) = (right(a).max(right(b)), bottom(a).max(bottom(b)));
+    rect(x0, y0, x1, y1).unwrap_or(a)
 }
 
 /// Writes `data` into the slot's host-visible buffer, first replaced by a larger one
@@ -524,14 +594,5 @@ fn scissor(clip: egui::Rect, ppp: f32, extent: vk::Extent2D) -> Option<vk::Rect2
     let y0 = (clip.min.y * ppp).round().clamp(0.0, h);
     let x1 = (clip.max.x * ppp).round().clamp(0.0, w);
     let y1 = (clip.max.y * ppp).round().clamp(0.0, h);
-    (x1 > x0 && y1 > y0).then_some(vk::Rect2D {
-        offset: vk::Offset2D {
-            x: x0 as i32,
-            y: y0 as i32,
-        },
-        extent: vk::Extent2D {
-            width: (x1 - x0) as u32,
-            height: (y1 - y0) as u32,
-        },
-    })
+    rect(x0 as i32, y0 as i32, x1 as i32, y1 as i32)
 }

@@ -7,6 +7,7 @@
 //! ([`super::temporal`]), in either look: the paper look's is then shown as drawn (no
 //! sky, no tone map).
 
+use super::area::around;
 use super::temporal::TemporalImages;
 use super::to_sampled;
 use crate::shaders;
@@ -50,7 +51,12 @@ pub struct ToneMapPass {
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum ToneMapSource {
     /// The HDR image as drawn (from the draw's attachment to sampled here).
-    Drawn(vk::Image),
+    Drawn {
+        /// The image.
+        image: vk::Image,
+        /// Shown as drawn (the paper look drawn smaller than the target).
+        as_drawn: bool,
+    },
     /// A history, left sampled by the resolve.
     History {
         /// Which.
@@ -99,19 +105,22 @@ impl ToneMapPass {
         }
     }
 
-    /// Puts the sky behind `source` and tone-maps it into `target` (image, view,
-    /// extent), for the frame of `uniforms`; the target from undefined to attachment.
+    /// Puts the sky behind `source` (drawn at `drawn` pixels) and tone-maps it into
+    /// `target` (image, view, extent; larger where the frame was drawn smaller: each
+    /// pixel takes the nearest), for the frame of `uniforms`, except over `hidden`
+    /// (what the overlay will cover); the target from undefined to attachment.
     pub fn record(
         &self,
         rec: &Recorder,
-        source: ToneMapSource,
+        (source, drawn): (ToneMapSource, vk::Extent2D),
         target: (vk::Image, vk::ImageView, vk::Extent2D),
         uniforms: &FrameUniforms,
+        hidden: Option<vk::Rect2D>,
     ) {
         let (set, as_drawn) = match source {
-            ToneMapSource::Drawn(hdr) => {
-                to_sampled(rec, hdr, (S::FRAGMENT_SHADER, A::SHADER_READ));
-                (&self.set, false)
+            ToneMapSource::Drawn { image, as_drawn } => {
+                to_sampled(rec, image, (S::FRAGMENT_SHADER, A::SHADER_READ));
+                (&self.set, as_drawn)
             }
             ToneMapSource::History { k, as_drawn } => (&self.history_sets[k], as_drawn),
         };
@@ -129,16 +138,34 @@ impl ToneMapPass {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
         let layout = self.layout.layout;
         rec.bind_pipeline(graphics, self.pipeline.pipeline, layout, set.set);
-        let push = push(uniforms, as_drawn);
+        let scale = |d: u32, t: u32| d as f32 / t.max(1) as f32;
+        let source = (
+            scale(drawn.width, target.2.width),
+            scale(drawn.height, target.2.height),
+        );
+        let push = push(uniforms, as_drawn, source);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        rec.draw(0, shared::gpu::layout::TONEMAP_VERTICES);
+        let whole = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.2,
+        };
+        match hidden {
+            // The grid once per rectangle around what is hidden, each scissored.
+            Some(hidden) => {
+                for area in around(whole, hidden) {
+                    rec.set_scissor(area);
+                    rec.draw(0, shared::gpu::layout::TONEMAP_VERTICES);
+                }
+            }
+            None => rec.draw(0, shared::gpu::layout::TONEMAP_VERTICES),
+        }
         rec.end_rendering();
     }
 }
 
 /// The tone map's constants for the frame of `uniforms`; `as_drawn`: the frame shown
-/// as drawn (no sky, no tone map).
-fn push(uniforms: &FrameUniforms, as_drawn: bool) -> ToneMapPush {
+/// as drawn (no sky, no tone map); `source`: the source's pixels per target pixel.
+fn push(uniforms: &FrameUniforms, as_drawn: bool, source: (f32, f32)) -> ToneMapPush {
     let camera = &uniforms.camera;
     ToneMapPush {
         clip_to_world: camera.view_proj.inverse(),
@@ -148,5 +175,6 @@ fn push(uniforms: &FrameUniforms, as_drawn: bool) -> ToneMapPush {
             .direction
             .extend(f32::from(u8::from(as_drawn))),
         ground: shared::draw::look::ground::horizon_ground(&uniforms.look),
+        source: glam::Vec4::new(source.0, source.1, 0.0, 0.0),
     }
 }

@@ -66,10 +66,11 @@ impl Renderer {
             reverse_z: frame.reverse_z,
         })?;
         // The caller's own depth makes no pyramid here, and its targets take one
-        // sample, no history and no far blades.
+        // sample, no history and no far blades, drawn at their size.
         let plan = FramePlan {
             samples: 1,
             taa: false,
+            scale: 1.0,
             ..frame.request.plan().within(false, false)
         };
         let uniforms = self.prepare(&frame.request, &plan, frame.push, extent)?;

@@ -38,7 +38,7 @@ use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
-use targets::{DrawTargets, TargetSpec, draw_images};
+use targets::{DrawTargets, TargetSpec, draw_images, finish_frame};
 use temporal::Temporal;
 
 use vk::AccessFlags2 as A;
@@ -82,6 +82,9 @@ pub struct Target {
     pub extent: vk::Extent2D,
     /// Layout it must be left in (present, or transfer source for a capture).
     pub final_layout: vk::ImageLayout,
+    /// The image takes transfer writes: the overlay copies its opaque part into it
+    /// (false: it blends all it covers).
+    pub transfer_dst: bool,
 }
 
 /// What one frame asks of the renderer.
@@ -299,20 +302,34 @@ impl Renderer {
             .plan()
             .within(self.has_occluders, self.draw.raster.supported());
         let natural = plan.natural();
+        // Drawn smaller than the target (a render scale under 1), into an image the
+        // tone map scales up.
+        let (width, height) = plan.drawn_size((target.extent.width, target.extent.height));
+        let drawn = vk::Extent2D { width, height };
         self.ensure_targets(TargetSpec {
-            extent: target.extent,
-            hdr: natural || plan.taa,
+            extent: drawn,
+            hdr: natural || plan.taa || plan.scaled(),
             samples: plan.samples,
             taa: plan.taa,
             deferred: natural,
             reverse_z: false,
         })?;
-        self.temporal.begin(&plan, target.extent);
+        self.temporal.begin(&plan, drawn);
+        // The overlay's layer, drawn when egui's picture changed (before the frame's
+        // scopes: twice a second, not every frame); the pixels it will cover opaquely
+        // need no tone map.
         #[cfg(feature = "app")]
-        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
-            pass.update_textures(&self.pool, frame.textures)?;
-        }
-        let uniforms = self.prepare(&input.request, &plan, input.push, target.extent)?;
+        let hidden = match (self.overlay.as_mut(), input.overlay.as_ref()) {
+            (Some(pass), Some(frame)) => {
+                pass.update_textures(&self.pool, frame.textures)?;
+                pass.prepare(rec, slot, target.extent, frame)?;
+                pass.opaque().filter(|_| target.transfer_dst)
+            }
+            _ => None,
+        };
+        #[cfg(not(feature = "app"))]
+        let hidden = None;
+        let uniforms = self.prepare(&input.request, &plan, input.push, drawn)?;
         let occlusion = plan.occlusion;
         let stamp = stamper(rec, queries);
         let triangles = queries.triangles.as_ref().map(|t| t.pool);
@@ -332,12 +349,12 @@ impl Renderer {
         let balls = input.request.balls();
         self.record_simulation(rec, &plan, input.push, balls, &stamp);
         let targets = self.targets.as_ref().context("draw targets")?;
-        let images = draw_images(targets, &target, natural);
+        let images = draw_images(targets, &target, drawn, natural);
         self.draw
             .record(rec, &self.field, &images, &plan, balls, &stamp, triangles);
         stamp(Mark::Resolve);
         if let Some(images) = targets.shaded() {
-            self.shade.record(rec, &self.field, images, target.extent);
+            self.shade.record(rec, &self.field, images, drawn);
         }
         stamp(Mark::Shade);
         self.copy_counters(rec, queries);
@@ -345,21 +362,26 @@ impl Renderer {
         if let Some(images) = targets.temporal() {
             let t = &self.temporal;
             let how = (t.read, t.previous.is_none());
-            self.temporal_pass.record(rec, images, target.extent, how);
+            self.temporal_pass.record(rec, images, drawn, how);
             let source = ToneMapSource::History {
                 k: 1 - t.read,
                 as_drawn: !natural,
             };
-            self.tonemap.record(rec, source, out, &uniforms);
-        } else if natural {
+            self.tonemap
+                .record(rec, (source, drawn), out, &uniforms, hidden);
+        } else if natural || plan.scaled() {
             let hdr = targets.hdr.as_ref().context("HDR image")?;
-            let source = ToneMapSource::Drawn(hdr.image);
-            self.tonemap.record(rec, source, out, &uniforms);
+            let source = ToneMapSource::Drawn {
+                image: hdr.image,
+                as_drawn: !natural,
+            };
+            self.tonemap
+                .record(rec, (source, drawn), out, &uniforms, hidden);
         }
         self.temporal.end(&plan, &input.request);
         stamp(Mark::ToneMap);
         #[cfg(feature = "app")]
-        if let (Some(pass), Some(frame)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
+        if let (Some(pass), Some(_)) = (self.overlay.as_mut(), input.overlay.as_ref()) {
             rec.memory_barrier(
                 (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE),
                 (
@@ -367,34 +389,11 @@ impl Renderer {
                     A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
                 ),
             );
-            pass.record(rec, slot, target.view, target.extent, frame)?;
+            let image = (target.image, target.view, target.extent);
+            pass.lay_over(rec, slot, image, target.transfer_dst)?;
         }
         stamp(Mark::Overlay);
-        let copy_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-        match input.capture {
-            Some(buffer) => {
-                // Copied from the transfer layout, then left in the target's own (a
-                // swapchain image's screenshot goes back to presentable).
-                let copied = Target {
-                    final_layout: copy_layout,
-                    ..target
-                };
-                self.finish_target(rec, &copied);
-                let color = vk::ImageAspectFlags::COLOR;
-                rec.copy_image_to_buffer(target.image, color, target.extent, buffer);
-                rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
-                if target.final_layout != copy_layout {
-                    rec.image_barrier(
-                        target.image,
-                        color,
-                        (copy_layout, target.final_layout),
-                        (S::COPY, A::TRANSFER_READ),
-                        (S::NONE, A::NONE),
-                    );
-                }
-            }
-            None => self.finish_target(rec, &target),
-        }
+        finish_frame(rec, &target, input.capture);
         Ok(())
     }
 
@@ -554,26 +553,6 @@ impl Renderer {
             field.counters.size,
         );
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
-    }
-
-    /// Leaves the target in its final layout.
-    fn finish_target(&self, rec: &Recorder, target: &Target) {
-        let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
-        let (dst, dst_access) = if target.final_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
-            (S::COPY, A::TRANSFER_READ)
-        } else {
-            (S::NONE, A::NONE)
-        };
-        rec.image_barrier(
-            target.image,
-            vk::ImageAspectFlags::COLOR,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                target.final_layout,
-            ),
-            color_out,
-            (dst, dst_access),
-        );
     }
 }
 

@@ -21,10 +21,13 @@ use crate::passes::by_target::{DrawTarget, MOTION_FORMAT};
 use crate::passes::draw::DrawImages;
 use crate::passes::temporal::TemporalImages;
 use crate::passes::{DEPTH_FORMAT, HDR_FORMAT};
-use crate::vulkan::{Context, Image};
+use crate::vulkan::{Context, Image, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use std::sync::Arc;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
 
 /// What the targets are made for.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -270,6 +273,7 @@ impl Renderer {
 pub(super) fn draw_images<'t>(
     targets: &'t DrawTargets,
     target: &Target,
+    drawn: vk::Extent2D,
     natural: bool,
 ) -> DrawImages<'t> {
     let single = targets
@@ -292,6 +296,56 @@ pub(super) fn draw_images<'t>(
         samples: targets.spec.samples,
         // The natural look's sky is drawn by the tone map where alpha leaves room.
         clear: if natural { [0.0; 4] } else { SKY },
-        extent: target.extent,
+        extent: drawn,
     }
+}
+
+/// Leaves the frame's target in its final layout, its pixels first copied to
+/// `capture` if given.
+pub(super) fn finish_frame(rec: &Recorder, target: &Target, capture: Option<vk::Buffer>) {
+    let copy_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+    match capture {
+        Some(buffer) => {
+            // Copied from the transfer layout, then left in the target's own (a
+            // swapchain image's screenshot goes back to presentable).
+            let copied = Target {
+                final_layout: copy_layout,
+                ..*target
+            };
+            finish_target(rec, &copied);
+            let color = vk::ImageAspectFlags::COLOR;
+            rec.copy_image_to_buffer(target.image, color, target.extent, buffer);
+            rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+            if target.final_layout != copy_layout {
+                rec.image_barrier(
+                    target.image,
+                    color,
+                    (copy_layout, target.final_layout),
+                    (S::COPY, A::TRANSFER_READ),
+                    (S::NONE, A::NONE),
+                );
+            }
+        }
+        None => finish_target(rec, target),
+    }
+}
+
+/// Leaves the target in its final layout.
+fn finish_target(rec: &Recorder, target: &Target) {
+    let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+    let (dst, dst_access) = if target.final_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
+        (S::COPY, A::TRANSFER_READ)
+    } else {
+        (S::NONE, A::NONE)
+    };
+    rec.image_barrier(
+        target.image,
+        vk::ImageAspectFlags::COLOR,
+        (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            target.final_layout,
+        ),
+        color_out,
+        (dst, dst_access),
+    );
 }

@@ -140,6 +140,42 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Copies the pixels of `area` of a colour image (in TRANSFER_SRC_OPTIMAL) to the
+    /// same place of another of the same format (in TRANSFER_DST_OPTIMAL).
+    pub fn copy_image(&self, src: vk::Image, dst: vk::Image, area: vk::Rect2D) {
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let offset = vk::Offset3D {
+            x: area.offset.x,
+            y: area.offset.y,
+            z: 0,
+        };
+        let region = vk::ImageCopy::default()
+            .src_subresource(layers)
+            .src_offset(offset)
+            .dst_subresource(layers)
+            .dst_offset(offset)
+            .extent(vk::Extent3D {
+                width: area.extent.width,
+                height: area.extent.height,
+                depth: 1,
+            });
+        unsafe {
+            self.device.cmd_copy_image(
+                self.cmd,
+                src,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            )
+        };
+    }
+
     /// Copies a tightly packed buffer into the `extent` of a colour image (in
     /// TRANSFER_DST_OPTIMAL) at `offset`.
     pub fn copy_buffer_to_image(

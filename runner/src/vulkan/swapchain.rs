@@ -23,6 +23,8 @@ pub struct Swapchain {
     pub format: vk::Format,
     /// Size of the images.
     pub extent: vk::Extent2D,
+    /// The images take transfer writes (where the surface allows it).
+    pub transfer_dst: bool,
 }
 
 impl Swapchain {
@@ -79,6 +81,14 @@ impl Swapchain {
             count = count.min(caps.max_image_count);
         }
         // FIFO is always there and never tears; frame pacing is the driver's.
+        // Screenshots copy from the images; the overlay copies into them.
+        let transfer_dst = caps
+            .supported_usage_flags
+            .contains(vk::ImageUsageFlags::TRANSFER_DST);
+        let mut usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        if transfer_dst {
+            usage |= vk::ImageUsageFlags::TRANSFER_DST;
+        }
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface)
             .min_image_count(count)
@@ -86,7 +96,7 @@ impl Swapchain {
             .image_color_space(format.color_space)
             .image_extent(extent)
             .image_array_layers(1)
-            .image_usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC)
+            .image_usage(usage)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
             .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
@@ -130,6 +140,7 @@ impl Swapchain {
             render_finished,
             format: format.format,
             extent,
+            transfer_dst,
         }))
     }
 

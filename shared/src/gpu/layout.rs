@@ -412,6 +412,9 @@ pub struct ToneMapPush {
     /// The meadow beyond the field: the ground plane's height (x), fog density (y),
     /// clump size (z), and 1 to draw it or 0 (w); see `look::meadow_to_horizon`.
     pub ground: Vec4,
+    /// The source image's pixels per output pixel across (x) and down (y): 1, or
+    /// less where the scene was drawn smaller (`LookSettings::render_scale`); z, w 0.
+    pub source: Vec4,
 }
 
 /// Push constants of the chunk pass: how the visible blades split into draws.

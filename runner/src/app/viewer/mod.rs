@@ -346,6 +346,7 @@ impl Running {
                 primitives: &p.primitives,
                 textures: &p.textures,
                 pixels_per_point: p.pixels_per_point,
+                opaque: p.opaque,
             }),
             capture: self.gpu.presenter.screenshot,
         };

@@ -345,6 +345,7 @@ fn measure(
         samples: 1,
         aa: Antialiasing::None,
         compute_below: request(0).settings.compute_raster_below,
+        render_scale: request(0).plan().scale,
         compute_drawn: Spread::of(&compute_drawn).median,
         raster_covered: Spread::of(&covered).median,
         raster_written: Spread::of(&written).median,

@@ -49,6 +49,8 @@ pub struct Point {
     pub samples: u32,
     /// The anti-aliasing.
     pub aa: shared::settings::Antialiasing,
+    /// The share of the output's width and height the scene was drawn at.
+    pub render_scale: f32,
     /// Blades shorter on screen than this (pixels) went to the compute rasterizer;
     /// 0: off.
     pub compute_below: f32,

@@ -34,9 +34,11 @@
 //! 6. [`temporal`]: with temporal anti-aliasing, the resolve (reads the HDR image,
 //!    the motion target, the depth and the last history; writes the next history).
 //! 7. [`tonemap`]: the natural look's sky and tone map (reads the resolved HDR
-//!    image, or the history just written; writes the target).
-//! 8. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures; writes
-//!    colour).
+//!    image, or the history just written, drawn at the render scale; writes the
+//!    target, but for what the overlay covers opaquely).
+//! 8. [`overlay`]: the viewer's egui panel (reads egui's meshes and textures into its
+//!    layer when they change, before the frame; copies the layer's opaque part into
+//!    the target and blends the rest). [`area`] has the rectangles around it.
 //!
 //! [`reference`](mod@reference) is no part of a frame: the benchmark's bandwidth and triangle
 //! references.

@@ -35,7 +35,9 @@
 //! mapping: give it a linear HDR colour target (e.g. `R16G16B16A16_SFLOAT`) and tone
 //! map it with the rest of your frame (`shared::draw::look::sky::tone_map` is this program's,
 //! with `settings.look.exposure`). The program's own sky and tone-map pass are not
-//! drawn: they would cover your picture.
+//! drawn: they would cover your picture. Nor are its anti-aliasing and render scale
+//! (`settings.look.aa`, `msaa`, `render_scale`): the field draws into your targets at
+//! their size.
 //!
 //! `runner/examples/embed/` is a whole program: its own spinning cube and this grass
 //! in one frame, in a window or headless (`--out frame.png`).

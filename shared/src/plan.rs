@@ -175,10 +175,14 @@ impl FramePlan {
     }
 
     /// The size the scene is drawn at for an output of `output` pixels (width,
-    /// height): each side times the scale, rounded up.
+    /// height): each side [`Self::drawn_side`].
     pub fn drawn_size(&self, output: (u32, u32)) -> (u32, u32) {
-        let side = |n: u32| ((n as f32 * self.scale).ceil() as u32).clamp(1, n.max(1));
-        (side(output.0), side(output.1))
+        (self.drawn_side(output.0), self.drawn_side(output.1))
+    }
+
+    /// A side of `n` output pixels as drawn: times the scale, rounded up, at least 1.
+    pub fn drawn_side(&self, n: u32) -> u32 {
+        ((n as f32 * self.scale).ceil() as u32).clamp(1, n.max(1))
     }
 }
 
@@ -203,7 +207,7 @@ impl Settings {
     ) -> FrameUniforms {
         // Drawn smaller than the output, the camera's pixels are the drawn image's.
         let eye = &Viewpoint {
-            height: plan.drawn_size((1, eye.height)).1,
+            height: plan.drawn_side(eye.height),
             ..*eye
         };
         let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];

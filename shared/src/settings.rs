@@ -342,11 +342,12 @@ impl Wind {
 }
 
 /// The orientation test's default guard: an edge-on blade is removed where it is
-/// narrower than 2 pixels. On the NVIDIA H100 at 1920x1080 (`grass bench --configs
-/// culls-lod --looks paper,natural --frames 60`) the natural look's frame then
-/// differs from the unculled one by 0.22 of 255 from the field's edge at 1 M blades
-/// (3.58 removing every edge-on blade; 1 pixel: 0.17, 4 pixels: 0.41) for 0.14 ms more
-/// (1 pixel: 0.22 ms).
+/// narrower than 2 pixels ([`NATURAL_EDGE_ON_SHARE`] of that in the natural look). On
+/// the NVIDIA H100 at 1920x1080 (`grass bench --configs culls-lod --looks
+/// paper,natural --frames 120`) the paper look's frame then differs from the unculled
+/// one by 0.23 of 255 from the field's edge at 1 M blades (commit bd7636f), against
+/// 1.19 removing every edge-on blade (commit a6b78b5; docs/culling.md, "The
+/// orientation test's guard").
 pub const EDGE_ON_PIXELS: f32 = 2.0;
 
 /// The natural look's share of the orientation test's guard ([`EDGE_ON_PIXELS`] or

@@ -407,15 +407,15 @@ impl OverlayPass {
     }
 
     /// The layer over `target` (image, view, size; in COLOR_ATTACHMENT_OPTIMAL,
-    /// loaded): its opaque pixels copied when the image takes transfer writes
-    /// (`copy`), the rest of the pixels egui covered as quads (two triangles each,
-    /// positions in pixels, white), blended as egui's meshes are.
+    /// loaded): the pixels of `copied` (its [`Self::opaque`] part, where the image
+    /// takes transfer writes) copied, the rest of the pixels egui covered as quads
+    /// (two triangles each, positions in pixels, white), blended as egui's meshes are.
     pub fn lay_over(
         &mut self,
         rec: &Recorder,
         slot: usize,
         (image, view, extent): (vk::Image, vk::ImageView, vk::Extent2D),
-        copy: bool,
+        copied: Option<vk::Rect2D>,
     ) -> Result<()> {
         let Some(layer) = self.layer.as_ref() else {
             return Ok(());
@@ -423,7 +423,7 @@ impl OverlayPass {
         let Some(rect) = layer.covered else {
             return Ok(());
         };
-        let blended = match layer.opaque.filter(|_| copy) {
+        let blended = match copied {
             Some(opaque) => {
                 copy_opaque(rec, layer.image.image, image, opaque);
                 around(rect, opaque)

@@ -359,22 +359,25 @@ impl Renderer {
         stamp(Mark::Shade);
         self.copy_counters(rec, queries);
         let out = (target.image, target.view, target.extent);
-        if let Some(images) = targets.temporal() {
+        // What the tone map shows: the history just resolved, or the HDR image.
+        let source = if let Some(images) = targets.temporal() {
             let t = &self.temporal;
             let how = (t.read, t.previous.is_none());
             self.temporal_pass.record(rec, images, drawn, how);
-            let source = ToneMapSource::History {
+            Some(ToneMapSource::History {
                 k: 1 - t.read,
                 as_drawn: !natural,
-            };
-            self.tonemap
-                .record(rec, (source, drawn), out, &uniforms, hidden);
+            })
         } else if natural || plan.scaled() {
             let hdr = targets.hdr.as_ref().context("HDR image")?;
-            let source = ToneMapSource::Drawn {
+            Some(ToneMapSource::Drawn {
                 image: hdr.image,
                 as_drawn: !natural,
-            };
+            })
+        } else {
+            None
+        };
+        if let Some(source) = source {
             self.tonemap
                 .record(rec, (source, drawn), out, &uniforms, hidden);
         }
@@ -390,7 +393,7 @@ impl Renderer {
                 ),
             );
             let image = (target.image, target.view, target.extent);
-            pass.lay_over(rec, slot, image, target.transfer_dst)?;
+            pass.lay_over(rec, slot, image, hidden)?;
         }
         stamp(Mark::Overlay);
         finish_frame(rec, &target, input.capture);

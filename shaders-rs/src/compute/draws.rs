@@ -39,11 +39,17 @@ pub fn bin_blades(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &mut [StripBlade],
     #[spirv(workgroup)] tally: &mut [u32; BUCKETS as usize],
 ) {
+    let slot = flat_index(id, workgroups, CULL_WORKGROUP);
+    // A workgroup past the end of the list has nothing to bin (the same for all its
+    // threads, so none of them waits at a barrier for the others): one thread per
+    // slot the list can have, of which most are past its end.
+    if slot - local >= counters[COUNTER_VISIBLE] {
+        return;
+    }
     if local < BUCKETS {
         tally[local as usize] = 0;
     }
     workgroup_memory_barrier_with_group_sync();
-    let slot = flat_index(id, workgroups, CULL_WORKGROUP);
     let mut bucket = BUCKETS;
     let mut level = 0.0;
     let mut place = 0;

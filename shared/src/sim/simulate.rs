@@ -90,29 +90,87 @@ pub fn semi_implicit_tip(tip: Vec3, rest: Vec3, pushed: Vec3, k: f32) -> Vec3 {
     rest + (tip + pushed - rest) * (1.0 / (1.0 + k))
 }
 
+/// What a blade's steps of one frame share, computed once before them: its rest tip
+/// Iv2 = v0 + up·h (the recovery's target) and, where the gravity has no centre
+/// (`Environment::centre_blend` 0), its whole gravity g = g_E + ¼‖g_E‖·f (paper eq.
+/// 2–4), which then depends only on the blade's orientation, not on its tip.
+#[derive(Copy, Clone, Debug)]
+pub struct StepConstants {
+    /// The rest tip Iv2.
+    pub rest_tip: Vec3,
+    /// The gravity g, when it has no centre (else recomputed at each step's tip).
+    pub gravity: Vec3,
+}
+
+impl StepConstants {
+    /// The constants of `blade`'s steps under `env`.
+    pub fn of(blade: &Blade, env: &Environment) -> Self {
+        let gravity = if env.centre_blend == 0.0 {
+            forces::gravity_from(blade, forces::environment_gravity(env.gravity))
+        } else {
+            Vec3::ZERO
+        };
+        Self {
+            rest_tip: forces::rest_tip(blade),
+            gravity,
+        }
+    }
+}
+
 /// One step of length `dt` at time `time` (paper section 5): gravity and wind move
 /// v2 explicitly, the recovery (weakened by η) semi-implicitly
 /// ([`semi_implicit_tip`]), then the sphere collisions (which grow η; η decays
 /// linearly), then the three validation steps.
 pub fn step(
+    state: BladeState,
+    env: &Environment,
+    spheres: &[Vec4; MAX_COLLIDERS],
+    time: f32,
+    dt: f32,
+) -> BladeState {
+    step_with(
+        &StepConstants::of(&state.0, env),
+        state,
+        env,
+        spheres,
+        time,
+        dt,
+    )
+}
+
+/// [`step`] with the blade's [`StepConstants`] already computed.
+pub fn step_with(
+    constants: &StepConstants,
     (blade, strength): BladeState,
     env: &Environment,
     spheres: &[Vec4; MAX_COLLIDERS],
     time: f32,
     dt: f32,
 ) -> BladeState {
-    let g_env = forces::environment_gravity_with_centre(
-        env.gravity,
-        env.gravity_centre,
-        env.centre_blend,
-        blade.tip(),
-    );
+    // The whole dispatch takes the same branch: `centre_blend` is the frame's.
+    let gravity = if env.centre_blend == 0.0 {
+        constants.gravity
+    } else {
+        let g_env = forces::environment_gravity_with_centre(
+            env.gravity,
+            env.gravity_centre,
+            env.centre_blend,
+            blade.tip(),
+        );
+        forces::gravity_from(&blade, g_env)
+    };
     let wi = wind_at(env, blade.root(), time);
-    let pushed = (forces::gravity_from(&blade, g_env) + forces::wind_force(&blade, wi)) * dt;
+    let pushed = (gravity + forces::wind_force(&blade, wi)) * dt;
     let k = forces::recovery_rate(&blade, strength) * env.stiffness_scale * dt;
-    let tip = semi_implicit_tip(blade.tip(), forces::rest_tip(&blade), pushed, k);
+    let tip = semi_implicit_tip(blade.tip(), constants.rest_tip, pushed, k);
     let moved = blade.with_curve(blade.guide(), tip);
-    let (pushed, displacement) = collide::collide(&moved, spheres, env.colliders);
+    // With no collider nothing pushes and η only decays: the displacement's length
+    // is not taken (the whole dispatch takes the same branch).
+    let (pushed, displacement) = if env.colliders == 0 {
+        (moved, Vec3::ZERO)
+    } else {
+        collide::collide(&moved, spheres, env.colliders)
+    };
     let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
     (validate::validate(&pushed), strength)
 }
@@ -139,10 +197,19 @@ pub fn simulate(
     first_step: u32,
     steps: u32,
 ) -> BladeState {
+    // The root, up direction, height and orientation do not change over the steps.
+    let constants = StepConstants::of(&state.0, env);
     let mut s = state;
     let mut i = 0;
     while i < steps {
-        s = step(s, env, spheres, step_time(first_step + i), STEP_SECONDS);
+        s = step_with(
+            &constants,
+            s,
+            env,
+            spheres,
+            step_time(first_step + i),
+            STEP_SECONDS,
+        );
         i += 1;
     }
     s

@@ -239,6 +239,7 @@ pub fn current(
         ("wind", Some(word(s.wind.field.to_possible_value()))),
         ("wind-strength", number(s.wind.strength)),
         ("wind-direction", number(s.wind.direction)),
+        ("gust-speed", number(s.wind.gust_speed)),
         ("gravity", number(g.acceleration)),
         ("gravity-centre", centre),
         ("shape", Some(word(s.shape.to_possible_value()))),

@@ -293,6 +293,15 @@ impl GrassField {
     pub fn time(&self) -> f32 {
         self.clock.time()
     }
+
+    /// The wind the blades feel at `point` now (`shared::sim::simulate::wind_at`, the
+    /// same function the compute pass steps with, under `settings.wind`): an
+    /// acceleration along the ground, for your own trees, flags or particles to move
+    /// with the grass.
+    pub fn wind_at(&self, point: Vec3) -> Vec3 {
+        let env = self.settings.environment(0);
+        shared::sim::simulate::wind_at(&env, point, self.time())
+    }
 }
 
 /// The camera as the field needs it, from your `view` (world to eye, right-handed,

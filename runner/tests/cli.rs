@@ -479,6 +479,7 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("wind", Some("gusts"), "Settings"),
     ("wind-strength", Some("3"), "Settings"),
     ("wind-direction", Some("-30"), "Settings"),
+    ("gust-speed", Some("2"), "Settings"),
     ("gravity-centre", Some("0,-20,0"), "Settings"),
     ("shape", Some("triangle"), "Settings"),
     ("tip-start", Some("0.25"), "Settings"),

@@ -10,7 +10,7 @@ use crate::draw::shape::{
     SHAPE_DANDELION, SHAPE_QUAD, SHAPE_QUADRATIC, SHAPE_TRIANGLE, SHAPE_TRIANGLE_TIP,
 };
 use crate::sim::simulate::Environment;
-use crate::sim::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_VORTEX};
+use crate::sim::wind::{WIND_BREEZE, WIND_CALM, WIND_GUSTS, WIND_TURBULENT, WIND_VORTEX};
 use spirv_std::glam::{Mat4, Vec3, Vec4};
 
 /// The wind fields (`wind::wind_field`).
@@ -27,6 +27,8 @@ pub enum WindField {
     Gusts = WIND_GUSTS,
     /// A wandering whirlwind.
     Vortex = WIND_VORTEX,
+    /// Irregular gusts, large and fine, travelling downwind at the gust speed.
+    Turbulent = WIND_TURBULENT,
 }
 
 /// The blade shapes of the paper's section 6.1 (`shape::shape_tau`).
@@ -197,7 +199,13 @@ fn next_of<T: Copy + PartialEq>(all: &[T], current: T) -> T {
 
 impl WindField {
     /// Every field, in the order the viewer's key cycles them.
-    pub const ALL: [Self; 4] = [Self::Calm, Self::Breeze, Self::Gusts, Self::Vortex];
+    pub const ALL: [Self; 5] = [
+        Self::Calm,
+        Self::Breeze,
+        Self::Gusts,
+        Self::Vortex,
+        Self::Turbulent,
+    ];
     /// The next field in [`Self::ALL`].
     pub fn next(self) -> Self {
         next_of(&Self::ALL, self)
@@ -331,6 +339,8 @@ pub struct Wind {
     pub strength: f32,
     /// Direction it blows towards, degrees around the vertical (0 = +X, 90 = +Z).
     pub direction: f32,
+    /// Speed of the turbulent field's gusts downwind, units a second.
+    pub gust_speed: f32,
 }
 
 impl Wind {
@@ -466,6 +476,7 @@ impl Default for Settings {
                 field: WindField::Breeze,
                 strength: 7.0,
                 direction: 19.3,
+                gust_speed: crate::sim::simulate::DEFAULT_GUST_SPEED,
             },
             trample_decay: 0.25,
             stiffness: 1.0,
@@ -547,7 +558,7 @@ impl Settings {
             colliders,
             time: 0.0,
             far_sway: u32::from(self.far_sway),
-            padding: 0,
+            gust_speed: self.wind.gust_speed,
         }
     }
 

@@ -242,7 +242,7 @@ fn environment() -> impl Strategy<Value = Environment> {
                 colliders,
                 time: 0.0,
                 far_sway: 1,
-                padding: 0,
+                gust_speed: 6.0,
             },
         )
 }
@@ -529,6 +529,7 @@ fn corners() -> Vec<(Environment, BladeState)> {
         wind::WIND_BREEZE,
         wind::WIND_GUSTS,
         wind::WIND_VORTEX,
+        wind::WIND_TURBULENT,
     ] {
         for gravity in [0.0, MAX_GRAVITY] {
             for blend in [0.0, 1.0] {
@@ -545,7 +546,7 @@ fn corners() -> Vec<(Environment, BladeState)> {
                             colliders: MAX_COLLIDERS as u32,
                             time: 0.0,
                             far_sway: 1,
-                            padding: 0,
+                            gust_speed: 6.0,
                         };
                         out.extend(blades.iter().map(|b| (env, (*b, 0.0))));
                     }

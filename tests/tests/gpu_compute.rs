@@ -197,11 +197,16 @@ fn run_both(
 }
 
 #[test]
-fn compute_pass_matches_the_host_in_gusts_and_a_vortex() {
+fn compute_pass_matches_the_host_in_gusts_a_vortex_and_turbulence() {
     with_device(
-        "compute_pass_matches_the_host_in_gusts_and_a_vortex",
+        "compute_pass_matches_the_host_in_gusts_a_vortex_and_turbulence",
         |ctx| {
-            for (wind, blend) in [(WindField::Gusts, 0.0), (WindField::Vortex, 0.5)] {
+            let fields = [
+                (WindField::Gusts, 0.0),
+                (WindField::Vortex, 0.5),
+                (WindField::Turbulent, 0.0),
+            ];
+            for (wind, blend) in fields {
                 let (scene, request) = setup(wind, blend);
                 run_both(&ctx, &scene, &request);
             }

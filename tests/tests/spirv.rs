@@ -523,7 +523,7 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(Environment, colliders),
                 offset_of!(Environment, time),
                 offset_of!(Environment, far_sway),
-                offset_of!(Environment, padding),
+                offset_of!(Environment, gust_speed),
             ],
         ),
         ("colliders", offset_of!(FrameUniforms, colliders), vec![]),

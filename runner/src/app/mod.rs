@@ -302,6 +302,7 @@ pub fn settings(common: &Common, scene: &Scene, device: &Capabilities) -> Result
     s.wind.field = common.wind;
     s.wind.strength = common.wind_strength;
     s.wind.direction = common.wind_direction;
+    s.wind.gust_speed = common.gust_speed;
     s.shape = common.shape;
     s.tip_start = common.tip_start;
     s.trample_decay = common.trample_decay;

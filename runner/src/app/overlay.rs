@@ -574,6 +574,9 @@ fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool) {
         });
     ui.add(egui::Slider::new(&mut wind.strength, 0.0..=30.0).text("wind strength"));
     ui.add(egui::Slider::new(&mut wind.direction, -180.0..=180.0).text("wind direction °"));
+    if wind.field == WindField::Turbulent {
+        ui.add(egui::Slider::new(&mut wind.gust_speed, 0.0..=30.0).text("gust speed"));
+    }
     ui.add(
         egui::Slider::new(&mut s.stiffness, 0.0..=100.0)
             .logarithmic(true)

@@ -122,6 +122,10 @@ pub struct Common {
     /// Wind direction in degrees around the vertical (0 = +X, 90 = +Z).
     #[arg(long, global = true, default_value_t = 19.3, allow_hyphen_values = true, value_parser = range(-360.0, 360.0))]
     pub wind_direction: f32,
+    /// Speed of the turbulent wind's gusts downwind, units a second (`--wind
+    /// turbulent`).
+    #[arg(long, global = true, default_value_t = shared::sim::simulate::DEFAULT_GUST_SPEED, value_parser = range(0.0, 100.0))]
+    pub gust_speed: f32,
     /// Pull gravity towards this point "x,y,z" instead of straight down (the planet
     /// scene does this around its centre).
     #[arg(long, global = true, allow_hyphen_values = true, value_parser = parse_point)]

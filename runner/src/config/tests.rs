@@ -182,9 +182,10 @@ fn every_setting_is_saved_and_read_back() {
     s.gravity.acceleration = 3.0;
     s.gravity.centre = Vec3::new(1.0, -30.0, 2.5);
     s.gravity.centre_blend = 1.0;
-    s.wind.field = WindField::Vortex;
+    s.wind.field = WindField::Turbulent;
     s.wind.strength = 3.5;
     s.wind.direction = -40.25;
+    s.wind.gust_speed = 2.75;
     s.trample_decay = 0.5;
     s.stiffness = 2.5;
     s.cull.tests = CullTests::NONE;

@@ -5,11 +5,12 @@ use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
 use crate::vulkan::pipeline::{Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
-use anyhow::Result;
+use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SimulatePush,
+    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SPEC_WIND_FIELD, SimulatePush,
 };
+use shared::settings::WindField;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -18,8 +19,11 @@ use vk::PipelineStageFlags2 as S;
 /// The simulate-and-cull and write-draws compute pipelines.
 pub struct SimulatePass {
     ctx: Arc<Context>,
-    simulate: Pipeline,
-    simulate_natural: Pipeline,
+    /// The simulate-and-cull entry points' modules, for the pipelines made on first use.
+    modules: ShaderModules,
+    /// The simulate-and-cull pipelines by look (paper, natural) and wind field
+    /// (`layout::SPEC_WIND_FIELD`), each made when a frame first needs it.
+    simulate: [[Option<Pipeline>; WindField::ALL.len()]; 2],
     write_draws: Pipeline,
     bin_blades: Pipeline,
     clumps: Pipeline,
@@ -28,15 +32,19 @@ pub struct SimulatePass {
 impl SimulatePass {
     /// Both compute pipelines.
     pub fn new(ctx: &Arc<Context>, module: &ShaderModules, field: &Field) -> Result<Self> {
+        let entries = [shaders::SIMULATE_CULL, shaders::SIMULATE_CULL_NATURAL];
+        let spirv: Vec<(&'static str, &'static [u8])> = entries
+            .iter()
+            .map(|&entry| {
+                shaders::module(entry)
+                    .map(|bytes| (entry, bytes))
+                    .with_context(|| format!("no SPIR-V for {entry}"))
+            })
+            .collect::<Result<_>>()?;
         Ok(Self {
             ctx: ctx.clone(),
-            simulate: Pipeline::compute(ctx, &field.layout, module, shaders::SIMULATE_CULL)?,
-            simulate_natural: Pipeline::compute(
-                ctx,
-                &field.layout,
-                module,
-                shaders::SIMULATE_CULL_NATURAL,
-            )?,
+            modules: ShaderModules::new(ctx, &spirv)?,
+            simulate: Default::default(),
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             bin_blades: Pipeline::compute(ctx, &field.layout, module, shaders::BIN_BLADES)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
@@ -61,27 +69,52 @@ impl SimulatePass {
         );
     }
 
+    /// The simulate-and-cull pipeline of the `natural` or paper look stepping with
+    /// the wind field `wind` (`sim::wind::WIND_*`), made now if no frame needed it
+    /// before.
+    fn simulate(&mut self, field: &Field, natural: bool, wind: u32) -> Result<vk::Pipeline> {
+        let kind = WindField::ALL
+            .iter()
+            .position(|&w| w as u32 == wind)
+            .with_context(|| format!("no wind field {wind}"))?;
+        let slot = &mut self.simulate[usize::from(natural)][kind];
+        if slot.is_none() {
+            let entry = if natural {
+                shaders::SIMULATE_CULL_NATURAL
+            } else {
+                shaders::SIMULATE_CULL
+            };
+            let constants = [(SPEC_WIND_FIELD, wind)];
+            let pipeline = Pipeline::compute_specialised(
+                &self.ctx,
+                &field.layout,
+                &self.modules,
+                entry,
+                &constants,
+            )?;
+            *slot = Some(pipeline);
+        }
+        Ok(slot.as_ref().context("the simulate pipeline")?.pipeline)
+    }
+
     /// Records the pass. The counter reset and the uniform update must come before,
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
     /// `natural` also dresses the visible blades for the natural look's draw; `mesh`
-    /// bins them by strip length for the mesh path (`shared::meshlet`).
+    /// bins them by strip length for the mesh path (`shared::meshlet`); the blades
+    /// step in the wind field `wind` (the frame block's `forces.wind_kind`).
     pub fn record(
-        &self,
+        &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
-        natural: bool,
-        mesh: bool,
-    ) {
+        (natural, mesh): (bool, bool),
+        wind: u32,
+    ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
-        let simulate = if natural {
-            &self.simulate_natural
-        } else {
-            &self.simulate
-        };
-        rec.bind_pipeline(compute, simulate.pipeline, layout, set);
+        let simulate = self.simulate(field, natural, wind)?;
+        rec.bind_pipeline(compute, simulate, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
         // The visible count is complete before the chunk pass reads it.
@@ -115,5 +148,6 @@ impl SimulatePass {
                 A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ | A::TRANSFER_READ,
             ),
         );
+        Ok(())
     }
 }

@@ -82,7 +82,7 @@ impl Renderer {
         self.record_tiles(rec, &uniforms, frame.push)?;
         stamp(Mark::Pyramid);
         // The caller draws its own colliders: none in the shadow map.
-        self.record_simulation(rec, &plan, frame.push, &[], &stamp);
+        self.record_simulation(rec, &plan, frame.push, &[], &stamp)?;
         let images = LoadedImages {
             color: frame.targets.color,
             depth: frame.targets.depth,

@@ -347,7 +347,7 @@ impl Renderer {
         self.record_tiles(rec, &uniforms, input.push)?;
         stamp(Mark::Pyramid);
         let balls = input.request.balls();
-        self.record_simulation(rec, &plan, input.push, balls, &stamp);
+        self.record_simulation(rec, &plan, input.push, balls, &stamp)?;
         let targets = self.targets.as_ref().context("draw targets")?;
         let images = draw_images(targets, &target, drawn, natural);
         self.draw
@@ -475,13 +475,13 @@ impl Renderer {
         push: SimulatePush,
         balls: &[glam::Vec4],
         stamp: &dyn Fn(Mark),
-    ) {
+    ) -> Result<()> {
         let natural = plan.natural();
         if natural && self.clumped != Some(plan.clumps) {
             self.simulate.record_clumps(rec, &self.field);
             self.clumped = Some(plan.clumps);
         }
-        self.record_compute(rec, self.simulate_push(push), natural, plan.mesh());
+        self.record_compute(rec, self.simulate_push(push), natural, plan.mesh())?;
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
             let ground = &self.draw.ground;
@@ -489,6 +489,7 @@ impl Renderer {
             self.shadow.record(rec, &self.field, (ground, balls), mesh);
         }
         stamp(Mark::Shadow);
+        Ok(())
     }
 
     /// After the frame of `input` was submitted: frees the overlay textures it
@@ -538,8 +539,16 @@ impl Renderer {
     }
 
     /// Simulate, cull and compact (and for the `mesh` path bin by strip length).
-    fn record_compute(&self, rec: &Recorder, push: SimulatePush, natural: bool, mesh: bool) {
-        self.simulate.record(rec, &self.field, push, natural, mesh);
+    fn record_compute(
+        &mut self,
+        rec: &Recorder,
+        push: SimulatePush,
+        natural: bool,
+        mesh: bool,
+    ) -> Result<()> {
+        let wind = self.block.forces.wind_kind;
+        self.simulate
+            .record(rec, &self.field, push, (natural, mesh), wind)
     }
 
     /// Copies the counters for the read-back, once the compute pass and the compute

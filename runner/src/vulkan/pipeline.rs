@@ -118,11 +118,42 @@ impl Pipeline {
         module: &ShaderModules,
         entry: &str,
     ) -> Result<Self> {
+        Self::compute_specialised(ctx, layout, module, entry, &[])
+    }
+
+    /// A compute pipeline with the 32-bit specialisation constants `constants`
+    /// (constant id, value).
+    pub fn compute_specialised(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        module: &ShaderModules,
+        entry: &str,
+        constants: &[(u32, u32)],
+    ) -> Result<Self> {
         let name = CString::new(entry)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
+        let size = std::mem::size_of::<u32>();
+        let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len())
+            .map(|i| {
+                vk::SpecializationMapEntry::default()
+                    .constant_id(constants[i].0)
+                    .offset((i * size) as u32)
+                    .size(size)
+            })
+            .collect();
+        let data: Vec<u8> = constants
+            .iter()
+            .flat_map(|(_, value)| value.to_ne_bytes())
+            .collect();
+        let specialisation = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&data);
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module.get(entry)?)
             .name(&name);
+        if !constants.is_empty() {
+            stage = stage.specialization_info(&specialisation);
+        }
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.layout);

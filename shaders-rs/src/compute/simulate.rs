@@ -48,7 +48,8 @@ pub struct BladeBuffers<'a> {
 /// workgroup's base (one device atomic) plus its place within the workgroup. On the
 /// mesh path each visible blade's level of detail goes to the same slot of the
 /// levels buffer and is counted by strip length, for [`bin_blades`]. The paper look's
-/// entry point: nothing of the natural look is compiled in.
+/// entry point: nothing of the natural look is compiled in, nor any wind field but
+/// `wind_field`, a specialisation constant (`layout::SPEC_WIND_FIELD`).
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(128)))]
 pub fn simulate_cull(
@@ -69,6 +70,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+    #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -106,6 +108,7 @@ pub fn simulate_cull(
         |_| (false, false),
         |_, _, blade: &Blade| *blade,
         true,
+        wind_field,
     );
 }
 
@@ -135,6 +138,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+    #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -197,6 +201,7 @@ pub fn simulate_cull_natural(
     };
     simulate_and_cull(
         id, local, workgroups, frame, push, buffers, tally, prepare, store, casts, tested, false,
+        wind_field,
     );
 }
 
@@ -231,6 +236,7 @@ fn simulate_and_cull<T: Copy + Default>(
     casts: impl Fn(&Blade) -> (bool, bool),
     tested: impl Fn(u32, u32, &Blade) -> Blade,
     motion_by_index: bool,
+    wind_field: u32,
 ) {
     let BladeBuffers {
         blades,
@@ -251,6 +257,8 @@ fn simulate_and_cull<T: Copy + Default>(
     workgroup_memory_barrier_with_group_sync();
 
     let index = flat_index(id, workgroups, CULL_WORKGROUP);
+    // The wind field this pipeline was made for (`layout::SPEC_WIND_FIELD`).
+    let forces = frame.forces.with_wind_field(wind_field);
     let grass = &frame.grass;
     let tiled = grass.tiled != 0;
     let simulated = index < grass.simulated;
@@ -311,7 +319,7 @@ fn simulate_and_cull<T: Copy + Default>(
             let strength;
             (blade, strength) = simulate(
                 (blade, held),
-                &frame.forces,
+                &forces,
                 &frame.colliders,
                 push.first_step,
                 push.steps,
@@ -319,7 +327,7 @@ fn simulate_and_cull<T: Copy + Default>(
             if fade > 0.0 {
                 let k = index % (push.tiles.per_side * push.tiles.per_side);
                 let params = &push.tiles;
-                let far = far_blade(rest_tile, k, blade.root(), params, paint, &frame.forces);
+                let far = far_blade(rest_tile, k, blade.root(), params, paint, &forces);
                 blade = fade_to_far(&blade, &far, fade);
             }
             // Only the curve moved: one 32-byte sector written back (`Blade`).

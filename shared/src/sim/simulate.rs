@@ -14,6 +14,10 @@ use spirv_std::glam::{Vec3, Vec4};
 /// makes the step overshoot.
 pub const STEP_SECONDS: f32 = 1.0 / STEPS_PER_SECOND as f32;
 
+/// The turbulent field's gust speed by default, units a second: a fresh breeze's
+/// (Beaufort 5, 8 to 10.7 m/s) travelling gusts at two thirds of the wind's speed.
+pub const DEFAULT_GUST_SPEED: f32 = 6.0;
+
 /// Fixed steps per simulated second.
 pub const STEPS_PER_SECOND: u32 = 120;
 
@@ -48,8 +52,9 @@ pub struct Environment {
     pub time: f32,
     /// 1: the far blades sway (`tiles::far_blade`); 0: they stand at rest.
     pub far_sway: u32,
-    /// Pads the block to 16 bytes.
-    pub padding: u32,
+    /// Speed in units a second at which the turbulent field's gusts travel downwind
+    /// (`wind::turbulent`).
+    pub gust_speed: f32,
 }
 
 impl Default for Environment {
@@ -66,7 +71,19 @@ impl Default for Environment {
             colliders: 0,
             time: 0.0,
             far_sway: 1,
-            padding: 0,
+            gust_speed: DEFAULT_GUST_SPEED,
+        }
+    }
+}
+
+impl Environment {
+    /// This environment with the wind field `kind`: the compute pass's, from its
+    /// specialisation constant (`gpu::layout::SPEC_WIND_FIELD`), so that its pipeline
+    /// holds only the field it steps with.
+    pub fn with_wind_field(&self, kind: u32) -> Self {
+        Self {
+            wind_kind: kind,
+            ..*self
         }
     }
 }
@@ -175,7 +192,7 @@ pub fn step_with(
 /// ground there: what the simulation steps and the settled pose (`sway`) both push
 /// with.
 pub fn wind_at(env: &Environment, root: Vec3, time: f32) -> Vec3 {
-    let wi = wind::wind_field(env.wind_kind, root, time, env.wind);
+    let wi = wind::wind_field(env.wind_kind, root, time, env.wind, env.gust_speed);
     wind::along_surface(wi, root, env.gravity_centre.truncate(), env.centre_blend)
 }
 

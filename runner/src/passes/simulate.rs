@@ -16,7 +16,8 @@ use std::sync::Arc;
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
-/// The simulate-and-cull and write-draws compute pipelines.
+/// The compute pipelines of the pass: simulate and cull, the draw commands, the mesh
+/// path's binning, the clumps.
 pub struct SimulatePass {
     ctx: Arc<Context>,
     /// The simulate-and-cull entry points' modules, for the pipelines made on first use.
@@ -30,7 +31,8 @@ pub struct SimulatePass {
 }
 
 impl SimulatePass {
-    /// Both compute pipelines.
+    /// The draw commands', binning's and clumps' pipelines, and the simulate-and-cull
+    /// modules whose pipelines are made when a frame first needs them.
     pub fn new(ctx: &Arc<Context>, module: &ShaderModules, field: &Field) -> Result<Self> {
         let entries = [shaders::SIMULATE_CULL, shaders::SIMULATE_CULL_NATURAL];
         let spirv: Vec<(&'static str, &'static [u8])> = entries

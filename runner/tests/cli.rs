@@ -544,7 +544,8 @@ fn settings_of(args: &[&str]) -> [shared::settings::Settings; 2] {
 /// A walk through every command's options. Each option a settings file can hold is in
 /// [`OPTIONS`] (a new one fails here until it is), and those said to act on the
 /// settings change them. In each command, an option that does not act there
-/// (`app::NOT_ACTING`; every one in `grass config`, which prints the defaults) is
+/// (`app::NOT_ACTING`; every one in `grass config`, which prints the defaults; the gust
+/// speed without the turbulent wind where the wind cannot change) is
 /// refused, naming itself and why, before any device is looked for; so are the field's
 /// (`--full-distance` on a stored field, `--density` on a tiled one), and the camera's
 /// options beside `--flight`, which sets the camera. What acts on the
@@ -609,6 +610,9 @@ fn every_command_s_options_act_or_are_refused() {
     let tiled = "a tiled field's blades come from its tiles";
     refused("render", "density", &["--field", "tiles"], tiled);
     refused("bench", "blades", &["--scene", "valley"], tiled);
+    let turbulent = "the gust speed acts on the turbulent wind only";
+    refused("render", "gust-speed", &[], turbulent);
+    refused("record", "gust-speed", &["--wind", "gusts"], turbulent);
     assert!(walked > 20, "only {walked} refusals walked");
     // The flight sets the camera: the camera's own options are refused beside it.
     for (command, other) in [

@@ -21,7 +21,9 @@ use crate::scene::{BladeCount, Scene, SceneFile, SceneKind};
 use crate::vulkan::Context;
 use crate::vulkan::probe::Capabilities;
 use anyhow::Result;
-use shared::settings::{Antialiasing, GrassPipeline, SHADOW_SIZE, SHADOW_SIZE_SOFTWARE, Settings};
+use shared::settings::{
+    Antialiasing, GrassPipeline, SHADOW_SIZE, SHADOW_SIZE_SOFTWARE, Settings, WindField,
+};
 
 /// Blades of the default field on a hardware GPU.
 pub const DEFAULT_BLADES_GPU: u32 = 1 << 17;
@@ -99,6 +101,15 @@ fn check_options(command: &str, common: &Common) -> Result<()> {
             "grass config prints every setting at its default (the viewer's \"save \
              settings\" writes the running ones)",
         );
+    }
+    // The viewer can switch to the turbulent wind (W, the overlay) and the soak
+    // cycles through every field: elsewhere the wind stays as given.
+    let switches_wind = command == "view" || command == "soak";
+    if !switches_wind && common.wind != WindField::Turbulent {
+        given.refuse(
+            &["gust-speed"],
+            "the gust speed acts on the turbulent wind only (--wind turbulent)",
+        )?;
     }
     let kind = common.scene_kind();
     if tiled(common, &kind) {

@@ -223,6 +223,10 @@ mod tests {
         assert!((moved - 2.0).abs() < 0.05, "moved {moved}");
     }
 
+    /// The wind at p and t is the wind 2.5 s later 2.5 s of gust travel downwind, within
+    /// 1e-5 of its strength (measured: 2.1e-6, rounding; planted fault, the gusts
+    /// travelling at 0.9 of the speed: failed); standing still, it changes by more than
+    /// half the strength (measured 1.25).
     #[test]
     fn turbulent_gusts_keep_their_shape_as_they_travel_downwind() {
         let wind = Vec4::new(0.6, 0.0, 0.8, 5.0);
@@ -235,7 +239,7 @@ mod tests {
             let now = turbulent(p, t, wind, speed);
             let later = turbulent(p + dir * speed * 2.5, t + 2.5, wind, speed);
             assert!(
-                (now - later).length() < 1e-3 * wind.w,
+                (now - later).length() < 1e-5 * wind.w,
                 "{p}: {now} then {later}"
             );
         }

@@ -442,8 +442,7 @@ impl OverlayPass {
         let quads: Vec<Vertex> = blended
             .iter()
             .flat_map(|r| {
-                let (x0, y0) = (r.offset.x, r.offset.y);
-                let (x1, y1) = (x0 + r.extent.width as i32, y0 + r.extent.height as i32);
+                let (x0, y0, x1, y1) = (r.offset.x, r.offset.y, right(*r), bottom(*r));
                 let (a, b, c, d) = (
                     corner(x0, y0),
                     corner(x1, y0),

@@ -143,27 +143,14 @@ impl<'a> Recorder<'a> {
     /// Copies the pixels of `area` of a colour image (in TRANSFER_SRC_OPTIMAL) to the
     /// same place of another of the same format (in TRANSFER_DST_OPTIMAL).
     pub fn copy_image(&self, src: vk::Image, dst: vk::Image, area: vk::Rect2D) {
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let offset = vk::Offset3D {
-            x: area.offset.x,
-            y: area.offset.y,
-            z: 0,
-        };
+        // The same subresource, place and size on both sides.
+        let at = image_region(vk::ImageAspectFlags::COLOR, area.offset, area.extent);
         let region = vk::ImageCopy::default()
-            .src_subresource(layers)
-            .src_offset(offset)
-            .dst_subresource(layers)
-            .dst_offset(offset)
-            .extent(vk::Extent3D {
-                width: area.extent.width,
-                height: area.extent.height,
-                depth: 1,
-            });
+            .src_subresource(at.image_subresource)
+            .src_offset(at.image_offset)
+            .dst_subresource(at.image_subresource)
+            .dst_offset(at.image_offset)
+            .extent(at.image_extent);
         unsafe {
             self.device.cmd_copy_image(
                 self.cmd,

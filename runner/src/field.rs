@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 use shared::Blade;
 use shared::cull::lod::blades_per_chunk;
 use shared::draw::look::clump::DressedBlade;
-use shared::draw::meshlet::{BUCKETS, StripBlade};
+use shared::draw::meshlet::{MESH_DRAWS, StripBlade};
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters;
 use shared::gpu::layout;
@@ -49,7 +49,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 25] = [
+pub const BINDINGS: [BindingSpec; 24] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -93,8 +93,6 @@ pub const BINDINGS: [BindingSpec; 25] = [
     storage_in(layout::BINDING_CLUMPS, CASTER_STAGES),
     // The mesh path's indirect draws, written by the compute pass.
     storage(layout::BINDING_MESH_DRAW),
-    // The mesh path's levels of detail, written and read by the compute pass.
-    storage(layout::BINDING_LEVELS),
     // The mesh path's binned blades, written by the compute pass.
     storage_in(layout::BINDING_BINNED, vk::ShaderStageFlags::MESH_EXT),
     // The compute rasterizer's visibility buffer (`passes::raster`), read by its
@@ -261,9 +259,9 @@ pub struct Field {
     /// The compute rasterizer's indirect dispatch and resolve draw
     /// (`layout::RASTER_DISPATCH`, `layout::RASTER_DRAW`, `layout::RASTER_PREPARE`).
     pub raster_args: Buffer,
-    /// The mesh path's level of detail per visible slot (`f32`).
-    pub levels: Buffer,
-    /// The mesh path's visible blades binned by strip length (`meshlet::StripBlade`).
+    /// The mesh path's visible blades binned by strip length (`meshlet::StripBlade`):
+    /// a slot per blade for the buckets, as many again for the blades that spill
+    /// (`meshlet::BinLayout`).
     pub binned: Buffer,
     /// The visible blades as the natural look draws them (`clump::DressedBlade`).
     pub dressed: Buffer,
@@ -413,21 +411,23 @@ impl Field {
         )?;
         let counters = device_buffer(
             "counters",
-            (counters::COUNTER_COUNT * 4) as u64,
+            (counters::COUNTER_WORDS * 4) as u64,
             U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
         )?;
+        // No layout of the binned list yet: the first frame's blades all spill.
+        pool.one_shot(|rec| rec.fill_buffer(counters.buffer, 0))?;
         let draws = device_buffer(
             "draws",
             u64::from(chunk_count + 2) * size_of::<vk::DrawIndirectCommand>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
-        // One grid per strip length, then the shadow casters' and the near ones'.
+        // One grid per bucket and the spill's, then the shadow casters' and the near
+        // ones'.
         let mesh_draw = device_buffer(
             "mesh draws",
-            u64::from(BUCKETS + 2) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
+            u64::from(MESH_DRAWS + 2) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
-        let levels = device_buffer("levels", u64::from(count) * 4, U::STORAGE_BUFFER)?;
         let raster_args = device_buffer(
             "raster arguments",
             (layout::RASTER_ARGS_WORDS * 4) as u64,
@@ -435,7 +435,7 @@ impl Field {
         )?;
         let binned = device_buffer(
             "binned blades",
-            u64::from(count) * size_of::<StripBlade>() as u64,
+            2 * u64::from(count) * size_of::<StripBlade>() as u64,
             U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
         let uniforms = device_buffer(
@@ -471,7 +471,6 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
         descriptors.write_buffer(layout::BINDING_MOTION, storage, motion.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
-        descriptors.write_buffer(layout::BINDING_LEVELS, storage, levels.buffer);
         descriptors.write_buffer(layout::BINDING_RASTER_ARGS, storage, raster_args.buffer);
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
         // A placeholder until the compute rasterizer sizes its own for the target.
@@ -503,7 +502,6 @@ impl Field {
             casters,
             mesh_draw,
             raster_args,
-            levels,
             binned,
             dressed,
             clumps,
@@ -527,10 +525,13 @@ impl Field {
     }
 
     /// Where in the mesh draws buffer the shadow casters' mesh grids are (all, then
-    /// the near cascade's): after the strip lengths'.
+    /// the near cascade's): after the grass's.
     pub fn casters_mesh_draws(&self) -> [u64; 2] {
         let size = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64;
-        [u64::from(BUCKETS) * size, u64::from(BUCKETS + 1) * size]
+        [
+            u64::from(MESH_DRAWS) * size,
+            u64::from(MESH_DRAWS + 1) * size,
+        ]
     }
 
     /// Replaces the blades by `blades` (as many as before) at rest, with no collision

@@ -55,8 +55,6 @@ pub const RESOLVE_PAPER_FS: &str = "raster::resolve_paper_fs";
 pub const RESOLVE_LOD_FS: &str = "raster::resolve_lod_fs";
 /// The resolve's fragment stage, natural look.
 pub const RESOLVE_NATURAL_FS: &str = "raster::resolve_natural_fs";
-/// Compute: the mesh path's binning of the visible blades by strip length.
-pub const BIN_BLADES: &str = "compute::draws::bin_blades";
 /// Compute: one indirect draw command per chunk of visible blades.
 pub const WRITE_DRAWS: &str = "compute::draws::write_draws";
 /// Grass vertex stage.

@@ -1,6 +1,7 @@
 //! The mesh-shader grass pipelines (`--pipeline mesh`): no task stage; the compute
 //! pass bins the visible blades by strip length (`shared::meshlet`) and writes one
-//! indirect draw per length, and each mesh workgroup of draw N builds
+//! indirect draw per bucket (and one for the blades that spilled out of theirs),
+//! and each mesh workgroup of a draw of N segments builds
 //! `meshlet::strips_per_group(N)` strips of N segments from `shared`'s Bezier and
 //! shape functions: exactly 2N triangles each, with the varyings of the tessellation
 //! path, so both paths share their fragment stages (`grass::grass_fs`,
@@ -15,13 +16,13 @@ use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::look::shadow::CASTERS_PER_GROUP;
 use shared::draw::meshlet::{
-    MAX_STRIP_VERTICES, StripBlade, bucket_segments, group_index, group_strips, strip_coord,
+    MAX_STRIP_VERTICES, StripBlade, draw_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
 use shared::draw::shape::surface_point;
 use shared::draw::temporal::BladeMotion;
+use shared::gpu::counters::draw_slice;
 use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_NEAR_CASTERS};
-use shared::gpu::counters::{bucket_base, strip_counter};
 use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
@@ -47,9 +48,10 @@ pub(crate) fn strip_outputs(
 
 /// Sets the workgroup's outputs and writes its triangles, then gives this
 /// invocation's vertex: (output index, the binned blade's slot, the binned blade,
-/// (u, v, level)), if it has one. Draw `draw` holds bucket `draw`'s strips
-/// (`meshlet::bucket_segments` segments, `top` those of the longest); workgroup `group` of the launch `groups` takes the next
-/// [`strips_per_group`] of them.
+/// (u, v, level)), if it has one. Draw `draw` holds its slice of the binned list
+/// (`counters::draw_slice`: bucket `draw`'s strips, or the spilled ones), of
+/// `meshlet::draw_segments` segments (`top` those of the longest bucket); workgroup
+/// `group` of the launch `groups` takes the next [`strips_per_group`] of them.
 #[allow(clippy::too_many_arguments)]
 fn strip_vertex(
     draw: u32,
@@ -61,16 +63,16 @@ fn strip_vertex(
     binned: &[StripBlade],
     indices: &mut [UVec3; 30],
 ) -> Option<(usize, u32, StripBlade, Vec3)> {
-    let segments = bucket_segments(draw, top);
+    let segments = draw_segments(draw, top);
     let per = strips_per_group(segments);
     let first = group_index(group, groups) * per;
-    let count = counters[strip_counter(draw)];
+    let (base, count) = draw_slice(counters, draw);
     let strips = group_strips(count, first, per);
     let (strip, k) = strip_outputs(lane, strips, segments, indices);
     if strip >= strips {
         return None;
     }
-    let at = bucket_base(counters, draw) + first + strip;
+    let at = base + first + strip;
     let blade = binned[at as usize];
     let (u, v) = strip_coord(k, blade.level);
     Some((lane as usize, at, blade, Vec3::new(u, v, blade.level)))
@@ -192,7 +194,7 @@ pub fn paper_mesh_capture(
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
-        let (_, vertex) = strip_lane(lane, bucket_segments(draw, top));
+        let (_, vertex) = strip_lane(lane, draw_segments(draw, top));
         capture[(at * MAX_STRIP_VERTICES + vertex) as usize] = clip;
     }
 }

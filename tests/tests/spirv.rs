@@ -192,7 +192,6 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::TONEMAP_FS, ExecutionModel::Fragment),
         (shaders::PAPER_MESH, ExecutionModel::MeshEXT),
         (shaders::NATURAL_MESH, ExecutionModel::MeshEXT),
-        (shaders::BIN_BLADES, ExecutionModel::GLCompute),
     ];
     for (name, model) in expected {
         let found = entries.get(name).map(|e| e.0);
@@ -406,7 +405,6 @@ fn compute_workgroup_sizes_match_the_dispatches() {
         (shaders::BUILD_HIZ, layout::HIZ_WORKGROUP),
         (shaders::COPY_BLADES, layout::COPY_WORKGROUP),
         (shaders::CLUMP_BLADES, layout::SIMULATE_WORKGROUP),
-        (shaders::BIN_BLADES, layout::CULL_WORKGROUP),
         (shaders::RASTER_FAR, layout::SIMULATE_WORKGROUP),
         (shaders::RASTER_FAR_NATURAL, layout::SIMULATE_WORKGROUP),
         (shaders::RASTER_PREPARE, layout::PREPARE_WORKGROUP),

@@ -17,7 +17,7 @@ use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules};
 use crate::vulkan::{Context, Recorder};
 use anyhow::Result;
 use ash::vk;
-use shared::draw::meshlet::BUCKETS;
+use shared::draw::meshlet::MESH_DRAWS;
 use shared::settings::{GrassPipeline, Look, View};
 use std::sync::Arc;
 
@@ -211,7 +211,7 @@ impl GrassPass {
                     _ => looks.pick(view, look),
                 };
                 bind(rec, picked, field);
-                rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, BUCKETS);
+                rec.draw_mesh_tasks_indirect(commands, field.mesh_draw.buffer, MESH_DRAWS);
             }
             _ => self.record_with(self.tess.pick(view, look), rec, field),
         }

@@ -8,7 +8,8 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SPEC_WIND_FIELD, SimulatePush,
+    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SPEC_MESH_PATH,
+    SPEC_WIND_FIELD, SimulatePush,
 };
 use shared::settings::WindField;
 use std::sync::Arc;
@@ -16,22 +17,22 @@ use std::sync::Arc;
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
-/// The compute pipelines of the pass: simulate and cull, the draw commands, the mesh
-/// path's binning, the clumps.
+/// The compute pipelines of the pass: simulate and cull (with the mesh path's
+/// binning), the draw commands, the clumps.
 pub struct SimulatePass {
     ctx: Arc<Context>,
     /// The simulate-and-cull entry points' modules, for the pipelines made on first use.
     modules: ShaderModules,
-    /// The simulate-and-cull pipelines by look (paper, natural) and wind field
-    /// (`layout::SPEC_WIND_FIELD`), each made when a frame first needs it.
-    simulate: [[Option<Pipeline>; WindField::ALL.len()]; 2],
+    /// The simulate-and-cull pipelines by look (paper, natural), path (tessellation,
+    /// mesh: `layout::SPEC_MESH_PATH`) and wind field (`layout::SPEC_WIND_FIELD`),
+    /// each made when a frame first needs it.
+    simulate: [[[Option<Pipeline>; WindField::ALL.len()]; 2]; 2],
     write_draws: Pipeline,
-    bin_blades: Pipeline,
     clumps: Pipeline,
 }
 
 impl SimulatePass {
-    /// The draw commands', binning's and clumps' pipelines, and the simulate-and-cull
+    /// The draw commands' and clumps' pipelines, and the simulate-and-cull
     /// modules whose pipelines are made when a frame first needs them.
     pub fn new(ctx: &Arc<Context>, module: &ShaderModules, field: &Field) -> Result<Self> {
         let entries = [shaders::SIMULATE_CULL, shaders::SIMULATE_CULL_NATURAL];
@@ -48,7 +49,6 @@ impl SimulatePass {
             modules: ShaderModules::new(ctx, &spirv)?,
             simulate: Default::default(),
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
-            bin_blades: Pipeline::compute(ctx, &field.layout, module, shaders::BIN_BLADES)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
         })
     }
@@ -71,22 +71,27 @@ impl SimulatePass {
         );
     }
 
-    /// The simulate-and-cull pipeline of the `natural` or paper look stepping with
-    /// the wind field `wind` (`sim::wind::WIND_*`), made now if no frame needed it
-    /// before.
-    fn simulate(&mut self, field: &Field, natural: bool, wind: u32) -> Result<vk::Pipeline> {
+    /// The simulate-and-cull pipeline of the `natural` or paper look, binning for the
+    /// `mesh` path or not, stepping with the wind field `wind` (`sim::wind::WIND_*`),
+    /// made now if no frame needed it before.
+    fn simulate(
+        &mut self,
+        field: &Field,
+        (natural, mesh): (bool, bool),
+        wind: u32,
+    ) -> Result<vk::Pipeline> {
         let kind = WindField::ALL
             .iter()
             .position(|&w| w as u32 == wind)
             .with_context(|| format!("no wind field {wind}"))?;
-        let slot = &mut self.simulate[usize::from(natural)][kind];
+        let slot = &mut self.simulate[usize::from(natural)][usize::from(mesh)][kind];
         if slot.is_none() {
             let entry = if natural {
                 shaders::SIMULATE_CULL_NATURAL
             } else {
                 shaders::SIMULATE_CULL
             };
-            let constants = [(SPEC_WIND_FIELD, wind)];
+            let constants = [(SPEC_WIND_FIELD, wind), (SPEC_MESH_PATH, u32::from(mesh))];
             let pipeline = Pipeline::compute_specialised(
                 &self.ctx,
                 &field.layout,
@@ -103,19 +108,20 @@ impl SimulatePass {
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
     /// `natural` also dresses the visible blades for the natural look's draw; `mesh`
-    /// bins them by strip length for the mesh path (`shared::meshlet`); the blades
-    /// step in the wind field `wind` (the frame block's `forces.wind_kind`).
+    /// bins them by strip length for the mesh path (`shared::meshlet`; the frame
+    /// block's `grass.pipeline`); the blades step in the wind field `wind` (the frame
+    /// block's `forces.wind_kind`).
     pub fn record(
         &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
-        (natural, mesh): (bool, bool),
+        look_and_path: (bool, bool),
         wind: u32,
     ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
-        let simulate = self.simulate(field, natural, wind)?;
+        let simulate = self.simulate(field, look_and_path, wind)?;
         rec.bind_pipeline(compute, simulate, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
@@ -131,12 +137,6 @@ impl SimulatePass {
         rec.bind_pipeline(compute, self.write_draws.pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&chunks));
         rec.dispatch(self.workgroups(field.chunk_count, CHUNK_WORKGROUP));
-        if mesh {
-            // Reads the counts the chunk pass reads; neither writes what the other
-            // reads. One thread per slot the visible list can have.
-            rec.bind_pipeline(compute, self.bin_blades.pipeline, layout, set);
-            rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
-        }
         // For the draws, a capture's copy, and the compute passes after the draw (the
         // rasterizer and the natural look's shading read the far count's arguments).
         rec.memory_barrier(

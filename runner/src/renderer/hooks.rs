@@ -32,7 +32,7 @@ impl Renderer {
         let uniforms = self.block;
         self.begin_compute(rec, &uniforms);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
-        self.record_compute(rec, self.simulate_push(push), false, plan.mesh())?;
+        self.record_compute(rec, self.simulate_push(push), false)?;
         self.copy_counters(rec, queries);
         Ok(())
     }

@@ -33,7 +33,8 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
 use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
-use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::gpu::counters;
+use shared::gpu::layout::{self, FrameUniforms, SimulatePush};
 use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
@@ -481,7 +482,7 @@ impl Renderer {
             self.simulate.record_clumps(rec, &self.field);
             self.clumped = Some(plan.clumps);
         }
-        self.record_compute(rec, self.simulate_push(push), natural, plan.mesh())?;
+        self.record_compute(rec, self.simulate_push(push), natural)?;
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
             let ground = &self.draw.ground;
@@ -528,7 +529,10 @@ impl Renderer {
             (FRAME_STAGES, A::MEMORY_READ | A::MEMORY_WRITE),
         );
         rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
-        rec.fill_buffer(field.counters.buffer, 0);
+        // The counters, not the binned list's layout after them, which the frame
+        // before left for this one.
+        let counters = (counters::COUNTER_COUNT * 4) as u64;
+        rec.fill_buffer_start(field.counters.buffer, counters, 0);
         rec.memory_barrier(
             (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
             (
@@ -538,15 +542,11 @@ impl Renderer {
         );
     }
 
-    /// Simulate, cull and compact (and for the `mesh` path bin by strip length).
-    fn record_compute(
-        &mut self,
-        rec: &Recorder,
-        push: SimulatePush,
-        natural: bool,
-        mesh: bool,
-    ) -> Result<()> {
+    /// Simulate, cull and compact (and on the mesh path bin by strip length), with
+    /// the frame block's wind field and path.
+    fn record_compute(&mut self, rec: &Recorder, push: SimulatePush, natural: bool) -> Result<()> {
         let wind = self.block.forces.wind_kind;
+        let mesh = self.block.grass.pipeline == layout::PIPELINE_MESH;
         self.simulate
             .record(rec, &self.field, push, (natural, mesh), wind)
     }
@@ -559,11 +559,9 @@ impl Renderer {
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
             (S::COPY, A::TRANSFER_READ),
         );
-        rec.copy_buffer(
-            field.counters.buffer,
-            queries.counters.buffer,
-            field.counters.size,
-        );
+        // The counters, not the binned list's layout after them.
+        let counters = (counters::COUNTER_COUNT * 4) as u64;
+        rec.copy_buffer(field.counters.buffer, queries.counters.buffer, counters);
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 }

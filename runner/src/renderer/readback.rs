@@ -26,10 +26,14 @@ pub struct CullCounts {
     pub distance: u32,
     /// Removed by the occlusion test.
     pub occlusion: u32,
-    /// Blades the pass looked at, counted on the GPU (the field's size).
+    /// Blades the pass looked at, counted on the GPU: each adds to one outcome's
+    /// count (drawn, removed by a test, or far), and their sum is the field's size.
     pub examined: u32,
     /// Visible blades drawn by the compute rasterizer (not in `drawn`).
     pub compute: u32,
+    /// Of the mesh path's, the blades their bucket's part of the binned list had no
+    /// room for (`meshlet::BinLayout`), drawn at the most segments.
+    pub spilled: u32,
     /// Pixels the compute rasterizer's blades covered on the target.
     pub raster_covered: u32,
     /// Of those, the pixels it wrote (in front of the hardware's depth and of the far
@@ -53,8 +57,15 @@ impl CullCounts {
             frustum: c[counters::COUNTER_FRUSTUM],
             distance: c[counters::COUNTER_DISTANCE],
             occlusion: c[counters::COUNTER_OCCLUSION],
-            examined: c[counters::COUNTER_EXAMINED],
+            // Each blade the pass looks at lands in exactly one of these.
+            examined: c[counters::COUNTER_VISIBLE]
+                + c[counters::COUNTER_ORIENTATION]
+                + c[counters::COUNTER_FRUSTUM]
+                + c[counters::COUNTER_DISTANCE]
+                + c[counters::COUNTER_OCCLUSION]
+                + c[counters::COUNTER_FAR],
             compute: c[counters::COUNTER_FAR],
+            spilled: c[counters::COUNTER_SPILLED],
             raster_covered: c[counters::COUNTER_RASTER_COVERED],
             raster_written: c[counters::COUNTER_RASTER_WRITTEN],
             far_tiles: c[counters::COUNTER_TILES],

@@ -94,6 +94,14 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Fills the first `bytes` of `buffer` (a multiple of 4) with `value`.
+    pub fn fill_buffer_start(&self, buffer: vk::Buffer, bytes: u64, value: u32) {
+        unsafe {
+            self.device
+                .cmd_fill_buffer(self.cmd, buffer, 0, bytes, value)
+        };
+    }
+
     /// Clears the whole depth `image` (in `TRANSFER_DST_OPTIMAL`) to `depth`.
     pub fn clear_depth_image(&self, image: vk::Image, depth: f32) {
         let range = subresource_range(vk::ImageAspectFlags::DEPTH);

@@ -1,107 +1,31 @@
-//! The indirect draws: the mesh path's binning of the visible blades by strip length,
-//! and the draw commands of every path.
+//! The indirect draws of every path.
 
 use shared::cull::lod::chunk_range;
-use shared::draw::look::LOOK_NATURAL;
 use shared::draw::look::shadow::caster_grid;
-use shared::draw::meshlet::{
-    BUCKETS, StripBlade, bucket_segments, mesh_grid, packed_bucket, top_segments, unpack_level,
-};
+use shared::draw::meshlet::{MESH_DRAWS, draw_segments, mesh_grid, top_segments};
 use shared::draw::raster::{RASTER_GRID_WIDTH, prepare_dispatch, raster_dispatch};
 use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_FAR, COUNTER_NEAR_CASTERS, COUNTER_VISIBLE};
-use shared::gpu::counters::{binned_counter, bucket_base, strip_counter};
+use shared::gpu::counters::{draw_slice, lay_out_draws};
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, FrameUniforms, PREPARE_WORKGROUP, RASTER_DISPATCH,
-    RASTER_DRAW, RASTER_PREPARE, SIMULATE_WORKGROUP, flat_index,
+    CHUNK_WORKGROUP, ChunkPush, FrameUniforms, PREPARE_WORKGROUP, RASTER_DISPATCH, RASTER_DRAW,
+    RASTER_PREPARE, SIMULATE_WORKGROUP, flat_index,
 };
-use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::UVec3;
 use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectCommandEXT};
-use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
-
-/// The mesh path's binning, one thread per slot of the visible list: each drawn blade
-/// goes to the list of its strip length (`shared::meshlet`: bucket N after the
-/// shorter strips), with what the mesh stage reads it from and its level. As in
-/// [`simulate_cull`], places are counted in workgroup memory and each workgroup takes
-/// its slots of a bucket with one device atomic: a device atomic per blade on nine
-/// counters cost 1 ms at 4 M blades on the NVIDIA H100.
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(128)))]
-pub fn bin_blades(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(local_invocation_index)] local: u32,
-    #[spirv(num_workgroups)] workgroups: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &mut [StripBlade],
-    #[spirv(workgroup)] tally: &mut [u32; BUCKETS as usize],
-) {
-    let slot = flat_index(id, workgroups, CULL_WORKGROUP);
-    // A workgroup past the end of the list has nothing to bin (the same for all its
-    // threads, so none of them waits at a barrier for the others): one thread per
-    // slot the list can have, of which most are past its end.
-    if slot - local >= counters[COUNTER_VISIBLE] {
-        return;
-    }
-    if local < BUCKETS {
-        tally[local as usize] = 0;
-    }
-    workgroup_memory_barrier_with_group_sync();
-    let mut bucket = BUCKETS;
-    let mut level = 0.0;
-    let mut place = 0;
-    if slot < counters[COUNTER_VISIBLE] {
-        let packed = levels[slot as usize];
-        level = unpack_level(packed).0;
-        if level > 0.0 {
-            bucket = packed_bucket(packed, frame.lod.most);
-            place = unsafe {
-                atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                    &mut tally[bucket as usize],
-                )
-            };
-        }
-    }
-    workgroup_memory_barrier_with_group_sync();
-    // Thread k takes the workgroup's slots of bucket k and keeps their start.
-    if local < BUCKETS {
-        let count = tally[local as usize];
-        if count > 0 {
-            let first = unsafe {
-                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                    &mut counters[binned_counter(local)],
-                    count,
-                )
-            };
-            tally[local as usize] = bucket_base(counters, local) + first;
-        }
-    }
-    workgroup_memory_barrier_with_group_sync();
-    if bucket < BUCKETS {
-        let source = if frame.look.style == LOOK_NATURAL {
-            slot
-        } else {
-            visible[slot as usize]
-        };
-        let at = tally[bucket as usize] + place;
-        binned[at as usize] = StripBlade { source, level };
-    }
-}
 
 /// One thread per chunk: the draw command of its slice of the visible blades; the
 /// first also writes the shadow casters' draws (after the chunks'), the mesh path's
-/// draws, one grid per strip length, and the compute rasterizer's preparation,
-/// dispatch and resolve.
+/// draws (one grid per bucket of strips and the spill's, their slices of the binned
+/// list, and the next frame's layout of it: `counters::lay_out_draws`), and the
+/// compute rasterizer's preparation, dispatch and resolve.
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64)))]
 pub fn write_draws(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(num_workgroups)] workgroups: UVec3,
     #[spirv(push_constant)] push: &ChunkPush,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] draws: &mut [DrawIndirectCommand],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 12)]
     mesh_draws: &mut [DrawMeshTasksIndirectCommandEXT],
@@ -128,9 +52,9 @@ pub fn write_draws(
             first_instance: 0,
         };
         // The same casters through the mesh path, a triangle a lane.
-        let buckets = BUCKETS as usize;
-        mesh_draws[buckets] = caster_grid(counters[COUNTER_CASTERS]).into();
-        mesh_draws[buckets + 1] = caster_grid(counters[COUNTER_NEAR_CASTERS]).into();
+        let grass_draws = MESH_DRAWS as usize;
+        mesh_draws[grass_draws] = caster_grid(counters[COUNTER_CASTERS]).into();
+        mesh_draws[grass_draws + 1] = caster_grid(counters[COUNTER_NEAR_CASTERS]).into();
         // The rasterizer's dispatch and the resolve's three vertices, if there are far
         // blades.
         let far = counters[COUNTER_FAR];
@@ -147,11 +71,12 @@ pub fn write_draws(
         raster_args[RASTER_PREPARE] = x;
         raster_args[RASTER_PREPARE + 1] = y;
         raster_args[RASTER_PREPARE + 2] = 1;
+        lay_out_draws(counters, frame.grass.blades);
         let mut draw = 0;
         let top = top_segments(frame.lod.most);
-        while draw < BUCKETS {
-            let n = bucket_segments(draw, top);
-            mesh_draws[draw as usize] = mesh_grid(counters[strip_counter(draw)], n).into();
+        while draw < MESH_DRAWS {
+            let (_, strips) = draw_slice(counters, draw);
+            mesh_draws[draw as usize] = mesh_grid(strips, draw_segments(draw, top)).into();
             draw += 1;
         }
     }

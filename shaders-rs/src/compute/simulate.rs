@@ -7,17 +7,15 @@ use shared::cull::lod::blade_level;
 use shared::draw::look::clump::{Clump, DressedBlade, caster_blade, dress};
 use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::shadow::{casts_shadow, in_shadow_map};
-use shared::draw::meshlet::{packed_bucket, visible_level};
+use shared::draw::meshlet::{BUCKETS, BinPlaces, StripBlade, visible_bucket};
 use shared::draw::raster::is_far;
 use shared::draw::temporal::BladeMotion;
-use shared::gpu::counters::COUNTER_TILE_BLADES;
-use shared::gpu::counters::strip_counter;
 use shared::gpu::counters::{
-    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_EXAMINED, COUNTER_FAR, COUNTER_NEAR_CASTERS,
-    COUNTER_VISIBLE, far_slot,
+    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_FAR, COUNTER_NEAR_CASTERS, COUNTER_SPILLED,
+    COUNTER_STRIPS, COUNTER_TILE_BLADES, COUNTER_VISIBLE, bin_part, far_slot, strip_counter,
 };
 use shared::gpu::layout::IDS_WORDS;
-use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, PIPELINE_MESH, SimulatePush, flat_index};
+use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::simulate::simulate;
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
@@ -33,7 +31,7 @@ pub struct BladeBuffers<'a> {
     counters: &'a mut [u32],
     strengths: &'a mut [f32],
     pyramid: &'a [f32],
-    levels: &'a mut [f32],
+    binned: &'a mut [StripBlade],
     ids: &'a [u32],
     tiles: &'a [u32],
     paint: &'a [u32],
@@ -46,10 +44,12 @@ pub struct BladeBuffers<'a> {
 /// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
 /// device counter once; a visible blade's index (4 bytes, not its 64) lands at the
 /// workgroup's base (one device atomic) plus its place within the workgroup. On the
-/// mesh path each visible blade's level of detail goes to the same slot of the
-/// levels buffer and is counted by strip length, for [`bin_blades`]. The paper look's
+/// mesh path each visible blade is binned by strip length the same way, into its
+/// bucket's part of the binned list as the frame before laid it out
+/// (`shared::draw::meshlet::BinLayout`), or past it into the spill half. The paper look's
 /// entry point: nothing of the natural look is compiled in, nor any wind field but
-/// `wind_field`, a specialisation constant (`layout::SPEC_WIND_FIELD`).
+/// `wind_field`, a specialisation constant (`layout::SPEC_WIND_FIELD`), and the
+/// mesh path's binning only where `mesh_path` (`layout::SPEC_MESH_PATH`).
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(128)))]
 pub fn simulate_cull(
@@ -63,14 +63,16 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] strengths: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &mut [StripBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+    #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
+    #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -78,14 +80,14 @@ pub fn simulate_cull(
         counters,
         strengths,
         pyramid,
-        levels,
+        binned,
         ids,
         tiles,
         paint,
         casters,
         motion,
     };
-    let mesh = frame.grass.pipeline == PIPELINE_MESH;
+    let mesh = mesh_path != 0;
     let prepare = |_: u32, _: u32, kept: &Blade, before: BladeMotion, _: &[u32], _: Vec2| {
         let level = if mesh {
             blade_level(kept, &frame.lod, &frame.camera, frame.grass.shape)
@@ -102,13 +104,13 @@ pub fn simulate_cull(
         frame,
         push,
         buffers,
-        tally,
+        (tally, places),
         prepare,
         |_, _| {},
         |_| (false, false),
         |_, _, blade: &Blade| *blade,
         true,
-        wind_field,
+        (wind_field, mesh_path),
     );
 }
 
@@ -131,14 +133,16 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] pyramid: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] dressed: &mut [DressedBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 13)] levels: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 14)] binned: &mut [StripBlade],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
+    #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
+    #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -146,7 +150,7 @@ pub fn simulate_cull_natural(
         counters,
         strengths,
         pyramid,
-        levels,
+        binned,
         ids,
         tiles,
         paint,
@@ -177,8 +181,7 @@ pub fn simulate_cull_natural(
                 tint.w,
             );
             let (mask, _) = unpack_coverage(tint.w);
-            let mesh = frame.grass.pipeline == PIPELINE_MESH;
-            let level = if mesh && mask != 0 {
+            let level = if mesh_path != 0 && mask != 0 {
                 blade_level(&blade, &frame.lod, &frame.camera, frame.grass.shape)
             } else {
                 0.0
@@ -200,8 +203,19 @@ pub fn simulate_cull_natural(
         caster_blade(blade, &clump, id, frame.look.seed)
     };
     simulate_and_cull(
-        id, local, workgroups, frame, push, buffers, tally, prepare, store, casts, tested, false,
-        wind_field,
+        id,
+        local,
+        workgroups,
+        frame,
+        push,
+        buffers,
+        (tally, places),
+        prepare,
+        store,
+        casts,
+        tested,
+        false,
+        (wind_field, mesh_path),
     );
 }
 
@@ -211,9 +225,9 @@ pub fn simulate_cull_natural(
 /// of the closure as NaN)
 /// and gives what `store(slot, ..)` writes once its slot of the visible list is
 /// known, the blade's control points as drawn the frame before (written to the motion
-/// buffer while temporal anti-aliasing is on, at the blade's index where
-/// `motion_by_index`, else at its slot) and its level of detail on the mesh path (0:
-/// not drawn).
+/// buffer while temporal anti-aliasing is on) and its level of detail on the mesh path
+/// (0: not drawn). Where `by_index` (the paper look) the motion goes to the blade's
+/// index and a strip names the blade by its index, else both by its visible slot.
 /// Every blade in the field that `casts` says casts a shadow, whatever the camera's
 /// tests decide, goes to the shadow casters' list, and to the near cascade's where
 /// it says so too. The culling tests take the blade as `tested(index, id, blade)`
@@ -230,13 +244,16 @@ fn simulate_and_cull<T: Copy + Default>(
     frame: &FrameUniforms,
     push: &SimulatePush,
     buffers: BladeBuffers,
-    tally: &mut [u32; COUNTER_COUNT],
+    (tally, places): (
+        &mut [u32; COUNTER_COUNT],
+        &mut [BinPlaces; BUCKETS as usize],
+    ),
     mut prepare: impl FnMut(u32, u32, &Blade, BladeMotion, &[u32], Vec2) -> (T, BladeMotion, f32),
     mut store: impl FnMut(usize, T),
     casts: impl Fn(&Blade) -> (bool, bool),
     tested: impl Fn(u32, u32, &Blade) -> Blade,
-    motion_by_index: bool,
-    wind_field: u32,
+    by_index: bool,
+    (wind_field, mesh_path): (u32, u32),
 ) {
     let BladeBuffers {
         blades,
@@ -244,7 +261,7 @@ fn simulate_and_cull<T: Copy + Default>(
         counters,
         strengths,
         pyramid,
-        levels,
+        binned,
         ids,
         tiles,
         paint,
@@ -264,7 +281,8 @@ fn simulate_and_cull<T: Copy + Default>(
     let simulated = index < grass.simulated;
     let mut in_field = index < grass.blades
         && (simulated || (tiled && index - grass.simulated < counters[COUNTER_TILE_BLADES]));
-    let mesh = grass.pipeline == PIPELINE_MESH;
+    // The path this pipeline was made for (`layout::SPEC_MESH_PATH`).
+    let mesh = mesh_path != 0;
     let mut outcome = KEPT;
     let mut far = false;
     let mut place = 0;
@@ -273,6 +291,9 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut prepared = T::default();
     let mut moved = BladeMotion::default();
     let mut level = 0.0;
+    // The mesh path's bucket (`BUCKETS`: not binned) and place among the
+    // workgroup's blades of that bucket.
+    let (mut bucket, mut strip_place) = (BUCKETS, 0);
     let mut name = index;
     // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`; a
     // stored one's: its root over the map square).
@@ -377,36 +398,41 @@ fn simulate_and_cull<T: Copy + Default>(
                 &mut tally[counter],
             )
         };
-        unsafe {
-            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                &mut tally[COUNTER_EXAMINED],
-            );
-        }
         if outcome == KEPT {
             (prepared, moved, level) = prepare(index, name, &blade, before, paint, map_at);
             if mesh && !far && level > 0.0 {
-                // Its bucket: its strip length, and near the camera its band, from
-                // the level as the binning pass reads it back.
-                level = visible_level(level, &blade, frame.camera.position);
-                let bucket = packed_bucket(level, frame.lod.most);
-                unsafe {
-                    atomic_i_increment::<
-                        u32,
-                        { Scope::Workgroup as u32 },
-                        { Semantics::NONE.bits() },
-                    >(&mut tally[strip_counter(bucket)]);
-                }
+                // Its bucket: its strip length, and near the camera its band.
+                let camera = frame.camera.position;
+                bucket = visible_bucket(level, &blade, camera, frame.lod.most);
+                strip_place = unsafe {
+                    atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                        &mut tally[strip_counter(bucket)],
+                    )
+                };
             }
         }
     }
     workgroup_memory_barrier_with_group_sync();
 
-    // Thread k adds tally k to the device counter k; the visible and far ones keep
-    // the base of the workgroup's slots in the tally for the others.
+    // Thread k adds tally k to the device counter k; the visible, far and casters'
+    // keep the base of the workgroup's slots in the tally for the others, the
+    // buckets' their places in `places`.
     if local < COUNTER_COUNT as u32 {
         let k = local as usize;
         let count = tally[k];
         if count > 0 {
+            // A bucket's part of the binned list, read before the atomic, so that the
+            // two wait together.
+            let strips = mesh && (COUNTER_STRIPS..COUNTER_SPILLED).contains(&k);
+            let b = if strips {
+                (k - COUNTER_STRIPS) as u32
+            } else {
+                0
+            };
+            let (mut start, mut room) = (0, 0);
+            if strips {
+                (start, room) = bin_part(counters, b, grass.blades);
+            }
             let base = unsafe {
                 atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
                     &mut counters[k],
@@ -419,6 +445,21 @@ fn simulate_and_cull<T: Copy + Default>(
                 || k == COUNTER_NEAR_CASTERS
             {
                 tally[k] = base;
+            } else if strips {
+                // A bucket's blades: those its part has room for, the rest to the
+                // spill half.
+                let fit = BinPlaces::fitting(count, base, room);
+                let spilled = if count > fit {
+                    unsafe {
+                        atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                            &mut counters[COUNTER_SPILLED],
+                            count - fit,
+                        )
+                    }
+                } else {
+                    0
+                };
+                places[b as usize] = BinPlaces::new(fit, (start, base), (grass.blades, spilled));
             }
         }
     }
@@ -433,14 +474,12 @@ fn simulate_and_cull<T: Copy + Default>(
         visible[slot] = index;
         store(slot, prepared);
         if frame.temporal.on != 0 {
-            motion[if motion_by_index {
-                index as usize
-            } else {
-                slot
-            }] = moved;
+            motion[if by_index { index as usize } else { slot }] = moved;
         }
-        if mesh && !far {
-            levels[slot] = level;
+        if bucket < BUCKETS {
+            let at = places[bucket as usize].slot(strip_place);
+            let source = if by_index { index } else { slot as u32 };
+            binned[at as usize] = StripBlade { source, level };
         }
     }
     if caster {

@@ -7,15 +7,18 @@
 //! v = j / L (the last at 1), so the last segment grows from nothing as L passes a
 //! whole number: the shape morphs continuously, as fractional-odd spacing does.
 //!
-//! The compute pass, which knows each visible blade's level, counts the blades of each
-//! strip length N and bins them into one list per bucket ([`BUCKETS`] of them, each
-//! after the buckets before it, [`bucket_base`](crate::gpu::counters::bucket_base)): one per N, the longest strips (the
-//! nearest blades, at the level's cap) split further into [`NEAR_BANDS`] bands of
-//! distance ([`bucket_of`]). One indirect draw per bucket, nearest first, then
-//! launches mesh workgroups of [`strips_per_group`] strips each: every workgroup
-//! knows its strips from its index alone, with no task stage, no packing and no
-//! search. On the NVIDIA H100, which runs graphics stages on
-//! a few of its SMs, the work of a task stage costs most there (performance notes,
+//! The compute pass, which knows each visible blade's level, bins the visible blades
+//! as it culls them into one list per bucket ([`BUCKETS`] of them): one per strip
+//! length N, the longest strips (the nearest blades, at the level's cap) split further
+//! into [`NEAR_BANDS`] bands of distance ([`bucket_of`]). The buckets' parts of the
+//! binned list are laid out before the frame's counts are known, from the frame
+//! before's ([`BinLayout`]), so the pass writes each blade to its slot at once; a
+//! blade its part has no room for spills to the list's second half, drawn at the most
+//! segments ([`SPILL_DRAW`]), which draws its strip unchanged. One indirect draw per
+//! bucket, nearest first, then the spill's, launches mesh workgroups of
+//! [`strips_per_group`] strips each: every workgroup knows its strips from its index
+//! alone, with no task stage, no packing and no search. On the NVIDIA H100, which
+//! runs graphics stages on a few of its SMs, the work of a task stage costs most there (performance notes,
 //! attempt 12).
 
 use crate::Blade;
@@ -46,51 +49,32 @@ pub const NEAR_BANDS: u32 = 8;
 /// Buckets, one indirect draw each: strips of 1 to [`MAX_SEGMENTS`] segments, those
 /// of the most segments in [`NEAR_BANDS`] bands ([`bucket_of`]).
 pub const BUCKETS: u32 = MAX_SEGMENTS + NEAR_BANDS - 1;
-/// A visible blade's packed level ([`pack_level`]): its band times this, plus the
-/// level (at most `lod::MAX_LEVEL`).
-pub const BAND_STRIDE: f32 = 16.0;
+/// The mesh draw of the blades that spilled out of their bucket's part of the binned
+/// list ([`BinLayout`]), after the buckets' draws: strips of the most segments
+/// ([`draw_segments`]).
+pub const SPILL_DRAW: u32 = BUCKETS;
+/// The grass's mesh draws: one per bucket and the spill's.
+pub const MESH_DRAWS: u32 = BUCKETS + 1;
 
 /// The band of a blade `distance` from the camera and `height` tall: 0 within
 /// [`FIRST_BAND`] heights, each next band √2 times as far, the last beyond
 /// ([`NEAR_BANDS`]).
 pub fn near_band(distance: f32, height: f32) -> u32 {
     let ratio = distance / height.max(1e-6);
-    let (mut band, mut edge) = (0, FIRST_BAND);
-    while band < NEAR_BANDS - 1 && ratio >= edge {
-        band += 1;
-        edge *= core::f32::consts::SQRT_2;
-    }
-    band
+    // Band k ≥ 1 begins at FIRST_BAND·√2^(k − 1): k = ⌊2·log2(ratio / FIRST_BAND)⌋ + 1,
+    // one logarithm rather than a loop over the edges.
+    let band = (2.0 * (ratio / FIRST_BAND).log2()).floor() + 1.0;
+    clamp_unchecked(band, 0.0, (NEAR_BANDS - 1) as f32) as u32
 }
 
 /// The nearest band's reach, in blade heights ([`near_band`]).
 pub const FIRST_BAND: f32 = 1.5;
 
-/// A visible blade's `level` and `band` as the levels buffer holds them (one float;
-/// the level comes back within 4 ulps of 16·band, about 4e-6 at band 3, which
-/// [`unpack_level`]'s readers all take as the level).
-pub fn pack_level(level: f32, band: u32) -> f32 {
-    level + BAND_STRIDE * band as f32
-}
-
-/// [`pack_level`]'s inverse: (level, band).
-pub fn unpack_level(packed: f32) -> (f32, u32) {
-    let band = (packed / BAND_STRIDE) as u32;
-    (packed - BAND_STRIDE * band as f32, band)
-}
-
-/// A visible blade's `level` packed with its band of distance from `camera`
-/// ([`near_band`], [`pack_level`]): what the levels buffer carries.
-pub fn visible_level(level: f32, blade: &Blade, camera: Vec3) -> f32 {
+/// The bucket of a visible blade at `level` seen from `camera`, at a level cap of
+/// `most`: its strip length and its band of distance ([`near_band`], [`bucket_of`]).
+pub fn visible_bucket(level: f32, blade: &Blade, camera: Vec3, most: f32) -> u32 {
     let distance = (blade.root() - camera).length();
-    pack_level(level, near_band(distance, blade.height()))
-}
-
-/// The bucket of a `packed` level ([`visible_level`]) at a level cap of `most`: its
-/// strip length and its band ([`bucket_of`]). The counting and the binning both read
-/// it so, from the packed level, so they agree.
-pub fn packed_bucket(packed: f32, most: f32) -> u32 {
-    let (level, band) = unpack_level(packed);
+    let band = near_band(distance, blade.height());
     bucket_of(strip_segments(level), band, top_segments(most))
 }
 
@@ -121,6 +105,83 @@ pub fn bucket_segments(bucket: u32, top: u32) -> u32 {
         top - 1 - (bucket - NEAR_BANDS)
     } else {
         top + 1 + (bucket - (NEAR_BANDS + top - 1))
+    }
+}
+
+/// Segments of the strips of mesh draw `draw`: its bucket's ([`bucket_segments`]), or
+/// for [`SPILL_DRAW`] the most any strip has: a strip of ⌈L⌉ segments drawn with more
+/// is the same strip, its rows past the tip at the tip ([`strip_row`]), the triangles
+/// between them empty.
+pub fn draw_segments(draw: u32, top: u32) -> u32 {
+    if draw == SPILL_DRAW {
+        MAX_SEGMENTS
+    } else {
+        bucket_segments(draw, top)
+    }
+}
+
+/// The binned list's layout: bucket b's part is slots `start(b) .. start(b + 1)` of
+/// the list's first half (`counters::BIN_LAYOUT`), set by the frame before from its
+/// counts ([`BinLayout::room`]); the second half holds the blades that spilled.
+pub struct BinLayout;
+
+impl BinLayout {
+    /// Slots the next frame gives a bucket that held `count` of this frame's `total`
+    /// binned blades, in a list of `blades` slots: its count, and of the slots left
+    /// over, half shared evenly among the buckets and half by count, so that a
+    /// bucket that grows a little, or one empty this frame, finds room. The rooms add
+    /// up to at most `blades` but for float rounding, which the caller clamps.
+    pub fn room(count: u32, total: u32, blades: u32) -> u32 {
+        // Not `saturating_sub`, which rust-gpu does not compile.
+        let spare = blades.max(total) - total;
+        let even = spare / 2 / BUCKETS;
+        let by_count = ((spare / 2) as f32 * (count as f32 / total.max(1) as f32)) as u32;
+        count + even + by_count
+    }
+}
+
+/// Where one workgroup's blades of one bucket go in the binned list, by their
+/// `place` among them: the first `fit` to their bucket's part from `base` on, the
+/// others to the spill half (`spill` + place, `spill` already less `fit`).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct BinPlaces {
+    /// Blades that fit in the bucket's part.
+    pub fit: u32,
+    /// Slot of the first of them.
+    pub base: u32,
+    /// Slot of the first spilled blade less `fit` (wrapping).
+    pub spill: u32,
+}
+
+impl BinPlaces {
+    /// Of a workgroup's `count` blades of a bucket whose part has `room` slots, those
+    /// that fit after the `first` slots earlier workgroups took.
+    pub fn fitting(count: u32, first: u32, room: u32) -> u32 {
+        if room > first {
+            count.min(room - first)
+        } else {
+            0
+        }
+    }
+
+    /// The places of `fit` blades fitting from slot `first` of a part starting at
+    /// slot `start`, the rest after the `spilled` blades of the spill half, which
+    /// starts at slot `spill_start`.
+    pub fn new(fit: u32, (start, first): (u32, u32), (spill_start, spilled): (u32, u32)) -> Self {
+        Self {
+            fit,
+            base: start + first,
+            spill: (spill_start + spilled).wrapping_sub(fit),
+        }
+    }
+
+    /// The slot of the blade at `place` among the workgroup's of this bucket.
+    pub fn slot(&self, place: u32) -> u32 {
+        if place < self.fit {
+            self.base + place
+        } else {
+            self.spill.wrapping_add(place)
+        }
     }
 }
 
@@ -279,9 +340,6 @@ mod tests {
         .map(|&d| near_band(d, h))
         .collect();
         assert_eq!(bands, [0, 0, 1, 2, 3, 3, 4, 5, 6, 6, 7, 7]);
-        for (level, band) in [(1.0, 0), (9.0, 3), (4.25, 2), (0.0, 0)] {
-            assert_eq!(unpack_level(pack_level(level, band)), (level, band));
-        }
     }
 
     #[test]

@@ -46,6 +46,12 @@ pub fn flat_index(global_id: UVec3, workgroups: UVec3, workgroup_size: u32) -> u
 /// frame never takes still costs the pass its registers (the turbulent field's noise
 /// made every field's pass 0.018 ms slower at 4 M blades on the NVIDIA H100).
 pub const SPEC_WIND_FIELD: u32 = 0;
+/// Specialisation constant of the simulate-and-cull pass: 1 on the mesh path, whose
+/// pass also bins the visible blades by strip length (`draw::meshlet`), 0 on the
+/// tessellation path, whose pipeline then holds none of that code (the binning's
+/// registers made the tessellation path's pass 0.009 ms slower at 4 M blades on the
+/// NVIDIA H100). It must agree with the frame's `GrassParams::pipeline`.
+pub const SPEC_MESH_PATH: u32 = 1;
 
 /// Descriptor set of every pipeline (each pipeline has exactly one).
 pub const SET: u32 = 0;
@@ -92,16 +98,13 @@ pub const BINDING_DRESSED: u32 = 9;
 /// by the compute pass.
 pub const BINDING_CLUMPS: u32 = 11;
 /// Binding of the mesh path's indirect draws (storage and indirect, one
-/// `VkDrawMeshTasksIndirectCommandEXT` per strip length: `meshlet::mesh_grid` of each
-/// bucket), written by the compute pass.
+/// `VkDrawMeshTasksIndirectCommandEXT` per draw: `meshlet::mesh_grid` of each
+/// bucket and of the spill, `meshlet::MESH_DRAWS`, then the shadow casters'), written
+/// by the compute pass.
 pub const BINDING_MESH_DRAW: u32 = 12;
-/// Binding of the visible blades' levels of detail on the mesh path (storage, `f32`
-/// per slot of the visible list, 0 for a blade the look leaves out), written by the
-/// compute pass for its binning.
-pub const BINDING_LEVELS: u32 = 13;
 /// Binding of the visible blades binned by strip length (storage,
-/// `meshlet::StripBlade` per slot): written by the compute pass, read by the mesh
-/// stages.
+/// `meshlet::StripBlade` per slot, twice the field's blades: `meshlet::BinLayout`):
+/// written by the compute pass, read by the mesh stages. (Binding 13 is free.)
 pub const BINDING_BINNED: u32 = 14;
 /// Binding of the compute rasterizer's visibility buffer (storage, `u64` per pixel of
 /// the target, `raster::pack`): written by the compute pass, read by the resolve.

@@ -297,7 +297,7 @@ fn measure(
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
     let (mut compute_drawn, mut covered, mut written) = (Vec::new(), Vec::new(), Vec::new());
     let (mut far_tiles, mut far_blades) = (Vec::new(), Vec::new());
-    let mut triangles = Vec::new();
+    let (mut triangles, mut spilled) = (Vec::new(), Vec::new());
     let mut last = Instant::now();
     let slots = FRAMES_IN_FLIGHT as u32;
     // Each slot's read-back is of its previous frame: skip those of the warm-up.
@@ -318,12 +318,21 @@ fn measure(
             covered.extend(r.counts.map(|c| f64::from(c.raster_covered)));
             written.extend(r.counts.map(|c| f64::from(c.raster_written)));
             triangles.extend(r.triangles.map(|t| t as f64));
+            spilled.extend(r.counts.map(|c| c.spilled).filter(|&s| s > 0));
         }
         last = now;
         let measured = frame.saturating_sub(args.warmup);
         driver.submit(started, offscreen, FrameSpec::plain(request(measured)))?;
     }
     driver.finish()?;
+    if let Some(most) = spilled.iter().max() {
+        log::info!(
+            "{config:?} at {blades} blades: in {} of {} frames blades spilled out of their \
+             bucket of the binned list (at most {most})",
+            spilled.len(),
+            args.frames
+        );
+    }
     // Lavapipe counts no clipping invocations for mesh stages: none counted while
     // blades were drawn is no count.
     let drawn_any = drawn.iter().any(|&d| d > 0.0);

@@ -101,6 +101,9 @@ pub struct Context {
     /// (enabled): what the compute rasterizer's visibility buffer needs; else what is
     /// missing.
     pub int64_atomics: Result<(), String>,
+    /// `VK_KHR_pipeline_executable_properties`' commands, where the compute pipelines'
+    /// statistics are asked for (`features::STATS_VARIABLE`) and enabled.
+    pub executables: Option<khr::pipeline_executable_properties::Device>,
     /// Surface of the window, when there is one.
     pub surface: Option<vk::SurfaceKHR>,
     /// Surface functions.
@@ -283,6 +286,8 @@ impl Context {
             .clone()
             .map(|()| ext::mesh_shader::Device::new(&instance, &device));
         let surface_fn = khr::surface::Instance::new(&entry, &instance);
+        let executables = (owned && features.pipeline_executables())
+            .then(|| khr::pipeline_executable_properties::Device::new(&instance, &device));
         let ctx = Self {
             entry,
             instance,
@@ -295,6 +300,7 @@ impl Context {
             pipeline_statistics: features.pipeline_statistics(),
             mesh_shader,
             int64_atomics: features.int64_atomics.clone(),
+            executables,
             surface: None,
             surface_fn,
             allocator: ManuallyDrop::new(allocator),

@@ -6,7 +6,7 @@
 //! ([`super::fault`]).
 
 use super::fault::feature_removed;
-use ash::{ext, vk};
+use ash::{ext, khr, vk};
 use std::ffi::CStr;
 
 /// What a device lacks of what the renderer needs, by Vulkan name.
@@ -42,6 +42,10 @@ pub struct DeviceFeatures {
     /// `Ok` when 64-bit integers and 64-bit storage-buffer atomics are enabled (the
     /// compute rasterizer's visibility buffer, `shared::raster`); else what is missing.
     pub int64_atomics: Result<(), String>,
+    /// `VK_KHR_pipeline_executable_properties`' pipelineExecutableInfo, enabled where
+    /// [`STATS_VARIABLE`] asks for the compute pipelines' statistics and the device
+    /// has it.
+    pub executables: vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR<'static>,
     /// The same features in per-feature structs, for [`Self::enable_beside`].
     beside: Beside,
 }
@@ -131,6 +135,12 @@ impl DeviceFeatures {
         let mesh_shader = mesh_shader_support(instance, physical);
         let int64_atomics = int64_atomics_support(instance, physical);
         let statistics = core.pipeline_statistics_query == vk::TRUE;
+        let executables = std::env::var_os(STATS_VARIABLE).is_some()
+            && has_extension(
+                instance,
+                physical,
+                khr::pipeline_executable_properties::NAME,
+            );
         Ok(Self {
             core: vk::PhysicalDeviceFeatures::default()
                 .tessellation_shader(true)
@@ -153,16 +163,28 @@ impl DeviceFeatures {
                 .mesh_shader(mesh_shader.is_ok()),
             mesh_shader,
             int64_atomics,
+            executables: vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+                .pipeline_executable_info(executables),
             beside: Beside::default(),
         })
     }
 
     /// The device extensions to enable: `VK_EXT_mesh_shader` with the mesh path.
     pub fn extensions(&self) -> Vec<&'static CStr> {
-        match self.mesh_shader {
-            Ok(()) => vec![ext::mesh_shader::NAME],
-            Err(_) => Vec::new(),
+        let mut names = Vec::new();
+        if self.mesh_shader.is_ok() {
+            names.push(ext::mesh_shader::NAME);
         }
+        if self.pipeline_executables() {
+            names.push(khr::pipeline_executable_properties::NAME);
+        }
+        names
+    }
+
+    /// The compute pipelines' statistics are asked for and enabled
+    /// ([`STATS_VARIABLE`]).
+    pub fn pipeline_executables(&self) -> bool {
+        self.executables.pipeline_executable_info == vk::TRUE
     }
 
     /// Pipeline statistics queries are enabled (the grass draw's triangle count).
@@ -173,14 +195,20 @@ impl DeviceFeatures {
     /// `info` with these features enabled (its `pEnabledFeatures` and feature
     /// structs in its chain; add [`Self::extensions`] to its extension names).
     pub fn enable<'a>(&'a mut self, info: vk::DeviceCreateInfo<'a>) -> vk::DeviceCreateInfo<'a> {
+        let executables = self.pipeline_executables();
         let info = info
             .enabled_features(&self.core)
             .push_next(&mut self.v11)
             .push_next(&mut self.v12)
             .push_next(&mut self.v13);
-        match self.mesh_shader {
+        let info = match self.mesh_shader {
             Ok(()) => info.push_next(&mut self.mesh),
             Err(_) => info,
+        };
+        if executables {
+            info.push_next(&mut self.executables)
+        } else {
+            info
         }
     }
 
@@ -353,6 +381,20 @@ fn merged(
 /// `Ok` when `physical` has `VK_EXT_mesh_shader` with mesh stages,
 /// `shaderDrawParameters` and the limits the mesh path's stages declare
 /// (`shared::meshlet`); else what is missing.
+/// Set (to anything), the renderer logs each compute pipeline's statistics as the
+/// driver gives them (`VK_KHR_pipeline_executable_properties`: registers, shared
+/// memory, instructions, spills), where the device has the extension.
+pub const STATS_VARIABLE: &str = "GRASS_PIPELINE_STATS";
+
+/// The device lists the extension `name`.
+fn has_extension(instance: &ash::Instance, physical: vk::PhysicalDevice, name: &CStr) -> bool {
+    let extensions =
+        unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
+    extensions
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(name))
+}
+
 fn mesh_shader_support(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
@@ -361,12 +403,7 @@ fn mesh_shader_support(
         MESH_GRID_WIDTH, MESH_THREADS, MESHLET_TRIANGLES, MESHLET_VERTICES,
     };
     let name = ext::mesh_shader::NAME;
-    let extensions =
-        unsafe { instance.enumerate_device_extension_properties(physical) }.unwrap_or_default();
-    let listed = extensions
-        .iter()
-        .any(|e| e.extension_name_as_c_str() == Ok(name));
-    if !listed || feature_removed("meshShader") {
+    if !has_extension(instance, physical, name) || feature_removed("meshShader") {
         return Err(format!("the device has no {}", name.to_string_lossy()));
     }
     let mut mesh = vk::PhysicalDeviceMeshShaderFeaturesEXT::default();

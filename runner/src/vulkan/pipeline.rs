@@ -154,15 +154,21 @@ impl Pipeline {
         if !constants.is_empty() {
             stage = stage.specialization_info(&specialisation);
         }
-        let info = vk::ComputePipelineCreateInfo::default()
+        let mut info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.layout);
+        if ctx.executables.is_some() {
+            info = info.flags(vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR);
+        }
         let pipeline = unsafe {
             ctx.device
                 .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
                 .map_err(|(_, e)| e)
         }
         .with_context(|| format!("create compute pipeline {entry}"))?[0];
+        if let Some(executables) = &ctx.executables {
+            log_statistics(executables, pipeline, entry, constants);
+        }
         Ok(Self {
             ctx: ctx.clone(),
             pipeline,
@@ -386,4 +392,47 @@ pub fn vec4_vertex_input<T>() -> VertexInput {
         })
         .collect();
     ([binding], attributes)
+}
+
+/// Logs what the driver tells of `pipeline`'s executables
+/// (`VK_KHR_pipeline_executable_properties`: registers, shared memory, instructions,
+/// spills, as its driver names them), for `GRASS_PIPELINE_STATS`.
+fn log_statistics(
+    executables: &ash::khr::pipeline_executable_properties::Device,
+    pipeline: vk::Pipeline,
+    entry: &str,
+    constants: &[(u32, u32)],
+) {
+    let info = vk::PipelineInfoKHR::default().pipeline(pipeline);
+    let Ok(properties) = (unsafe { executables.get_pipeline_executable_properties(&info) }) else {
+        return;
+    };
+    for index in 0..properties.len() as u32 {
+        let at = vk::PipelineExecutableInfoKHR::default()
+            .pipeline(pipeline)
+            .executable_index(index);
+        let Ok(statistics) = (unsafe { executables.get_pipeline_executable_statistics(&at) })
+        else {
+            continue;
+        };
+        let values: Vec<String> = statistics
+            .iter()
+            .map(|s| {
+                let name = s
+                    .name_as_c_str()
+                    .map(|n| n.to_string_lossy())
+                    .unwrap_or_default();
+                let value = unsafe {
+                    match s.format {
+                        vk::PipelineExecutableStatisticFormatKHR::BOOL32 => s.value.b32.to_string(),
+                        vk::PipelineExecutableStatisticFormatKHR::INT64 => s.value.i64.to_string(),
+                        vk::PipelineExecutableStatisticFormatKHR::UINT64 => s.value.u64.to_string(),
+                        _ => s.value.f64.to_string(),
+                    }
+                };
+                format!("{name} {value}")
+            })
+            .collect();
+        log::info!("pipeline {entry} {constants:?}: {}", values.join(", "));
+    }
 }

@@ -326,11 +326,9 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
-    let mut before = BladeMotion::default();
     if in_field {
         let i = index as usize;
         blade = blades[i];
-        before = BladeMotion::of(&blade);
         if tiled && simulated {
             blade = blade.with_width(pool_width);
             drawn = pool_width > 0.0;
@@ -351,9 +349,6 @@ fn simulate_and_cull<T: Copy + Default>(
                 let far = far_blade(rest_tile, k, blade.root(), params, paint, &forces);
                 blade = fade_to_far(&blade, &far, fade);
             }
-            // Only the curve moved: one 32-byte sector written back (`Blade`).
-            blades[i].v1 = blade.v1;
-            blades[i].v2 = blade.v2;
             // Unchanged (no collider near, none lingering): nothing to write back.
             if strength != held {
                 strengths[i] = strength;
@@ -399,6 +394,9 @@ fn simulate_and_cull<T: Copy + Default>(
             )
         };
         if outcome == KEPT {
+            // Its control points before this frame's steps, read again rather than
+            // held in registers through the steps and the tests.
+            let before = BladeMotion::of(&blades[index as usize]);
             (prepared, moved, level) = prepare(index, name, &blade, before, paint, map_at);
             if mesh && !far && level > 0.0 {
                 // Its bucket: its strip length, and near the camera its band.
@@ -411,6 +409,13 @@ fn simulate_and_cull<T: Copy + Default>(
                 };
             }
         }
+    }
+    // Only the curve moved: one 32-byte sector written back (`Blade`), after the
+    // visible blade's old curve was read again above.
+    if in_field && simulated {
+        let i = index as usize;
+        blades[i].v1 = blade.v1;
+        blades[i].v2 = blade.v2;
     }
     workgroup_memory_barrier_with_group_sync();
 

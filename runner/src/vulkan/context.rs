@@ -288,6 +288,17 @@ impl Context {
         let surface_fn = khr::surface::Instance::new(&entry, &instance);
         let executables = (owned && features.pipeline_executables())
             .then(|| khr::pipeline_executable_properties::Device::new(&instance, &device));
+        if std::env::var_os(super::features::STATS_VARIABLE).is_some() && executables.is_none() {
+            log::warn!(
+                "{} is set, but no pipeline statistics: {}",
+                super::features::STATS_VARIABLE,
+                if owned {
+                    "the device has no VK_KHR_pipeline_executable_properties"
+                } else {
+                    "the device is the host program's"
+                }
+            );
+        }
         let ctx = Self {
             entry,
             instance,

@@ -531,8 +531,7 @@ impl Renderer {
         rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
         // The counters, not the binned list's layout after them, which the frame
         // before left for this one.
-        let counters = (counters::COUNTER_COUNT * 4) as u64;
-        rec.fill_buffer_start(field.counters.buffer, counters, 0);
+        rec.fill_buffer_start(field.counters.buffer, counters::COUNTER_BYTES, 0);
         rec.memory_barrier(
             (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
             (
@@ -560,8 +559,11 @@ impl Renderer {
             (S::COPY, A::TRANSFER_READ),
         );
         // The counters, not the binned list's layout after them.
-        let counters = (counters::COUNTER_COUNT * 4) as u64;
-        rec.copy_buffer(field.counters.buffer, queries.counters.buffer, counters);
+        rec.copy_buffer(
+            field.counters.buffer,
+            queries.counters.buffer,
+            counters::COUNTER_BYTES,
+        );
         rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 }

@@ -57,13 +57,7 @@ impl CullCounts {
             frustum: c[counters::COUNTER_FRUSTUM],
             distance: c[counters::COUNTER_DISTANCE],
             occlusion: c[counters::COUNTER_OCCLUSION],
-            // Each blade the pass looks at lands in exactly one of these.
-            examined: c[counters::COUNTER_VISIBLE]
-                + c[counters::COUNTER_ORIENTATION]
-                + c[counters::COUNTER_FRUSTUM]
-                + c[counters::COUNTER_DISTANCE]
-                + c[counters::COUNTER_OCCLUSION]
-                + c[counters::COUNTER_FAR],
+            examined: counters::examined(c),
             compute: c[counters::COUNTER_FAR],
             spilled: c[counters::COUNTER_SPILLED],
             raster_covered: c[counters::COUNTER_RASTER_COVERED],
@@ -175,7 +169,7 @@ impl FrameQueries {
             counters: Buffer::new(
                 ctx,
                 "counter readback",
-                (COUNTER_COUNT * 4) as u64,
+                counters::COUNTER_BYTES,
                 vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?,

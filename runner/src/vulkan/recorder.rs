@@ -88,13 +88,11 @@ impl<'a> Recorder<'a> {
 
     /// Fills the whole of `buffer` with `value`.
     pub fn fill_buffer(&self, buffer: vk::Buffer, value: u32) {
-        unsafe {
-            self.device
-                .cmd_fill_buffer(self.cmd, buffer, 0, vk::WHOLE_SIZE, value)
-        };
+        self.fill_buffer_start(buffer, vk::WHOLE_SIZE, value);
     }
 
-    /// Fills the first `bytes` of `buffer` (a multiple of 4) with `value`.
+    /// Fills the first `bytes` of `buffer` (a multiple of 4, or `vk::WHOLE_SIZE`) with
+    /// `value`.
     pub fn fill_buffer_start(&self, buffer: vk::Buffer, bytes: u64, value: u32) {
         unsafe {
             self.device

@@ -15,7 +15,8 @@ pub const COUNTER_DISTANCE: usize = cull::BY_DISTANCE as usize;
 /// Index of the blades removed by the occlusion test.
 pub const COUNTER_OCCLUSION: usize = cull::BY_OCCLUSION as usize;
 // Word 5 is free: each blade the pass looks at adds to one of the outcomes' counters
-// (visible, removed by a test, or far), whose sum is the blades examined.
+// (visible, removed by a test, or far), whose sum is the blades examined
+// ([`examined`]).
 /// Index of the visible blades drawn by the compute rasterizer (`raster`): their
 /// indices fill the visible list from its end, slot k at `blades - 1 - k`
 /// ([`far_slot`]).
@@ -66,6 +67,10 @@ pub const COUNTER_SPILLED: usize = COUNTER_STRIPS + BUCKETS as usize;
 /// in workgroup memory and adds it with one device atomic, a thread a counter.
 pub const COUNTER_COUNT: usize = COUNTER_SPILLED + 1;
 
+/// Bytes of the counters at the counter buffer's start: what the frame resets and
+/// reads back.
+pub const COUNTER_BYTES: u64 = (COUNTER_COUNT * 4) as u64;
+
 /// Words of the counter buffer past the counters, which the frame's reset leaves:
 /// the binned list's layout ([`BIN_LAYOUT`]) and the mesh draws' slices
 /// ([`DRAW_SLICES`]).
@@ -78,6 +83,17 @@ pub const BIN_LAYOUT: usize = 64;
 /// First of the mesh draws' slices of the binned list, two words per draw (first
 /// slot, strips), written by the draw pass for the mesh stage ([`draw_slice`]).
 pub const DRAW_SLICES: usize = BIN_LAYOUT + BUCKETS as usize + 1;
+
+/// The blades the compute pass looked at: each adds to exactly one outcome's count
+/// (visible, removed by one of the four tests, or far).
+pub fn examined(counters: &[u32]) -> u32 {
+    counters[COUNTER_VISIBLE]
+        + counters[COUNTER_ORIENTATION]
+        + counters[COUNTER_FRUSTUM]
+        + counters[COUNTER_DISTANCE]
+        + counters[COUNTER_OCCLUSION]
+        + counters[COUNTER_FAR]
+}
 
 /// Bucket `bucket`'s part of the binned list in a list of `blades` slots, from
 /// the layout words ([`BIN_LAYOUT`]): (first slot, room), clamped to the list's

@@ -49,7 +49,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 24] = [
+pub const BINDINGS: [BindingSpec; 25] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -90,9 +90,12 @@ pub const BINDINGS: [BindingSpec; 24] = [
     },
     // Each blade's clump, made by the clump pass, read by the compute pass and by the
     // shadow map's casters.
-    storage_in(layout::BINDING_CLUMPS, CASTER_STAGES),
-    // The mesh path's indirect draws, written by the compute pass.
+    storage(layout::BINDING_CLUMPS),
+    // The mesh path's indirect draws and the shadow casters' dispatches, written by
+    // the compute pass.
     storage(layout::BINDING_MESH_DRAW),
+    // The shadow map's grass depth, drawn by the casters' compute threads.
+    storage(layout::BINDING_SHADOW_DEPTH),
     // The mesh path's binned blades, written by the compute pass.
     storage_in(layout::BINDING_BINNED, vk::ShaderStageFlags::MESH_EXT),
     // The compute rasterizer's visibility buffer (`passes::raster`), read by its
@@ -118,29 +121,15 @@ pub const BINDINGS: [BindingSpec; 24] = [
     // A tiled field's tile words and blade ids (placeholders in a stored field).
     // (The ids name the shadow map's casters too.)
     storage(layout::BINDING_TILES),
-    storage_in(layout::BINDING_IDS, CASTER_STAGES),
+    storage(layout::BINDING_IDS),
     // The painted density map (`shared::paint`).
     storage(layout::BINDING_PAINT),
-    // The shadow casters, read by the shadow map's vertex or mesh stage.
-    storage_in(layout::BINDING_CASTERS, CASTER_STAGES),
+    // The shadow casters, read by the shadow map's compute rasterizer.
+    storage(layout::BINDING_CASTERS),
     // The visible blades' previous control points (temporal anti-aliasing), read by
     // the grass's geometry stages.
     storage_in(layout::BINDING_MOTION, GEOMETRY_OR_RESOLVE),
 ];
-
-/// Both tessellation stages.
-const TESSELLATION: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
-        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw(),
-);
-
-/// The stages that draw the shadow casters: the vertex and tessellation stages, or
-/// the mesh stage.
-const CASTER_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::VERTEX.as_raw()
-        | TESSELLATION.as_raw()
-        | vk::ShaderStageFlags::MESH_EXT.as_raw(),
-);
 
 /// The fragment stages and the compute stage (the natural look shaded after the
 /// draw, `passes::shade`).
@@ -247,14 +236,15 @@ pub struct Field {
     pub visible: Buffer,
     /// The counters (`layout::COUNTER_*`).
     pub counters: Buffer,
-    /// One `VkDrawIndirectCommand` per chunk, then the shadow casters' (at
-    /// [`Field::casters_draw`], then [`Field::near_casters_draw`]).
+    /// One `VkDrawIndirectCommand` per chunk.
     pub draws: Buffer,
     /// The shadow casters' indices (`u32`), compacted: all of them, then from the
-    /// blade count on the near cascade's; read by the shadow map's vertex stage.
+    /// blade count on the near cascade's; read by the shadow map's compute
+    /// rasterizer.
     pub casters: Buffer,
     /// The mesh path's indirect draws: one mesh grid per strip length
-    /// (`meshlet::BUCKETS`).
+    /// (`meshlet::BUCKETS`) and the spill's; then the shadow casters' dispatches
+    /// ([`Field::caster_dispatches`]).
     pub mesh_draw: Buffer,
     /// The compute rasterizer's indirect dispatch and resolve draw
     /// (`layout::RASTER_DISPATCH`, `layout::RASTER_DRAW`, `layout::RASTER_PREPARE`).
@@ -418,11 +408,11 @@ impl Field {
         pool.one_shot(|rec| rec.fill_buffer(counters.buffer, 0))?;
         let draws = device_buffer(
             "draws",
-            u64::from(chunk_count + 2) * size_of::<vk::DrawIndirectCommand>() as u64,
+            u64::from(chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64,
             U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
         )?;
-        // One grid per bucket and the spill's, then the shadow casters' and the near
-        // ones'.
+        // One grid per bucket and the spill's, then the shadow casters' dispatch and
+        // the near ones'.
         let mesh_draw = device_buffer(
             "mesh draws",
             u64::from(MESH_DRAWS + 2) * size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64,
@@ -513,24 +503,14 @@ impl Field {
         })
     }
 
-    /// Where in the draws buffer the shadow casters' draw command is: after the
-    /// chunks'.
-    pub fn casters_draw(&self) -> u64 {
-        u64::from(self.chunk_count) * size_of::<vk::DrawIndirectCommand>() as u64
-    }
-
-    /// Where the near cascade's casters' draw command is: after all casters'.
-    pub fn near_casters_draw(&self) -> u64 {
-        self.casters_draw() + size_of::<vk::DrawIndirectCommand>() as u64
-    }
-
-    /// Where in the mesh draws buffer the shadow casters' mesh grids are (all, then
-    /// the near cascade's): after the grass's.
-    pub fn casters_mesh_draws(&self) -> [u64; 2] {
+    /// Where in the mesh draws buffer the shadow casters' dispatches are (the near
+    /// cascade's, then all casters' for the far one): after the grass's draws. A mesh
+    /// grid and a dispatch are the same three words.
+    pub fn caster_dispatches(&self) -> [u64; 2] {
         let size = size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u64;
         [
-            u64::from(MESH_DRAWS) * size,
             u64::from(MESH_DRAWS + 1) * size,
+            u64::from(MESH_DRAWS) * size,
         ]
     }
 

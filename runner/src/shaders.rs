@@ -40,6 +40,11 @@ pub const SHADE_NATURAL: &str = "compute::shade::shade_natural";
 pub const CLUMP_BLADES: &str = "compute::clumps::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).
 pub const RASTER_FAR: &str = "compute::raster::raster_far";
+/// The shadow map's grass, far cascade: a caster a compute thread
+/// (`shared::draw::look::shadow_raster`).
+pub const RASTER_CASTERS: &str = "compute::shadow::raster_casters";
+/// [`RASTER_CASTERS`] into the near cascade.
+pub const RASTER_NEAR_CASTERS: &str = "compute::shadow::raster_near_casters";
 /// Compute: the compute rasterizer of far blades (natural look, dressed blades).
 pub const RASTER_FAR_NATURAL: &str = "compute::raster::raster_far_natural";
 /// Compute: the compute rasterizer's preparation (the hardware's depth copied, the
@@ -100,19 +105,6 @@ pub const PAPER_MESH_CAPTURE: &str = "mesh::paper_mesh_capture";
 pub const NATURAL_MESH: &str = "mesh::natural_mesh";
 /// Mesh: [`NATURAL_MESH`] for shading after the draw (surface coordinates and slot).
 pub const NATURAL_VIS_MESH: &str = "mesh::natural_vis_mesh";
-/// The grass from the sun (shadow map): the caster's index.
-pub const SHADOW_VS: &str = "grass::shadow_vs";
-/// The grass from the sun: tessellation control at the fewest segments.
-pub const GRASS_SHADOW_TCS: &str = "grass::shadow_tcs";
-/// The grass from the sun: tessellation evaluation into the shadow map.
-pub const GRASS_SHADOW_TES: &str = "grass::shadow_tes";
-/// The grass from the sun: tessellation evaluation into the near cascade.
-pub const GRASS_SHADOW_NEAR_TES: &str = "grass::shadow_near_tes";
-/// The grass from the sun through mesh stages: a caster a lane, two triangles each
-/// (far cascade).
-pub const SHADOW_MESH: &str = "mesh::shadow_mesh";
-/// [`SHADOW_MESH`] into the near cascade.
-pub const SHADOW_NEAR_MESH: &str = "mesh::shadow_near_mesh";
 /// The tone map's full-screen triangle.
 pub const TONEMAP_VS: &str = "tonemap::tonemap_vs";
 /// Sky and tone map.

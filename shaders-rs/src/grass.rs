@@ -16,7 +16,6 @@ use shared::cull::lod::{blade_level, tess_levels, tess_levels_if};
 use shared::draw::look::clump::{Clump, DressedBlade, blade_albedo, caster_blade};
 use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
-use shared::draw::look::shadow::CASTER_LEVEL;
 use shared::draw::look::sky::fog;
 use shared::draw::look::visibility;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
@@ -351,16 +350,6 @@ pub(crate) fn natural_colour(
     fog(lit, distance, -to_eye, to_light, frame.look.fog_density)
 }
 
-/// The index of the shadow caster this vertex stands for.
-#[spirv(vertex)]
-pub fn shadow_vs(
-    #[spirv(vertex_index)] vertex: u32,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &[u32],
-    out_blade: &mut u32,
-) {
-    *out_blade = casters[vertex as usize];
-}
-
 /// Blade `index` as it casts its shadow (`clump::caster_blade`): read from the blade
 /// and clump buffers, named by its id in a tiled field.
 pub(crate) fn caster(
@@ -377,66 +366,6 @@ pub(crate) fn caster(
         index
     };
     caster_blade(&blades[i], &Clump::unpack(clumps[i]), id, frame.look.seed)
-}
-
-/// The sun's shadow map: the natural look's casters (the compute pass's list, not the
-/// camera's) at one segment (`shadow::CASTER_LEVEL`, whatever the camera's LOD).
-#[spirv(tessellation_control(output_vertices = 1))]
-pub fn shadow_tcs(
-    in_blade: [u32; 1],
-    out_blade: &mut [u32; 1],
-    #[spirv(tess_level_outer)] outer: &mut [f32; 4],
-    #[spirv(tess_level_inner)] inner: &mut [f32; 2],
-) {
-    out_blade[0] = in_blade[0];
-    let (o, i) = tess_levels(CASTER_LEVEL);
-    *outer = o;
-    *inner = i;
-}
-
-/// The caster's surface seen from the sun: the shadow map's far cascade (depth only).
-#[allow(clippy::too_many_arguments)]
-#[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
-pub fn shadow_tes(
-    #[spirv(tess_coord)] coord: Vec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
-    in_blade: [u32; 1],
-    #[spirv(position)] out_position: &mut Vec4,
-) {
-    let p = caster_point(frame, blades, clumps, ids, in_blade[0], coord);
-    *out_position = frame.look.shadow_view_proj * p.extend(1.0);
-}
-
-/// [`shadow_tes`] into the near cascade.
-#[allow(clippy::too_many_arguments)]
-#[spirv(tessellation_evaluation(quads, spacing_fraction_odd, vertex_order_ccw))]
-pub fn shadow_near_tes(
-    #[spirv(tess_coord)] coord: Vec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
-    in_blade: [u32; 1],
-    #[spirv(position)] out_position: &mut Vec4,
-) {
-    let p = caster_point(frame, blades, clumps, ids, in_blade[0], coord);
-    *out_position = frame.look.near_view_proj * p.extend(1.0);
-}
-
-/// The world point at `coord` of caster `index`'s surface.
-fn caster_point(
-    frame: &FrameUniforms,
-    blades: &[Blade],
-    clumps: &[Vec4],
-    ids: &[u32],
-    index: u32,
-    coord: Vec3,
-) -> Vec3 {
-    let blade = caster(frame, blades, clumps, ids, index);
-    caster_surface(frame, &blade, coord.x, coord.y)
 }
 
 /// The world point at (`u`, `v`) of a caster's surface (`blade`, dressed by

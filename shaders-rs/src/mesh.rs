@@ -11,10 +11,9 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
-use crate::grass::{caster, caster_surface, point_motion};
+use crate::grass::point_motion;
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
-use shared::draw::look::shadow::CASTERS_PER_GROUP;
 use shared::draw::meshlet::{
     MAX_STRIP_VERTICES, StripBlade, draw_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
@@ -22,10 +21,9 @@ use shared::draw::meshlet::{
 use shared::draw::shape::surface_point;
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::draw_slice;
-use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_NEAR_CASTERS};
 use shared::gpu::layout::FrameUniforms;
 use spirv_std::arch::set_mesh_outputs_ext;
-use spirv_std::glam::{Mat4, UVec3, Vec3, Vec4};
+use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
 /// Sets a mesh workgroup's outputs for `strips` strips of `segments` and writes their
@@ -276,99 +274,4 @@ pub fn natural_vis_mesh(
         out_uv[k] = uvl.truncate().extend(0.0).extend(0.0);
         out_slot[k] = strip.source as f32;
     }
-}
-
-/// The sun's shadow map through mesh stages: a caster a lane, its one segment as
-/// two triangles (`shadow::CASTER_LEVEL`), the workgroup's share of the `count`
-/// casters from `first` of the casters' list, into the cascade of `view_proj`. No
-/// tessellator: the caster is dressed once (`grass::caster`), not at each vertex.
-#[allow(clippy::too_many_arguments)]
-fn caster_triangles(
-    (group, groups, lane): (UVec3, UVec3, u32),
-    frame: &FrameUniforms,
-    (blades, clumps, ids): (&[Blade], &[Vec4], &[u32]),
-    (casters, first, count): (&[u32], u32, u32),
-    view_proj: Mat4,
-    indices: &mut [UVec3; 64],
-    out_position: &mut [Vec4; 128],
-) {
-    let start = group_index(group, groups) * CASTERS_PER_GROUP;
-    let n = group_strips(count, start, CASTERS_PER_GROUP);
-    unsafe { set_mesh_outputs_ext(4 * n, 2 * n) };
-    if lane < n {
-        let index = casters[(first + start + lane) as usize];
-        let blade = caster(frame, blades, clumps, ids, index);
-        let k = 4 * lane as usize;
-        out_position[k] = caster_clip(frame, &blade, view_proj, 0.0, 0.0);
-        out_position[k + 1] = caster_clip(frame, &blade, view_proj, 1.0, 0.0);
-        out_position[k + 2] = caster_clip(frame, &blade, view_proj, 0.0, 1.0);
-        out_position[k + 3] = caster_clip(frame, &blade, view_proj, 1.0, 1.0);
-        let first = 4 * lane;
-        let t = 2 * lane as usize;
-        indices[t] = UVec3::new(first, first + 1, first + 2);
-        indices[t + 1] = UVec3::new(first + 2, first + 1, first + 3);
-    }
-}
-
-/// The clip position in the cascade of `view_proj` of a caster's surface at (`u`,
-/// `v`) (`grass::caster_surface`).
-fn caster_clip(frame: &FrameUniforms, blade: &Blade, view_proj: Mat4, u: f32, v: f32) -> Vec4 {
-    view_proj * caster_surface(frame, blade, u, v).extend(1.0)
-}
-
-/// The shadow map's far cascade through mesh stages: every caster
-/// (`caster_triangles`; depth only).
-#[allow(clippy::too_many_arguments)]
-#[spirv(mesh_ext(
-    threads(32),
-    output_vertices = 128,
-    output_primitives_ext = 64,
-    output_triangles_ext
-))]
-pub fn shadow_mesh(
-    #[spirv(workgroup_id)] group: UVec3,
-    #[spirv(num_workgroups)] groups: UVec3,
-    #[spirv(local_invocation_index)] lane: u32,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &[u32],
-    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 64],
-    #[spirv(position)] out_position: &mut [Vec4; 128],
-) {
-    let list = (casters, 0, counters[COUNTER_CASTERS]);
-    let view_proj = frame.look.shadow_view_proj;
-    let source = (blades, clumps, ids);
-    let at = (group, groups, lane);
-    caster_triangles(at, frame, source, list, view_proj, indices, out_position);
-}
-
-/// [`shadow_mesh`] into the near cascade, its own casters (the list's second half).
-#[allow(clippy::too_many_arguments)]
-#[spirv(mesh_ext(
-    threads(32),
-    output_vertices = 128,
-    output_primitives_ext = 64,
-    output_triangles_ext
-))]
-pub fn shadow_near_mesh(
-    #[spirv(workgroup_id)] group: UVec3,
-    #[spirv(num_workgroups)] groups: UVec3,
-    #[spirv(local_invocation_index)] lane: u32,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] blades: &[Blade],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &[u32],
-    #[spirv(primitive_triangle_indices_ext)] indices: &mut [UVec3; 64],
-    #[spirv(position)] out_position: &mut [Vec4; 128],
-) {
-    let list = (casters, frame.grass.blades, counters[COUNTER_NEAR_CASTERS]);
-    let view_proj = frame.look.near_view_proj;
-    let source = (blades, clumps, ids);
-    let at = (group, groups, lane);
-    caster_triangles(at, frame, source, list, view_proj, indices, out_position);
 }

@@ -151,21 +151,10 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
             ExecutionModel::TessellationEvaluation,
         ),
         (shaders::THROUGHPUT_FS, ExecutionModel::Fragment),
-        (
-            shaders::GRASS_SHADOW_TCS,
-            ExecutionModel::TessellationControl,
-        ),
-        (
-            shaders::GRASS_SHADOW_TES,
-            ExecutionModel::TessellationEvaluation,
-        ),
         (shaders::SHADOW_SURFACE_VS, ExecutionModel::Vertex),
         (shaders::SHADOW_SURFACE_NEAR_VS, ExecutionModel::Vertex),
-        (
-            shaders::GRASS_SHADOW_NEAR_TES,
-            ExecutionModel::TessellationEvaluation,
-        ),
-        (shaders::SHADOW_VS, ExecutionModel::Vertex),
+        (shaders::RASTER_CASTERS, ExecutionModel::GLCompute),
+        (shaders::RASTER_NEAR_CASTERS, ExecutionModel::GLCompute),
         (shaders::NATURAL_VS, ExecutionModel::Vertex),
         (shaders::CLUMP_BLADES, ExecutionModel::GLCompute),
         (shaders::NATURAL_TCS, ExecutionModel::TessellationControl),
@@ -179,8 +168,6 @@ fn every_entry_point_the_runner_uses_exists_with_its_stage() {
         (shaders::NATURAL_VIS_FS, ExecutionModel::Fragment),
         (shaders::NATURAL_VIS_MESH, ExecutionModel::MeshEXT),
         (shaders::SHADE_NATURAL, ExecutionModel::GLCompute),
-        (shaders::SHADOW_MESH, ExecutionModel::MeshEXT),
-        (shaders::SHADOW_NEAR_MESH, ExecutionModel::MeshEXT),
         (
             shaders::GRASS_TAA_TES,
             ExecutionModel::TessellationEvaluation,
@@ -417,8 +404,8 @@ fn compute_workgroup_sizes_match_the_dispatches() {
             shaders::NATURAL_VIS_MESH,
             shared::draw::meshlet::MESH_THREADS,
         ),
-        (shaders::SHADOW_MESH, CASTERS_PER_GROUP),
-        (shaders::SHADOW_NEAR_MESH, CASTERS_PER_GROUP),
+        (shaders::RASTER_CASTERS, CASTERS_PER_GROUP),
+        (shaders::RASTER_NEAR_CASTERS, CASTERS_PER_GROUP),
         (shaders::SHADE_NATURAL, layout::TEMPORAL_WORKGROUP),
         (shaders::RESOLVE_TAA, layout::TEMPORAL_WORKGROUP),
         (shaders::GENERATE_FAR, layout::GENERATE_WORKGROUP),
@@ -675,22 +662,6 @@ fn execution_mode(m: &Module, entry: &str, mode: ExecutionMode) -> Option<u32> {
 #[test]
 fn mesh_stages_declare_the_meshlet_limits() {
     use shared::draw::meshlet::{MESHLET_TRIANGLES, MESHLET_VERTICES};
-    for name in [shaders::SHADOW_MESH, shaders::SHADOW_NEAR_MESH] {
-        // A caster a lane, four corners and two triangles each.
-        let m = module_of(name);
-        let vertices = execution_mode(&m, name, ExecutionMode::OutputVertices);
-        let triangles = execution_mode(&m, name, ExecutionMode::OutputPrimitivesEXT);
-        assert_eq!(
-            vertices,
-            Some(4 * CASTERS_PER_GROUP),
-            "{name}: output vertices"
-        );
-        assert_eq!(
-            triangles,
-            Some(2 * CASTERS_PER_GROUP),
-            "{name}: output triangles"
-        );
-    }
     for name in [
         shaders::PAPER_MESH,
         shaders::NATURAL_MESH,

@@ -78,8 +78,13 @@ pub fn describe(c: &CullCounts) -> String {
         .iter()
         .map(|(name, n)| format!("{name} {n}"))
         .collect();
+    let casters = if c.casters > 0 {
+        format!("; shadow casters {} ({} near)", c.casters, c.near_casters)
+    } else {
+        String::new()
+    };
     format!(
-        "{} drawn, {} by compute ({} of their {} pixels written), removed by {} (total {})",
+        "{} drawn, {} by compute ({} of their {} pixels written), removed by {} (total {}){casters}",
         c.drawn,
         c.compute,
         c.raster_written,

@@ -14,9 +14,11 @@
 //! tests decide (a blade outside the view or turned edge-on still casts its shadow),
 //! dressed as the natural look draws it without the camera's fades
 //! (`shared::draw::look::clump::caster_blade`), at a fixed level of detail
-//! (`shadow::CASTER_LEVEL`): one segment (two triangles) per caster, through the
-//! grass's pipeline: a patch, or a lane of a mesh workgroup. The
-//! map depends on where the camera is, not on where it looks.
+//! (`shadow::CASTER_LEVEL`: one segment, two triangles). The casters are drawn by
+//! compute threads, a caster a thread, into a buffer of depth words
+//! (`shared::draw::look::shadow_raster`), which is copied into the map; the surfaces
+//! and balls are then drawn over it by the hardware. The map depends on where the
+//! camera is, not on where it looks.
 
 use crate::field::Field;
 use crate::passes::DEPTH_FORMAT;
@@ -25,10 +27,12 @@ use crate::shaders;
 use crate::vulkan::commands::CommandPool;
 use crate::vulkan::pipeline::{GraphicsDesc, Pipeline, ShaderModules, vec4_vertex_input};
 use crate::vulkan::sampler::Sampler;
-use crate::vulkan::{Context, Image, Recorder};
+use crate::vulkan::{Attachments, Buffer, Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
 use glam::Vec4;
+use gpu_allocator::MemoryLocation;
+use shared::draw::look::shadow_raster::EMPTY_DEPTH;
 use shared::gpu::layout::SurfaceVertex;
 use shared::settings::SHADOW_SIZES;
 use std::sync::Arc;
@@ -36,17 +40,19 @@ use std::sync::Arc;
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
-use shared::gpu::layout::{BINDING_SHADOW_MAP, BINDING_SHADOW_SAMPLER};
+use shared::gpu::layout::{BINDING_SHADOW_DEPTH, BINDING_SHADOW_MAP, BINDING_SHADOW_SAMPLER};
 
 /// The shadow map and its pipelines.
 pub struct ShadowPass {
     map: Image,
+    /// The casters' depth words, a `u32` a texel of the map, copied into it.
+    casters_depth: Buffer,
     /// The comparison sampler the field's set names: kept alive with the map.
     _sampler: Sampler,
-    /// Surfaces and casters (tessellated) into each cascade: near, then far.
-    cascades: [(Pipeline, Pipeline); 2],
-    /// The casters through mesh stages into each cascade, where the device has them.
-    mesh: Option<([Pipeline; 2], ash::ext::mesh_shader::Device)>,
+    /// The casters' compute threads into each cascade: near, then far.
+    casters: [Pipeline; 2],
+    /// The surfaces into each cascade.
+    surfaces: [Pipeline; 2],
 }
 
 impl ShadowPass {
@@ -60,8 +66,7 @@ impl ShadowPass {
         field: &Field,
         side: u32,
     ) -> Result<Self> {
-        use vk::ShaderStageFlags as St;
-        let map = Self::map(ctx, pool, field, side)?;
+        let (map, casters_depth) = Self::map(ctx, pool, field, side)?;
         let sampler = Sampler::shadow_compare(ctx, DEPTH_FORMAT)?;
         let set = &field.descriptors;
         set.write_sampler(BINDING_SHADOW_SAMPLER, sampler.sampler);
@@ -69,51 +74,24 @@ impl ShadowPass {
         // The position alone (location 0): the shadow's vertex stage reads no normal.
         let mut input = vec4_vertex_input::<SurfaceVertex>();
         input.1.truncate(1);
-        let cascade = |surface_vs, (grass_tcs, grass_tes)| -> Result<(Pipeline, Pipeline)> {
-            let stages = [(St::VERTEX, surface_vs)];
-            let surfaces =
+        let surfaces = |entry| {
+            let stages = [(vk::ShaderStageFlags::VERTEX, entry)];
+            let desc =
                 GraphicsDesc::opaque(module, &stages, &field.layout, &input, none, DEPTH_FORMAT);
-            let stages = [
-                (St::VERTEX, shaders::SHADOW_VS),
-                (St::TESSELLATION_CONTROL, grass_tcs),
-                (St::TESSELLATION_EVALUATION, grass_tes),
-            ];
-            let grass = GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
-            Ok((
-                Pipeline::graphics(ctx, &surfaces)?,
-                Pipeline::graphics(ctx, &grass)?,
-            ))
+            Pipeline::graphics(ctx, &desc)
         };
-        let mesh = match &ctx.mesh_shader {
-            Ok(commands) => {
-                let make = |entry| {
-                    let stages = [(St::MESH_EXT, entry)];
-                    let mut desc =
-                        GraphicsDesc::patches(module, &stages, &field.layout, none, DEPTH_FORMAT);
-                    desc.patch_control_points = 0;
-                    Pipeline::graphics(ctx, &desc)
-                };
-                let pipelines = [
-                    make(shaders::SHADOW_NEAR_MESH)?,
-                    make(shaders::SHADOW_MESH)?,
-                ];
-                Some((pipelines, commands.clone()))
-            }
-            Err(_) => None,
-        };
+        let casters = |entry| Pipeline::compute(ctx, &field.layout, module, entry);
         Ok(Self {
             map,
+            casters_depth,
             _sampler: sampler,
-            mesh,
-            cascades: [
-                cascade(
-                    shaders::SHADOW_SURFACE_NEAR_VS,
-                    (shaders::GRASS_SHADOW_TCS, shaders::GRASS_SHADOW_NEAR_TES),
-                )?,
-                cascade(
-                    shaders::SHADOW_SURFACE_VS,
-                    (shaders::GRASS_SHADOW_TCS, shaders::GRASS_SHADOW_TES),
-                )?,
+            casters: [
+                casters(shaders::RASTER_NEAR_CASTERS)?,
+                casters(shaders::RASTER_CASTERS)?,
+            ],
+            surfaces: [
+                surfaces(shaders::SHADOW_SURFACE_NEAR_VS)?,
+                surfaces(shaders::SHADOW_SURFACE_VS)?,
             ],
         })
     }
@@ -139,14 +117,20 @@ impl ShadowPass {
     ) -> Result<()> {
         if side != self.size() {
             ctx.wait_idle()?;
-            self.map = Self::map(ctx, pool, field, side)?;
+            (self.map, self.casters_depth) = Self::map(ctx, pool, field, side)?;
         }
         Ok(())
     }
 
     /// A map of two cascades `side` texels a side, cleared to the far plane and ready
-    /// to be sampled, bound to the field's binding 8.
-    fn map(ctx: &Arc<Context>, pool: &CommandPool, field: &Field, side: u32) -> Result<Image> {
+    /// to be sampled, bound to the field's binding 8, and the casters' depth words for
+    /// it, bound to binding 13.
+    fn map(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        field: &Field,
+        side: u32,
+    ) -> Result<(Image, Buffer)> {
         use vk::ImageUsageFlags as U;
         anyhow::ensure!(
             SHADOW_SIZES.contains(&side),
@@ -163,6 +147,22 @@ impl ShadowPass {
             width: 2 * side,
             height: side,
         };
+        let words = u64::from(extent.width) * u64::from(extent.height);
+        let most = u64::from(ctx.properties.limits.max_storage_buffer_range);
+        anyhow::ensure!(
+            4 * words <= most,
+            "shadow map of {side} texels: its casters' depth needs {} bytes, more than \
+             this device's maxStorageBufferRange ({most}); choose a smaller --shadow-size",
+            4 * words
+        );
+        use vk::BufferUsageFlags as B;
+        let casters_depth = Buffer::new(
+            ctx,
+            "shadow casters' depth",
+            4 * words,
+            B::STORAGE_BUFFER | B::TRANSFER_DST | B::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
         let map = Image::new(
             ctx,
             "shadow map",
@@ -191,42 +191,71 @@ impl ShadowPass {
                 (READERS, A::SHADER_READ),
             )
         })?;
-        field
-            .descriptors
-            .write_sampled_image(BINDING_SHADOW_MAP, map.view);
-        Ok(map)
+        let set = &field.descriptors;
+        set.write_sampled_image(BINDING_SHADOW_MAP, map.view);
+        set.write_buffer(
+            BINDING_SHADOW_DEPTH,
+            vk::DescriptorType::STORAGE_BUFFER,
+            casters_depth.buffer,
+        );
+        Ok((map, casters_depth))
     }
 
-    /// Records the map: surfaces, `balls` and the grass's casters (through mesh stages
-    /// with `mesh`, where the device has them); it is then ready for the fragment
-    /// stages to sample.
-    pub fn record(
-        &self,
-        rec: &Recorder,
-        field: &Field,
-        (ground, balls): (&GroundPass, &[Vec4]),
-        mesh: bool,
-    ) {
+    /// Records the map: the grass's casters by compute threads into the depth words,
+    /// copied into the map, then the surfaces and `balls` drawn over them; the map is
+    /// then ready for the fragment stages and the shading pass to sample.
+    pub fn record(&self, rec: &Recorder, field: &Field, (ground, balls): (&GroundPass, &[Vec4])) {
         let aspect = vk::ImageAspectFlags::DEPTH;
+        let words = self.casters_depth.buffer;
+        let compute_rw = (
+            S::COMPUTE_SHADER,
+            A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+        );
+        // After the last frame's copy read the words.
+        let filled = (S::CLEAR | S::COPY, A::TRANSFER_WRITE);
+        rec.memory_barrier((S::COPY, A::TRANSFER_READ), filled);
+        rec.fill_buffer(words, EMPTY_DEPTH);
+        rec.memory_barrier(filled, compute_rw);
+        // Near first: the dispatches are the near cascade's, then all casters'.
+        let dispatches = field.caster_dispatches();
+        for (pipeline, at) in self.casters.iter().zip(dispatches) {
+            rec.bind_pipeline(
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.pipeline,
+                field.layout.layout,
+                field.descriptors.set,
+            );
+            rec.dispatch_indirect(field.mesh_draw.buffer, at);
+        }
+        let copied = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+        rec.memory_barrier(compute_rw, (S::COPY, A::TRANSFER_READ));
+        rec.image_barrier(
+            self.map.image,
+            aspect,
+            (vk::ImageLayout::UNDEFINED, copied),
+            (READERS, A::NONE),
+            (S::COPY, A::TRANSFER_WRITE),
+        );
+        rec.copy_buffer_to_depth(words, self.map.image, self.map.extent);
         let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         let depth_rw = A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE;
         rec.image_barrier(
             self.map.image,
             aspect,
-            (
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            ),
-            (READERS, A::NONE),
+            (copied, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
+            (S::COPY, A::TRANSFER_WRITE),
             (tests, depth_rw),
         );
-        rec.begin_rendering(None, Some(self.map.view), self.map.extent);
+        let loaded = Attachments {
+            color: None,
+            color_resolve: None,
+            second: None,
+            depth: Some((self.map.view, false)),
+            area: None,
+        };
+        rec.begin_rendering_with(&loaded, self.map.extent);
         let side = self.size();
-        // Near first, with its own casters; then far, with all of them.
-        let casters = [field.near_casters_draw(), field.casters_draw()];
-        let mesh_casters = field.casters_mesh_draws();
-        let mesh = self.mesh.as_ref().filter(|_| mesh);
-        for (k, (surfaces, grass)) in self.cascades.iter().enumerate() {
+        for (k, surfaces) in self.surfaces.iter().enumerate() {
             rec.set_viewport(vk::Rect2D {
                 offset: vk::Offset2D {
                     x: k as i32 * side as i32,
@@ -237,23 +266,6 @@ impl ShadowPass {
                     height: side,
                 },
             });
-            let grass = mesh.map_or(grass, |(pipelines, _)| &pipelines[k]);
-            rec.bind_pipeline(
-                vk::PipelineBindPoint::GRAPHICS,
-                grass.pipeline,
-                field.layout.layout,
-                field.descriptors.set,
-            );
-            match mesh {
-                Some((_, commands)) => {
-                    // Near first: the mesh grids are all casters', then the near ones'.
-                    let at = mesh_casters[1 - k];
-                    rec.draw_mesh_tasks_indirect_at(commands, field.mesh_draw.buffer, (at, 1));
-                }
-                None => rec.draw_indirect_at(field.draws.buffer, casters[k]),
-            }
-            // After the casters: the ground under the grass then fails the early depth
-            // test instead of being written and written over.
             ground.record_with(surfaces, rec, field, balls);
         }
         rec.end_rendering();

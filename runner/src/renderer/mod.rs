@@ -486,8 +486,7 @@ impl Renderer {
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
             let ground = &self.draw.ground;
-            let mesh = plan.mesh();
-            self.shadow.record(rec, &self.field, (ground, balls), mesh);
+            self.shadow.record(rec, &self.field, (ground, balls));
         }
         stamp(Mark::Shadow);
         Ok(())

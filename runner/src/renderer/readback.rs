@@ -47,6 +47,11 @@ pub struct CullCounts {
     pub tiles_short: u32,
     /// Tiles in the view volume the occlusion test hid at tile level.
     pub tiles_hidden: u32,
+    /// Blades drawn into the sun's shadow map (the natural look with shadows): every
+    /// cascade's casters.
+    pub casters: u32,
+    /// Of those, the ones drawn into the near cascade too.
+    pub near_casters: u32,
 }
 
 impl CullCounts {
@@ -66,6 +71,8 @@ impl CullCounts {
             far_blades: c[counters::COUNTER_TILE_BLADES],
             tiles_short: c[counters::COUNTER_TILES_SHORT],
             tiles_hidden: c[counters::COUNTER_TILES_HIDDEN],
+            casters: c[counters::COUNTER_CASTERS],
+            near_casters: c[counters::COUNTER_NEAR_CASTERS],
         }
     }
     /// Blades removed by any test.

@@ -179,6 +179,24 @@ impl<'a> Recorder<'a> {
         extent: vk::Extent2D,
     ) {
         let region = image_region(vk::ImageAspectFlags::COLOR, offset, extent);
+        self.copy_regions_to_image(src, image, region);
+    }
+
+    /// Copies a tightly packed buffer of `f32` depths (each 0 to 1) into the whole
+    /// `extent` of a `D32_SFLOAT` image's depth (in TRANSFER_DST_OPTIMAL).
+    pub fn copy_buffer_to_depth(&self, src: vk::Buffer, image: vk::Image, extent: vk::Extent2D) {
+        let aspect = vk::ImageAspectFlags::DEPTH;
+        let region = image_region(aspect, vk::Offset2D::default(), extent);
+        self.copy_regions_to_image(src, image, region);
+    }
+
+    /// Copies `src` into `image` (in TRANSFER_DST_OPTIMAL) as `region` says.
+    fn copy_regions_to_image(
+        &self,
+        src: vk::Buffer,
+        image: vk::Image,
+        region: vk::BufferImageCopy,
+    ) {
         unsafe {
             self.device.cmd_copy_buffer_to_image(
                 self.cmd,

@@ -15,7 +15,7 @@ use spirv_std::indirect_command::{DrawIndirectCommand, DrawMeshTasksIndirectComm
 use spirv_std::spirv;
 
 /// One thread per chunk: the draw command of its slice of the visible blades; the
-/// first also writes the shadow casters' draws (after the chunks'), the mesh path's
+/// first also writes the shadow casters' dispatches (after the mesh draws), the mesh path's
 /// draws (one grid per bucket of strips and the spill's, their slices of the binned
 /// list, and the next frame's layout of it: `counters::lay_out_draws`), and the
 /// compute rasterizer's preparation, dispatch and resolve.
@@ -38,20 +38,8 @@ pub fn write_draws(
     }
     let visible = counters[COUNTER_VISIBLE];
     if chunk == 0 {
-        draws[push.chunk_count as usize] = DrawIndirectCommand {
-            vertex_count: counters[COUNTER_CASTERS],
-            instance_count: 1,
-            first_vertex: 0,
-            first_instance: 0,
-        };
-        // The near cascade's casters, in the list's second half.
-        draws[push.chunk_count as usize + 1] = DrawIndirectCommand {
-            vertex_count: counters[COUNTER_NEAR_CASTERS],
-            instance_count: 1,
-            first_vertex: frame.grass.blades,
-            first_instance: 0,
-        };
-        // The same casters through the mesh path, a triangle a lane.
+        // The shadow casters' dispatches (`compute::shadow`), a caster a thread: all,
+        // then the near cascade's.
         let grass_draws = MESH_DRAWS as usize;
         mesh_draws[grass_draws] = caster_grid(counters[COUNTER_CASTERS]).into();
         mesh_draws[grass_draws + 1] = caster_grid(counters[COUNTER_NEAR_CASTERS]).into();

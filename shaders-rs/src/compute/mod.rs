@@ -8,6 +8,7 @@ pub mod hiz;
 pub mod raster;
 pub mod reference;
 pub mod shade;
+pub mod shadow;
 pub mod simulate;
 pub mod temporal;
 pub mod tiles;

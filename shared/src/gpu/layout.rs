@@ -99,13 +99,19 @@ pub const BINDING_DRESSED: u32 = 9;
 pub const BINDING_CLUMPS: u32 = 11;
 /// Binding of the mesh path's indirect draws (storage and indirect, one
 /// `VkDrawMeshTasksIndirectCommandEXT` per draw: `meshlet::mesh_grid` of each
-/// bucket and of the spill, `meshlet::MESH_DRAWS`, then the shadow casters'), written
-/// by the compute pass.
+/// bucket and of the spill, `meshlet::MESH_DRAWS`, then the shadow casters'
+/// dispatches: `shadow::caster_grid` of all casters, then of the near cascade's, the
+/// same three words as a dispatch's), written by the compute pass.
 pub const BINDING_MESH_DRAW: u32 = 12;
 /// Binding of the visible blades binned by strip length (storage,
 /// `meshlet::StripBlade` per slot, twice the field's blades: `meshlet::BinLayout`):
-/// written by the compute pass, read by the mesh stages. (Binding 13 is free.)
+/// written by the compute pass, read by the mesh stages.
 pub const BINDING_BINNED: u32 = 14;
+/// Binding of the shadow map's grass depth (storage, one `u32` word a texel of the
+/// map's two cascades, rows of twice the cascade's side: `f32` depth bits): the
+/// casters drawn by compute threads (`look::shadow_raster`), then copied into the
+/// map's depth image.
+pub const BINDING_SHADOW_DEPTH: u32 = 13;
 /// Binding of the compute rasterizer's visibility buffer (storage, `u64` per pixel of
 /// the target, `raster::pack`): written by the compute pass, read by the resolve.
 pub const BINDING_VISIBILITY: u32 = 15;
@@ -151,9 +157,9 @@ pub const BINDING_PAINT: u32 = 22;
 /// as the field's blades): the blades inside the sun's map and within the casters'
 /// reach of the camera from the start, those of them inside the near cascade from
 /// the field's blade count on; written by the compute pass and read by the shadow
-/// map's vertex stage, so the map does not depend on where the camera looks. Their
-/// draw commands (far cascade, then near) follow the chunks' in the draws buffer
-/// ([`BINDING_DRAWS`]).
+/// map's compute rasterizer (`look::shadow_raster`), so the map does not depend on
+/// where the camera looks. Their dispatches (far cascade, then near) follow the mesh
+/// draws ([`BINDING_MESH_DRAW`]).
 pub const BINDING_CASTERS: u32 = 23;
 /// Binding of the visible blades' previous control points (storage,
 /// `draw::temporal::BladeMotion`, a slot per slot of the visible list): written by the

@@ -297,7 +297,7 @@ fn measure(
     let (mut cpu, mut times, mut drawn) = (Vec::new(), Vec::<PassTimes>::new(), Vec::new());
     let (mut compute_drawn, mut covered, mut written) = (Vec::new(), Vec::new(), Vec::new());
     let (mut far_tiles, mut far_blades) = (Vec::new(), Vec::new());
-    let (mut triangles, mut spilled) = (Vec::new(), Vec::new());
+    let (mut triangles, mut spilled, mut casters) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = Instant::now();
     let slots = FRAMES_IN_FLIGHT as u32;
     // Each slot's read-back is of its previous frame: skip those of the warm-up.
@@ -319,6 +319,7 @@ fn measure(
             written.extend(r.counts.map(|c| f64::from(c.raster_written)));
             triangles.extend(r.triangles.map(|t| t as f64));
             spilled.extend(r.counts.map(|c| c.spilled).filter(|&s| s > 0));
+            casters.extend(r.counts.map(|c| f64::from(c.casters)));
         }
         last = now;
         let measured = frame.saturating_sub(args.warmup);
@@ -349,6 +350,7 @@ fn measure(
         potential,
         far_tiles: Spread::of(&far_tiles).median,
         far_blades: Spread::of(&far_blades).median,
+        casters: Spread::of(&casters).median,
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,

@@ -245,7 +245,7 @@ pub fn write_csv(
          grass_ns_per_drawn_blade,compute_raster_below,drawn_by_compute,\
          raster_ms_median,raster_pixels_covered,raster_pixels_written,\
          raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written,\
-         gpu_ms_p99,potential_blades,far_tiles,far_blades,aa,shade_ms_median,render_scale\n",
+         gpu_ms_p99,potential_blades,far_tiles,far_blades,aa,shade_ms_median,render_scale,shadow_casters\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -256,7 +256,7 @@ pub fn write_csv(
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         let costs = raster_costs(p);
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0}\n",
             common.scene,
             args.camera,
             args.width,
@@ -302,6 +302,7 @@ pub fn write_csv(
             format!("{:?}", p.aa).to_lowercase(),
             p.shade.median,
             p.render_scale,
+            p.casters,
         );
     }
     crate::files::write(path, out.as_bytes())?;

@@ -71,6 +71,8 @@ pub struct Point {
     pub far_tiles: f64,
     /// Median far blades generated (tiled).
     pub far_blades: f64,
+    /// Median blades drawn into the sun's shadow map (every cascade's casters).
+    pub casters: f64,
     /// Blades drawn (median).
     pub drawn: f64,
     /// CPU time between frames.

@@ -15,6 +15,7 @@ pub mod coverage;
 pub mod ground;
 pub mod leaf;
 pub mod shadow;
+pub mod shadow_raster;
 pub mod sky;
 #[cfg(test)]
 mod tests;

@@ -48,11 +48,11 @@ pub fn in_shadow_map(view_proj: Mat4, blade: &Blade) -> bool {
 /// detail either (a blade's `lod.fewest` is the camera's setting).
 pub const CASTER_LEVEL: f32 = 1.0;
 
-/// Casters one mesh workgroup draws (`mesh::shadow_mesh`): one a lane, its one
-/// segment as four corners and two triangles.
+/// Casters one workgroup of the shadow map's compute rasterizer draws
+/// (`compute::shadow::raster_casters`, `shadow_raster`): one a thread.
 pub const CASTERS_PER_GROUP: u32 = 32;
 
-/// The mesh workgroups for `count` casters, [`CASTERS_PER_GROUP`] each
+/// The workgroups for `count` casters, [`CASTERS_PER_GROUP`] each
 /// (`meshlet::group_grid`).
 pub fn caster_grid(count: u32) -> spirv_std::glam::UVec3 {
     crate::draw::meshlet::group_grid(count.div_ceil(CASTERS_PER_GROUP))

@@ -64,6 +64,7 @@ impl Renderer {
             taa: false,
             deferred: false,
             reverse_z: frame.reverse_z,
+            shown: false,
         })?;
         // The caller's own depth makes no pyramid here, and its targets take one
         // sample, no history and no far blades, drawn at their size.

@@ -39,7 +39,7 @@ use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
-use targets::{DrawTargets, TargetSpec, draw_images, finish_frame};
+use targets::{DrawTargets, TargetSpec, blit_up, draw_images, finish_frame};
 use temporal::Temporal;
 
 use vk::AccessFlags2 as A;
@@ -152,6 +152,9 @@ pub struct Renderer {
     #[cfg(feature = "app")]
     overlay: Option<OverlayPass>,
     color_format: vk::Format,
+    /// Images of `color_format` take blits both ways: a frame drawn smaller is
+    /// tone-mapped at its size and blitted up ([`TargetSpec::shown`]).
+    blits_up: bool,
     targets: Option<DrawTargets>,
     /// (seed, clump size) the clump buffer was made for; `None` when it is stale.
     clumped: Option<(u32, f32)>,
@@ -230,6 +233,12 @@ impl Renderer {
             #[cfg(feature = "app")]
             overlay: None,
             color_format,
+            blits_up: crate::vulkan::features::format_has(
+                &ctx.instance,
+                ctx.physical,
+                color_format,
+                vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST,
+            ),
             targets: None,
             clumped: None,
             block: bytemuck::Zeroable::zeroed(),
@@ -314,6 +323,7 @@ impl Renderer {
             taa: plan.taa,
             deferred: natural,
             reverse_z: false,
+            shown: plan.scaled() && target.transfer_dst && self.blits_up,
         })?;
         self.temporal.begin(&plan, drawn);
         // The overlay's layer, drawn when egui's picture changed (before the frame's
@@ -378,9 +388,18 @@ impl Renderer {
         } else {
             None
         };
-        if let Some(source) = source {
-            self.tonemap
-                .record(rec, (source, drawn), out, &uniforms, hidden);
+        match (source, targets.shown.as_ref()) {
+            (Some(source), Some(shown)) => {
+                let at_drawn = (shown.image, shown.view, drawn);
+                self.tonemap
+                    .record(rec, (source, drawn), at_drawn, &uniforms, None);
+                blit_up(rec, shown, &target);
+            }
+            (Some(source), None) => {
+                self.tonemap
+                    .record(rec, (source, drawn), out, &uniforms, hidden);
+            }
+            (None, _) => {}
         }
         self.temporal.end(&plan, &input.request);
         stamp(Mark::ToneMap);

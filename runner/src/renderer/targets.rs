@@ -45,6 +45,10 @@ pub struct TargetSpec {
     pub deferred: bool,
     /// The caller's depth is reversed (1 near, 0 far; [`DrawTarget::reverse_z`]).
     pub reverse_z: bool,
+    /// Drawn smaller than the frame's target, which takes blits: the tone map writes
+    /// [`DrawTargets::shown`] at the drawn size, blitted up to the target, instead of
+    /// running over every pixel of the target.
+    pub shown: bool,
 }
 
 /// The draw's images for one [`TargetSpec`].
@@ -65,6 +69,9 @@ pub struct DrawTargets {
     /// The resolved frames, HDR: one read as the history while the other is written
     /// (TAA).
     pub history: Option<[Image; 2]>,
+    /// The frame tone-mapped at the drawn size, in the target's format, blitted up to
+    /// the target ([`TargetSpec::shown`]).
+    pub shown: Option<Image>,
 }
 
 impl DrawTargets {
@@ -152,6 +159,13 @@ impl DrawTargets {
         } else {
             None
         };
+        let shown = spec
+            .shown
+            .then(|| {
+                let usage = U::COLOR_ATTACHMENT | U::TRANSFER_SRC;
+                Image::new(ctx, "shown", extent, target_format, usage, color)
+            })
+            .transpose()?;
         Ok(Self {
             spec,
             depth: depth_image,
@@ -160,6 +174,7 @@ impl DrawTargets {
             depth_ms,
             motion,
             history,
+            shown,
         })
     }
 
@@ -260,6 +275,7 @@ impl Renderer {
                 taa: false,
                 deferred: false,
                 reverse_z: false,
+                shown: false,
             },
         };
         self.ensure_targets(spec)?;
@@ -328,6 +344,29 @@ pub(super) fn finish_frame(rec: &Recorder, target: &Target, capture: Option<vk::
         }
         None => finish_target(rec, target),
     }
+}
+
+/// Blits `shown` (the frame tone-mapped at its drawn size, just rendered) up to the
+/// whole `target`, each pixel the nearest of `shown`'s, as the tone map's own fetch
+/// scales; the target is left as the tone map leaves it, a colour attachment written.
+pub(super) fn blit_up(rec: &Recorder, shown: &Image, target: &Target) {
+    let color = vk::ImageAspectFlags::COLOR;
+    let written = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
+    let blit_read = (S::BLIT, A::TRANSFER_READ);
+    let blit_write = (S::BLIT, A::TRANSFER_WRITE);
+    let (src, dst) = (
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+    rec.image_barrier(shown.image, color, (attachment, src), written, blit_read);
+    let before = (S::COLOR_ATTACHMENT_OUTPUT, A::NONE);
+    let undefined = vk::ImageLayout::UNDEFINED;
+    rec.image_barrier(target.image, color, (undefined, dst), before, blit_write);
+    rec.blit_nearest((shown.image, shown.extent), (target.image, target.extent));
+    rec.image_barrier(target.image, color, (dst, attachment), blit_write, written);
+    // Written again as an attachment by the next frame's tone map.
+    rec.image_barrier(shown.image, color, (src, attachment), blit_read, written);
 }
 
 /// Leaves the target in its final layout.

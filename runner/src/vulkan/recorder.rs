@@ -208,6 +208,42 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Blits the whole of `src` (TRANSFER_SRC_OPTIMAL) onto the whole of `dst`
+    /// (TRANSFER_DST_OPTIMAL), scaled, each pixel the nearest of `src`'s.
+    pub fn blit_nearest(
+        &self,
+        (src, src_extent): (vk::Image, vk::Extent2D),
+        (dst, dst_extent): (vk::Image, vk::Extent2D),
+    ) {
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let corner = |e: vk::Extent2D| vk::Offset3D {
+            x: e.width as i32,
+            y: e.height as i32,
+            z: 1,
+        };
+        let region = vk::ImageBlit::default()
+            .src_subresource(layers)
+            .src_offsets([vk::Offset3D::default(), corner(src_extent)])
+            .dst_subresource(layers)
+            .dst_offsets([vk::Offset3D::default(), corner(dst_extent)]);
+        unsafe {
+            self.device.cmd_blit_image(
+                self.cmd,
+                src,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+                vk::Filter::NEAREST,
+            )
+        };
+    }
+
     /// Binds `pipeline` and `set` (set 0) at `bind_point`.
     pub fn bind_pipeline(
         &self,

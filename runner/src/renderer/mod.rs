@@ -39,7 +39,7 @@ use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
-use targets::{DrawTargets, TargetSpec, blit_up, draw_images, finish_frame};
+use targets::{DrawTargets, TargetSpec, draw_images, finish_frame, tone_map};
 use temporal::Temporal;
 
 use vk::AccessFlags2 as A;
@@ -369,7 +369,6 @@ impl Renderer {
         }
         stamp(Mark::Shade);
         self.copy_counters(rec, queries);
-        let out = (target.image, target.view, target.extent);
         // What the tone map shows: the history just resolved, or the HDR image.
         let source = if let Some(images) = targets.temporal() {
             let t = &self.temporal;
@@ -388,18 +387,9 @@ impl Renderer {
         } else {
             None
         };
-        match (source, targets.shown.as_ref()) {
-            (Some(source), Some(shown)) => {
-                let at_drawn = (shown.image, shown.view, drawn);
-                self.tonemap
-                    .record(rec, (source, drawn), at_drawn, &uniforms, None);
-                blit_up(rec, shown, &target);
-            }
-            (Some(source), None) => {
-                self.tonemap
-                    .record(rec, (source, drawn), out, &uniforms, hidden);
-            }
-            (None, _) => {}
+        if let Some(source) = source {
+            let frame = (&target, &uniforms, hidden);
+            tone_map(rec, &self.tonemap, targets, (source, drawn), frame);
         }
         self.temporal.end(&plan, &input.request);
         stamp(Mark::ToneMap);

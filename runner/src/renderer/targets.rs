@@ -20,10 +20,12 @@ use super::{Renderer, SKY, Target};
 use crate::passes::by_target::{DrawTarget, MOTION_FORMAT};
 use crate::passes::draw::DrawImages;
 use crate::passes::temporal::TemporalImages;
+use crate::passes::tonemap::{ToneMapPass, ToneMapSource};
 use crate::passes::{DEPTH_FORMAT, HDR_FORMAT};
 use crate::vulkan::{Context, Image, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
+use shared::gpu::layout::FrameUniforms;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -346,10 +348,33 @@ pub(super) fn finish_frame(rec: &Recorder, target: &Target, capture: Option<vk::
     }
 }
 
+/// Tone-maps `source` (drawn at `drawn` pixels) into the frame's `target` (except
+/// over `hidden`), or, where the targets have a [`DrawTargets::shown`] image, into
+/// that at the drawn size, blitted up to the target.
+pub(super) fn tone_map(
+    rec: &Recorder,
+    pass: &ToneMapPass,
+    targets: &DrawTargets,
+    (source, drawn): (ToneMapSource, vk::Extent2D),
+    (target, uniforms, hidden): (&Target, &FrameUniforms, Option<vk::Rect2D>),
+) {
+    match targets.shown.as_ref() {
+        Some(shown) => {
+            let at_drawn = (shown.image, shown.view, drawn);
+            pass.record(rec, (source, drawn), at_drawn, uniforms, None);
+            blit_up(rec, shown, target);
+        }
+        None => {
+            let out = (target.image, target.view, target.extent);
+            pass.record(rec, (source, drawn), out, uniforms, hidden);
+        }
+    }
+}
+
 /// Blits `shown` (the frame tone-mapped at its drawn size, just rendered) up to the
 /// whole `target`, each pixel the nearest of `shown`'s, as the tone map's own fetch
 /// scales; the target is left as the tone map leaves it, a colour attachment written.
-pub(super) fn blit_up(rec: &Recorder, shown: &Image, target: &Target) {
+fn blit_up(rec: &Recorder, shown: &Image, target: &Target) {
     let color = vk::ImageAspectFlags::COLOR;
     let written = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
     let blit_read = (S::BLIT, A::TRANSFER_READ);

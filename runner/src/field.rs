@@ -386,13 +386,22 @@ impl Field {
             U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
         // All of them, then the near cascade's.
-        let casters = device_buffer("shadow casters", u64::from(count) * 8, U::STORAGE_BUFFER)?;
+        let casters = device_buffer(
+            "shadow casters",
+            u64::from(count) * 8,
+            U::STORAGE_BUFFER | U::TRANSFER_SRC,
+        )?;
         let dressed = device_buffer(
             "dressed blades",
             u64::from(count) * size_of::<DressedBlade>() as u64,
             U::STORAGE_BUFFER,
         )?;
-        let clumps = device_buffer("clumps", u64::from(count) * 16, U::STORAGE_BUFFER)?;
+        // The clumps and the casters are read back by the test of the shadow map's grass.
+        let clumps = device_buffer(
+            "clumps",
+            u64::from(count) * 16,
+            U::STORAGE_BUFFER | U::TRANSFER_SRC,
+        )?;
         let motion = device_buffer(
             "previous control points",
             u64::from(count) * size_of::<BladeMotion>() as u64,

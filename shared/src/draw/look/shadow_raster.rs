@@ -183,7 +183,7 @@ mod tests {
                     match got.get(&(x, y)) {
                         Some(&d) => {
                             assert!(expected || near_edge || near_clip, "{t:?}: ({x}, {y})");
-                            assert!((d - depth).abs() < 1e-3, "{t:?}: {d} against {depth}");
+                            assert!((d - depth).abs() < 5e-5, "{t:?}: {d} against {depth}");
                         }
                         None => assert!(!expected || near_edge || near_clip, "{t:?}: ({x}, {y})"),
                     }

@@ -367,10 +367,3 @@ pub(crate) fn caster(
     };
     caster_blade(&blades[i], &Clump::unpack(clumps[i]), id, frame.look.seed)
 }
-
-/// The world point at (`u`, `v`) of a caster's surface (`blade`, dressed by
-/// [`caster`]).
-pub(crate) fn caster_surface(frame: &FrameUniforms, blade: &Blade, u: f32, v: f32) -> Vec3 {
-    let grass = &frame.grass;
-    surface_point(blade, u, v, grass.shape, grass.tip_start).position
-}

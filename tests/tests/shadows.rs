@@ -120,8 +120,7 @@ fn turning_keeps_the_shadow_map(ctx: &Arc<Context>, scene: &Scene) {
 fn the_shadow_maps_grass_is_the_hosts() {
     with_device("the_shadow_maps_grass_is_the_hosts", |ctx| {
         use shared::draw::look::clump::{Clump, caster_blade};
-        use shared::draw::look::shadow_raster::{map_point, raster_caster};
-        use shared::draw::shape::surface_point;
+        use shared::draw::look::shadow_raster::{caster_corners, raster_caster, texel_word};
         use shared::gpu::counters::COUNTER_NEAR_CASTERS;
         let scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(32768), 3, |_| {
             Ok(())
@@ -179,19 +178,10 @@ fn the_shadow_maps_grass_is_the_hosts() {
                     index,
                     block.look.seed,
                 );
-                let (shape, tip) = (block.grass.shape, block.grass.tip_start);
-                let corner = |u, v| {
-                    let p = surface_point(&blade, u, v, shape, tip).position;
-                    map_point(view_proj, p, side, cascade)
-                };
-                let corners = [
-                    corner(0.0, 0.0),
-                    corner(1.0, 0.0),
-                    corner(0.0, 1.0),
-                    corner(1.0, 1.0),
-                ];
+                let shape = (block.grass.shape, block.grass.tip_start);
+                let corners = caster_corners(&blade, shape, view_proj, (side, cascade));
                 raster_caster(corners, (side, cascade), &mut |x, y, d| {
-                    let t = &mut host[(y * 2 * side + x) as usize];
+                    let t = &mut host[texel_word(x, y, side)];
                     *t = t.min(d);
                 });
             }

@@ -2,10 +2,10 @@
 //! (`shared::draw::look::shadow_raster`), one caster a thread, each texel an atomic
 //! minimum of its depth word; `passes::shadow` copies the words into the map.
 
-use crate::grass::{caster, caster_surface};
+use crate::grass::caster;
 use shared::Blade;
 use shared::draw::look::shadow::CASTERS_PER_GROUP;
-use shared::draw::look::shadow_raster::{map_point, raster_caster};
+use shared::draw::look::shadow_raster::{caster_corners, raster_caster, texel_word};
 use shared::draw::meshlet::group_index;
 use shared::gpu::counters::{COUNTER_CASTERS, COUNTER_NEAR_CASTERS};
 use shared::gpu::layout::FrameUniforms;
@@ -26,25 +26,12 @@ fn draw_caster(
     depth: &mut [u32],
 ) {
     let blade = caster(frame, blades, clumps, ids, casters[(first + k) as usize]);
-    let side = frame.look.shadow_size;
-    let corner = |u: f32, v: f32| {
-        map_point(
-            view_proj,
-            caster_surface(frame, &blade, u, v),
-            side,
-            cascade,
-        )
-    };
-    let corners = [
-        corner(0.0, 0.0),
-        corner(1.0, 0.0),
-        corner(0.0, 1.0),
-        corner(1.0, 1.0),
-    ];
-    let row = 2 * side;
-    raster_caster(corners, (side, cascade), &mut |x, y, d| unsafe {
+    let at = (frame.look.shadow_size, cascade);
+    let shape = (frame.grass.shape, frame.grass.tip_start);
+    let corners = caster_corners(&blade, shape, view_proj, at);
+    raster_caster(corners, at, &mut |x, y, d| unsafe {
         atomic_u_min::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-            &mut depth[(y * row + x) as usize],
+            &mut depth[texel_word(x, y, at.0)],
             d.to_bits(),
         );
     });

@@ -20,6 +20,8 @@
 //! Every function here runs on the GPU and on the host.
 
 use super::shadow::shadow_coord;
+use crate::Blade;
+use crate::draw::shape::surface_point;
 use spirv_std::glam::{Mat4, Vec3};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -35,6 +37,34 @@ pub fn map_point(view_proj: Mat4, p: Vec3, side: u32, cascade: u32) -> Vec3 {
     let c = shadow_coord(view_proj, p);
     let side = side as f32;
     Vec3::new((c.x + cascade as f32) * side, c.y * side, c.z)
+}
+
+/// The four corners of a caster's one segment (`shadow::CASTER_LEVEL`) in map points
+/// of cascade `cascade` ([`map_point`]): its dressed `blade`'s surface
+/// (`shape::surface_point` in `shape`, `tip_start`) at (u, v) = (0, 0), (1, 0), (0, 1)
+/// and (1, 1), the order [`raster_caster`] takes.
+pub fn caster_corners(
+    blade: &Blade,
+    (shape, tip_start): (u32, f32),
+    view_proj: Mat4,
+    (side, cascade): (u32, u32),
+) -> [Vec3; 4] {
+    let corner = |u: f32, v: f32| {
+        let p = surface_point(blade, u, v, shape, tip_start).position;
+        map_point(view_proj, p, side, cascade)
+    };
+    [
+        corner(0.0, 0.0),
+        corner(1.0, 0.0),
+        corner(0.0, 1.0),
+        corner(1.0, 1.0),
+    ]
+}
+
+/// The index of texel (`x`, `y`) among the depth words of a map of two cascades
+/// `side` texels a side: rows of both cascades, `2 · side` words each.
+pub fn texel_word(x: u32, y: u32, side: u32) -> usize {
+    (y * 2 * side + x) as usize
 }
 
 /// The texels of cascade `cascade` of a map of `side` texels a side (columns

@@ -386,6 +386,7 @@ impl Field {
             U::STORAGE_BUFFER | U::TRANSFER_SRC,
         )?;
         // All of them, then the near cascade's.
+        // Read back by the test of the shadow map's grass.
         let casters = device_buffer(
             "shadow casters",
             u64::from(count) * 8,
@@ -396,7 +397,7 @@ impl Field {
             u64::from(count) * size_of::<DressedBlade>() as u64,
             U::STORAGE_BUFFER,
         )?;
-        // The clumps and the casters are read back by the test of the shadow map's grass.
+        // Read back, as the casters are, by the test of the shadow map's grass.
         let clumps = device_buffer(
             "clumps",
             u64::from(count) * 16,

@@ -215,12 +215,12 @@ impl<'a> Recorder<'a> {
         (src, src_extent): (vk::Image, vk::Extent2D),
         (dst, dst_extent): (vk::Image, vk::Extent2D),
     ) {
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
+        let layers = image_region(
+            vk::ImageAspectFlags::COLOR,
+            vk::Offset2D::default(),
+            src_extent,
+        )
+        .image_subresource;
         let corner = |e: vk::Extent2D| vk::Offset3D {
             x: e.width as i32,
             y: e.height as i32,

@@ -55,7 +55,8 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 use shared::settings::{GrassPipeline, Look};
 use shared::sim::collide::MAX_COLLIDERS;
-use shared::sim::simulate::SimClock;
+use shared::sim::impulse::{Impulse, Impulses, MAX_IMPULSES};
+use shared::sim::simulate::{Environment, SimClock};
 use shared::world::mesh::SurfaceMesh;
 use shared::world::mesh::bvh::IndexedMesh;
 use std::sync::Arc;
@@ -162,6 +163,7 @@ pub struct GrassField {
     renderer: Renderer,
     queries: FrameQueries,
     clock: SimClock,
+    impulses: Impulses,
     bounds: (Vec3, f32),
     solid: IndexedMesh,
     blades: u32,
@@ -215,6 +217,7 @@ impl GrassField {
             renderer,
             queries: FrameQueries::new(&ctx)?,
             clock: SimClock::default(),
+            impulses: Impulses::default(),
             bounds: scene.bounds,
             blades: scene.blade_count(),
             solid: scene.solid,
@@ -238,8 +241,13 @@ impl GrassField {
         if extent.width == 0 || extent.height == 0 {
             bail!("targets of {}x{} pixels", extent.width, extent.height);
         }
+        // An impulse that ends during this frame's steps still blows until it does.
+        self.impulses.retire(self.clock.time());
         let (first_step, steps) = self.clock.advance(frame.seconds);
-        let request = self.settings.request(&frame.camera, frame.colliders);
+        let request = self
+            .settings
+            .request(&frame.camera, frame.colliders)
+            .with_impulses(&self.impulses);
         let push = shared::gpu::layout::SimulatePush {
             first_step,
             steps,
@@ -295,12 +303,30 @@ impl GrassField {
     }
 
     /// The wind the blades feel at `point` now (`shared::sim::simulate::wind_at`, the
-    /// same function the compute pass steps with, under `settings.wind`): an
-    /// acceleration along the ground, for your own trees, flags or particles to move
-    /// with the grass.
+    /// same function the compute pass steps with, under `settings.wind` and the wind
+    /// impulses blowing): an acceleration along the ground, for your own trees, flags
+    /// or particles to move with the grass.
     pub fn wind_at(&self, point: Vec3) -> Vec3 {
-        let env = self.settings.environment(0);
-        shared::sim::simulate::wind_at(&env, point, self.time())
+        let env = Environment {
+            impulses: self.impulses.live(),
+            ..self.settings.environment(0)
+        };
+        shared::sim::simulate::wind_at(&env, self.impulses.slots(), point, self.time())
+    }
+
+    /// Adds a wind impulse (`shared::sim::impulse`: an explosion's blast, a rotor's
+    /// downwash), its start in the field's simulated time ([`Self::time`] for now); it
+    /// blows in the frames that follow until its lifetime ends. Refused where a
+    /// number is out of range or `MAX_IMPULSES` are already blowing.
+    pub fn add_impulse(&mut self, impulse: Impulse) -> Result<()> {
+        if let Some(problem) = impulse.problem() {
+            bail!("wind impulse {impulse:?}: {problem}");
+        }
+        self.impulses.retire(self.time());
+        if self.impulses.add(impulse).is_err() {
+            bail!("{MAX_IMPULSES} wind impulses are blowing already; add one when one ends");
+        }
+        Ok(())
     }
 }
 

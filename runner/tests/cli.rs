@@ -151,6 +151,10 @@ fn out_of_range_options_are_refused_by_the_parser() {
         &["bench", "--configs", "everything"],
         &["bench", "--counts", "0"],
         &["bench", "--camera", "drone"],
+        &["render", "--impulse", "nuke,0,0,1"],
+        &["render", "--impulse", "blast,0,0"],
+        &["render", "--impulse", "blast,0,0,1,60,-8,2"],
+        &["record", "--impulse", "downwash,0,0,-1"],
     ] {
         let o = grass(args);
         let stderr = String::from_utf8_lossy(&o.stderr);
@@ -388,6 +392,55 @@ fn fields_and_painted_maps_through_the_command_line() {
 /// lavapipe), none without it. A clip
 /// that is neither .gif, .mp4 nor a folder is refused by name. Planted fault: the
 /// ball left out of the recorded frames' uniforms failed (0 pixels changed).
+/// `--impulse`: more than the frame holds, or off the ground, is refused by name; a
+/// blast in still air moves the blades (the picture changes), and the same run
+/// without it draws the same picture twice.
+#[test]
+fn wind_impulses_through_the_command_line() {
+    if !runs_here("wind_impulses_through_the_command_line", &[]) {
+        return;
+    }
+    let nine: Vec<&str> = (0..9).flat_map(|_| ["--impulse", "blast,0,0,0"]).collect();
+    let (ok, stderr) = render_scene("plane", &nine);
+    assert!(
+        !ok && stderr.contains("at most 8 wind impulses"),
+        "{stderr}"
+    );
+    let (ok, stderr) = render_scene("plane", &["--impulse", "downwash,1e5,0,0"]);
+    assert!(!ok && stderr.contains("no ground there"), "{stderr}");
+    let dir = scratch("impulses");
+    let picture = |name: &str, impulse: &[&str]| {
+        let out = dir.join(name);
+        let out = out.to_str().expect("utf-8 path").to_owned();
+        let mut args = vec![
+            "render",
+            "--wind",
+            "calm",
+            "--blades",
+            "1024",
+            "--frames",
+            "30",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--look",
+            "paper",
+            "--no-ball",
+            "--out",
+            &out,
+        ];
+        args.extend_from_slice(impulse);
+        let o = grass(&args);
+        assert!(o.status.success(), "{}", stderr_of(&args, &o));
+        std::fs::read(&out).expect("the picture")
+    };
+    let calm = picture("calm.png", &[]);
+    assert_eq!(calm, picture("calm-again.png", &[]), "two calm runs differ");
+    let blown = picture("blast.png", &["--impulse", "blast,0,0,0.2,80,10,3"]);
+    assert_ne!(calm, blown, "the blast moved no blade");
+}
+
 #[test]
 fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
     if !runs_here(

@@ -352,6 +352,30 @@ fn a_field_on_your_own_mesh() {
         .record(ash::vk::CommandBuffer::null(), &frame(&[]))
         .expect_err("targets of no size");
     assert!(error.to_string().contains("0x0"), "{error}");
+
+    // Wind impulses: a blast felt inside its radius once its front arrives, refused
+    // where a number is out of range or the frame's room is full.
+    use shared::sim::impulse::{IMPULSE_BLAST, Impulse, MAX_IMPULSES};
+    let at = Vec3::new(20.0, 3.0, -5.0);
+    let calm_wind = field.wind_at(at + Vec3::X);
+    let calm_beyond = field.wind_at(at + 9.0 * Vec3::X);
+    // Started a tenth of a second ago: its front has passed a unit out.
+    let blast = Impulse::new(IMPULSE_BLAST, at, field.time() - 0.1, 60.0, 8.0, 2.5);
+    field.add_impulse(blast).expect("a blast");
+    let blown = field.wind_at(at + Vec3::X) - calm_wind;
+    assert!(blown.x > 10.0 && blown.y.abs() < 1e-4, "{blown}");
+    assert_eq!(field.wind_at(at + 9.0 * Vec3::X), calm_beyond);
+    let bad = Impulse {
+        radius: 0.0,
+        ..blast
+    };
+    let error = field.add_impulse(bad).expect_err("a radius of 0");
+    assert!(error.to_string().contains("radius"), "{error}");
+    for _ in 1..MAX_IMPULSES {
+        field.add_impulse(blast).expect("room for another");
+    }
+    let error = field.add_impulse(blast).expect_err("no room");
+    assert!(error.to_string().contains("blowing already"), "{error}");
     drop(field);
 }
 

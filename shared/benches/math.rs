@@ -12,6 +12,7 @@ use shared::draw::shape::{SHAPE_QUADRATIC, surface_point};
 use shared::glam::camera::rh;
 use shared::glam::{Mat4, Vec3, Vec4};
 use shared::sim::collide::MAX_COLLIDERS;
+use shared::sim::impulse::NO_IMPULSES;
 use shared::sim::simulate::{Environment, simulate};
 use shared::world::generate::{side_for, square_field};
 use shared::world::mesh::bvh::MeshBvh;
@@ -50,7 +51,7 @@ fn simulate_one_step(bencher: Bencher, balls: usize) {
         .counter(divan::counter::ItemsCount::new(BLADES))
         .bench(|| {
             for b in &blades {
-                black_box(simulate((*b, 0.0), &env, &spheres, 0, 1));
+                black_box(simulate((*b, 0.0), &env, &spheres, &NO_IMPULSES, 0, 1));
             }
         });
 }

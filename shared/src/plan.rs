@@ -21,11 +21,12 @@ use crate::settings::{
     Settings, View, Viewpoint, shadow_sphere,
 };
 use crate::sim::collide::MAX_COLLIDERS;
+use crate::sim::impulse::Impulses;
 use crate::sim::simulate::Environment;
 use spirv_std::glam::{Mat4, Vec4};
 
-/// What a caller asks of one frame: the settings, where it is seen from and the
-/// sphere colliders (centre xyz, radius w).
+/// What a caller asks of one frame: the settings, where it is seen from, the sphere
+/// colliders (centre xyz, radius w) and the live wind impulses.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FrameRequest {
     /// The settings the frame is drawn with.
@@ -34,6 +35,7 @@ pub struct FrameRequest {
     pub eye: Viewpoint,
     colliders: [Vec4; MAX_COLLIDERS],
     used: u32,
+    impulses: Impulses,
 }
 
 impl FrameRequest {
@@ -48,7 +50,21 @@ impl FrameRequest {
             eye: *eye,
             colliders,
             used: used as u32,
+            impulses: Impulses::default(),
         }
+    }
+
+    /// This frame with the wind impulses `impulses` (those not ended act).
+    pub fn with_impulses(self, impulses: &Impulses) -> Self {
+        Self {
+            impulses: *impulses,
+            ..self
+        }
+    }
+
+    /// The wind impulses.
+    pub fn impulses(&self) -> &Impulses {
+        &self.impulses
     }
 
     /// The colliders in use.
@@ -64,7 +80,8 @@ impl FrameRequest {
     /// The whole GPU block of this frame drawn as `plan` says, with `facts`
     /// ([`Settings::uniforms`]).
     pub fn uniforms(&self, plan: &FramePlan, facts: &FrameFacts) -> FrameUniforms {
-        self.settings.uniforms(plan, &self.eye, self.balls(), facts)
+        let around = (self.balls(), &self.impulses);
+        self.settings.uniforms(plan, &self.eye, around, facts)
     }
 }
 
@@ -197,12 +214,13 @@ impl Settings {
     /// The whole frame block, built once: these settings drawn as `plan` says (its
     /// look, view, pipeline, shadow map, occlusion test and far blades), seen from
     /// `eye`, with the sphere colliders `balls` (centre xyz, radius w; the first
-    /// `MAX_COLLIDERS` are used) and what the renderer knows of the frame (`facts`).
+    /// `MAX_COLLIDERS` are used) and the wind `impulses` around, and what the renderer
+    /// knows of the frame (`facts`).
     pub fn uniforms(
         &self,
         plan: &FramePlan,
         eye: &Viewpoint,
-        balls: &[Vec4],
+        (balls, impulses): (&[Vec4], &Impulses),
         facts: &FrameFacts,
     ) -> FrameUniforms {
         // Drawn smaller than the output, the camera's pixels are the drawn image's.
@@ -242,9 +260,11 @@ impl Settings {
             light: self.look_light(plan.look),
             forces: Environment {
                 time: facts.time,
+                impulses: impulses.live(),
                 ..self.environment(used as u32)
             },
             colliders,
+            impulses: *impulses.slots(),
             hiz: if plan.occlusion {
                 facts.hiz
             } else {
@@ -374,7 +394,7 @@ mod tests {
             ..Default::default()
         };
         let plan = FramePlan::of(&s);
-        let u = s.uniforms(&plan, &eye, &balls, &facts);
+        let u = s.uniforms(&plan, &eye, (&balls, &Impulses::default()), &facts);
         // tan(45°) = 1: the focal length is half the height.
         assert!((u.camera.focal_pixels - 100.0).abs() < 1e-4);
         assert_eq!(u.camera.position, eye.position);
@@ -420,7 +440,7 @@ mod tests {
             previous: None,
         };
         let plan = FramePlan::of(&s);
-        let full = s.uniforms(&plan, &eye, &[], &facts);
+        let full = s.uniforms(&plan, &eye, (&[], &Impulses::default()), &facts);
         assert_eq!(full.hiz, facts.hiz);
         assert_eq!(full.cull.enabled & OCCLUSION, OCCLUSION);
         assert_eq!(full.raster.below, 12.0);
@@ -431,7 +451,12 @@ mod tests {
         assert_eq!((full.grass.simulated, full.grass.tiled), (40, 1));
         // Without occluders or a compute rasterizer: no pyramid, no occlusion test, no
         // far blades, whatever the settings say.
-        let narrowed = s.uniforms(&plan.within(false, false), &eye, &[], &facts);
+        let narrowed = s.uniforms(
+            &plan.within(false, false),
+            &eye,
+            (&[], &Impulses::default()),
+            &facts,
+        );
         assert!(narrowed.hiz.is_empty());
         assert_eq!(narrowed.cull.enabled & OCCLUSION, 0);
         assert_eq!(narrowed.raster.below, 0.0);

@@ -559,6 +559,8 @@ impl Settings {
             time: 0.0,
             far_sway: u32::from(self.far_sway),
             gust_speed: self.wind.gust_speed,
+            impulses: 0,
+            pad: [0; 3],
         }
     }
 

@@ -32,6 +32,7 @@ use shared::Blade;
 use shared::glam::{Vec3, Vec4};
 use shared::sim::collide::MAX_COLLIDERS;
 use shared::sim::collide::MAX_STRENGTH;
+use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, MAX_IMPULSES, NO_IMPULSES};
 use shared::sim::simulate::{
     BladeState, Environment, MAX_STEPS_PER_FRAME, STEP_SECONDS, STEPS_PER_SECOND, SimClock,
     simulate,
@@ -219,8 +220,41 @@ fn blade_state() -> impl Strategy<Value = BladeState> {
         })
 }
 
+/// Wind impulses at their extremes, which an environment uses the first of: blasts and
+/// downwashes at 100× the wind's strength over the blades' whole domain and over a
+/// few units, lasting from a tenth of a millisecond to the whole run, some starting
+/// mid-run.
+fn extreme_impulses() -> [Impulse; MAX_IMPULSES] {
+    let at = |x: f32, z: f32| Vec3::new(x, 0.0, z);
+    [
+        Impulse::new(IMPULSE_BLAST, at(0.0, 0.0), 0.5, MAX_WIND, 100.0, 2.0),
+        Impulse::new(IMPULSE_DOWNWASH, at(10.0, -5.0), 0.0, MAX_WIND, 80.0, 1.0e4),
+        Impulse::new(IMPULSE_BLAST, at(-20.0, 20.0), 1.0, MAX_WIND, 60.0, 0.01),
+        Impulse::new(IMPULSE_DOWNWASH, at(0.0, 0.0), 0.2, MAX_WIND, 0.5, 3.0),
+        Impulse::new(IMPULSE_BLAST, at(30.0, 5.0), 0.0, MAX_WIND, 3.0, 1.0e-4),
+        Impulse::new(
+            IMPULSE_DOWNWASH,
+            at(-5.0, -30.0),
+            2.0,
+            MAX_WIND,
+            100.0,
+            0.05,
+        ),
+        Impulse::new(IMPULSE_BLAST, at(5.0, 5.0), 0.0, MAX_WIND, 100.0, 1.0e4),
+        Impulse::new(
+            IMPULSE_DOWNWASH,
+            at(-40.0, 40.0),
+            5.0,
+            MAX_WIND,
+            100.0,
+            20.0,
+        ),
+    ]
+}
+
 /// Extreme environments: every field at up to 100× wind, gravity up to 100 in any
-/// direction and towards any centre, stiffness factor 0 ..= 100, decay 0 ..= 100.
+/// direction and towards any centre, stiffness factor 0 ..= 100, decay 0 ..= 100,
+/// up to `MAX_COLLIDERS` spheres and `MAX_IMPULSES` of [`extreme_impulses`].
 fn environment() -> impl Strategy<Value = Environment> {
     (
         (direction(), range(0.0, MAX_GRAVITY)),
@@ -228,21 +262,25 @@ fn environment() -> impl Strategy<Value = Environment> {
         (direction(), range(0.0, MAX_WIND), 0u32..=4),
         range(0.0, MAX_DECAY),
         range(0.0, MAX_STIFFNESS),
-        0..=MAX_COLLIDERS as u32,
+        (0..=MAX_COLLIDERS as u32, 0..=MAX_IMPULSES as u32),
     )
         .prop_map(
-            |((g, ga), (c, ca, blend), (w, ws, kind), decay, stiffness, colliders)| Environment {
-                gravity: g.extend(ga),
-                gravity_centre: c.extend(ca),
-                centre_blend: blend,
-                wind: w.extend(ws),
-                wind_kind: kind,
-                strength_decay: decay,
-                stiffness_scale: stiffness,
-                colliders,
-                time: 0.0,
-                far_sway: 1,
-                gust_speed: 6.0,
+            |((g, ga), (c, ca, blend), (w, ws, kind), decay, stiffness, (colliders, impulses))| {
+                Environment {
+                    gravity: g.extend(ga),
+                    gravity_centre: c.extend(ca),
+                    centre_blend: blend,
+                    wind: w.extend(ws),
+                    wind_kind: kind,
+                    strength_decay: decay,
+                    stiffness_scale: stiffness,
+                    colliders,
+                    time: 0.0,
+                    far_sway: 1,
+                    gust_speed: 6.0,
+                    impulses,
+                    pad: [0; 3],
+                }
             },
         )
 }
@@ -348,7 +386,7 @@ fn run_frames(
             continue;
         }
         let s = spheres(i, &state.0, t);
-        state = simulate(state, env, &s, first, steps);
+        state = simulate(state, env, &s, &extreme_impulses(), first, steps);
         if let Some(v) = violation(state, &start.0, reach(env, &state.0, &s)) {
             return Err(format!("frame {i} ({dt} s, {steps} steps): {v}"));
         }
@@ -369,7 +407,7 @@ proptest! {
         env in environment(),
         time in range(0.0, 1.0e4),
     ) {
-        let pose = shared::sim::sway::settled(&start, &env, time);
+        let pose = shared::sim::sway::settled(&start, &env, &extreme_impulses(), time);
         let wrong = violation((pose, 0.0), &start, start.height());
         prop_assert!(wrong.is_none(), "{} in {env:?}", wrong.unwrap_or_default());
     }
@@ -495,7 +533,7 @@ proptest! {
         // Step by step: a blade flailing with period 2 is back where it was after two.
         let mut state = settled;
         for i in 0..STEPS_PER_SECOND / 60 {
-            let next = simulate(state, &env, &NO_SPHERES, steps + i, 1);
+            let next = simulate(state, &env, &NO_SPHERES, &NO_IMPULSES, steps + i, 1);
             let moved = (next.0.tip() - state.0.tip()).length();
             prop_assert!(
                 moved < SETTLED * settled.0.height(),
@@ -509,7 +547,8 @@ proptest! {
 /// The corners of the settings: each wind field at 100× strength, no gravity or
 /// 100 along −Y or towards a centre, stiffness factor 0 and 100, decay 0 and 100,
 /// on blades of stiffness 0 and 100, upright, tilted and upside down, with all
-/// `MAX_COLLIDERS` spheres jumping between the root, the tip and beside the blade.
+/// `MAX_COLLIDERS` spheres jumping between the root, the tip and beside the blade
+/// and every one of [`extreme_impulses`] blowing.
 fn corners() -> Vec<(Environment, BladeState)> {
     let blades = [
         Blade::at_rest(Vec3::new(1.0, 0.0, 2.0), Vec3::Y, 0.4, 2.0, 0.12, 0.0),
@@ -547,6 +586,8 @@ fn corners() -> Vec<(Environment, BladeState)> {
                             time: 0.0,
                             far_sway: 1,
                             gust_speed: 6.0,
+                            impulses: MAX_IMPULSES as u32,
+                            pad: [0; 3],
                         };
                         out.extend(blades.iter().map(|b| (env, (*b, 0.0))));
                     }

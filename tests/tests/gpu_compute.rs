@@ -1,6 +1,6 @@
 //! The compute pass on a Vulkan device against the host running the same shared
 //! functions: every blade and its collision strength after a few hundred steps, with
-//! colliders and each wind field on, and the visible set.
+//! colliders, each wind field and wind impulses on, and the visible set.
 
 use glam::{Vec3, Vec4};
 use runner::app::driver::FrameDriver;
@@ -13,6 +13,7 @@ use shared::cull::blade as cull;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::FrameRequest;
 use shared::settings::WindField;
+use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses};
 use shared::sim::simulate::simulate;
 use std::collections::HashSet;
 use tests::with_device;
@@ -118,6 +119,7 @@ fn run_both(
                 *state,
                 &block.forces,
                 &block.colliders,
+                &block.impulses,
                 push.first_step,
                 push.steps,
             );
@@ -210,6 +212,40 @@ fn compute_pass_matches_the_host_in_gusts_a_vortex_and_turbulence() {
                 let (scene, request) = setup(wind, blend);
                 run_both(&ctx, &scene, &request);
             }
+        },
+    );
+}
+
+/// A blast at the field's centre that has ended by the last frame, and a rotor's
+/// downwash beside it still blowing: the GPU's blades are the host's, and the
+/// impulses moved them (the host without them differs).
+#[test]
+fn compute_pass_matches_the_host_under_a_blast_and_a_downwash() {
+    with_device(
+        "compute_pass_matches_the_host_under_a_blast_and_a_downwash",
+        |ctx| {
+            let (scene, request) = setup(WindField::Breeze, 0.0);
+            let r = scene.bounds.1;
+            let mut impulses = Impulses::default();
+            let blast = Impulse::new(IMPULSE_BLAST, Vec3::ZERO, 0.5, 60.0, 0.8 * r, 1.5);
+            let rotor = Vec3::new(0.3 * r, 0.0, -0.2 * r);
+            let downwash = Impulse::new(IMPULSE_DOWNWASH, rotor, 0.2, 40.0, 0.5 * r, 10.0);
+            impulses.add(blast).unwrap();
+            impulses.add(downwash).unwrap();
+            let blown = request.with_impulses(&impulses);
+            let (driver, host, _) = run_both(&ctx, &scene, &blown);
+            assert_eq!(driver.renderer.block().forces.impulses, 2);
+            let (_, still, _) = run_both(&ctx, &scene, &request);
+            let moved = host
+                .iter()
+                .zip(&still)
+                .filter(|(a, b)| (a.tip() - b.tip()).length() > 0.05)
+                .count();
+            println!("{moved} of {} blades moved by the impulses", host.len());
+            assert!(
+                moved > host.len() / 10,
+                "only {moved} blades moved by the impulses"
+            );
         },
     );
 }

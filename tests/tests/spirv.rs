@@ -479,7 +479,7 @@ fn frame_block_layout_matches_the_host_struct() {
 
     // Each member of the frame block: its offset, and the offsets of its own members
     // where it is a struct (none for arrays).
-    let expected: [(&str, usize, Vec<usize>); 11] = [
+    let expected: [(&str, usize, Vec<usize>); 12] = [
         (
             "camera",
             offset_of!(FrameUniforms, camera),
@@ -509,9 +509,12 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(Environment, time),
                 offset_of!(Environment, far_sway),
                 offset_of!(Environment, gust_speed),
+                offset_of!(Environment, impulses),
+                offset_of!(Environment, pad),
             ],
         ),
         ("colliders", offset_of!(FrameUniforms, colliders), vec![]),
+        ("impulses", offset_of!(FrameUniforms, impulses), vec![]),
         (
             "hiz",
             offset_of!(FrameUniforms, hiz),

@@ -3,8 +3,9 @@
 use runner::app::headless::FORMAT;
 use runner::renderer::Renderer;
 use runner::scene::{BladeCount, Scene, SceneKind};
-use shared::glam::{IVec2, Vec3, Vec3Swizzles};
+use shared::glam::{IVec2, Vec2, Vec3, Vec3Swizzles};
 use shared::gpu::layout::TilePush;
+use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses, NO_IMPULSES};
 use shared::world::tiles::{TERRAIN_FLAT, TERRAIN_VALLEY, TileParams, far_blade, kept, tile_blade};
 
 /// A renderer to run the tile passes with (its own field is a few blades of the plane).
@@ -184,12 +185,13 @@ fn still_frame(
     settings: &shared::settings::Settings,
     camera: &runner::camera::OrbitCamera,
     (width, height): (u32, u32),
+    impulses: &Impulses,
 ) -> (Vec<u8>, runner::app::driver::FrameDriver) {
     let mut target = runner::app::headless::Offscreen::new(ctx, width, height).unwrap();
     let renderer = Renderer::new(ctx, &scene.meshes(), FORMAT).unwrap();
     let mut driver = runner::app::driver::FrameDriver::new(ctx, renderer).unwrap();
     let eye = camera.viewpoint(target.size());
-    let request = settings.request(&eye, &[]);
+    let request = settings.request(&eye, &[]).with_impulses(impulses);
     driver.run(&mut target, 0.0, |_| request, true).unwrap();
     driver.finish().unwrap();
     (target.pixels().unwrap(), driver)
@@ -238,11 +240,42 @@ fn camera_at(at: shared::glam::Vec2) -> runner::camera::OrbitCamera {
 fn a_tiled_frame_generates_the_hosts_blades() {
     tests::with_device("a_tiled_frame_generates_the_hosts_blades", |ctx| {
         let (scene, spec) = small_world(8, 1000.0);
-        tiled_frame_against_the_host(&ctx, &scene, &spec, shared::glam::Vec2::new(1.0, 2.0));
+        let calm = Impulses::default();
+        tiled_frame_against_the_host(&ctx, &scene, &spec, Vec2::new(1.0, 2.0), &calm);
         let (scene, spec) = mesh_world();
-        tiled_frame_against_the_host(&ctx, &scene, &spec, shared::glam::Vec2::new(-1.0, 4.0));
+        tiled_frame_against_the_host(&ctx, &scene, &spec, Vec2::new(-1.0, 4.0), &calm);
         let (scene, spec) = textured_world();
-        tiled_frame_against_the_host(&ctx, &scene, &spec, shared::glam::Vec2::new(-1.0, 4.0));
+        tiled_frame_against_the_host(&ctx, &scene, &spec, Vec2::new(-1.0, 4.0), &calm);
+    });
+}
+
+/// [`a_tiled_frame_generates_the_hosts_blades`] with a blast and a rotor's downwash
+/// blowing over the far tiles: the GPU's far blades lean as the host's
+/// (`tiles::far_blade` with the impulses), and the impulses move them.
+#[test]
+fn the_far_tiles_lean_in_the_wind_impulses() {
+    tests::with_device("the_far_tiles_lean_in_the_wind_impulses", |ctx| {
+        let (scene, spec) = small_world(8, 1000.0);
+        let mut impulses = Impulses::default();
+        let blast = Impulse::new(
+            IMPULSE_BLAST,
+            Vec3::new(-20.0, 0.0, -20.0),
+            -0.1,
+            60.0,
+            80.0,
+            10.0,
+        );
+        let rotor = Impulse::new(
+            IMPULSE_DOWNWASH,
+            Vec3::new(30.0, 0.0, -40.0),
+            -1.0,
+            40.0,
+            60.0,
+            10.0,
+        );
+        impulses.add(blast).unwrap();
+        impulses.add(rotor).unwrap();
+        tiled_frame_against_the_host(&ctx, &scene, &spec, Vec2::new(1.0, 2.0), &impulses);
     });
 }
 
@@ -317,6 +350,7 @@ fn tiled_frame_against_the_host(
     scene: &Scene,
     spec: &runner::tiles::TiledSpec,
     at: shared::glam::Vec2,
+    impulses: &Impulses,
 ) {
     use shared::cull::tile::{tile_box, tile_in_view};
     use shared::gpu::counters::{
@@ -332,8 +366,11 @@ fn tiled_frame_against_the_host(
     let eye = orbit.viewpoint(size);
     let settings = scene.settings();
     // A frame of no time: the forces as the settings give them, at time 0.
-    let forces = settings.environment(0);
-    let (_, driver) = still_frame(ctx, scene, &settings, &orbit, size);
+    let forces = shared::sim::simulate::Environment {
+        impulses: impulses.live(),
+        ..settings.environment(0)
+    };
+    let (_, driver) = still_frame(ctx, scene, &settings, &orbit, size, impulses);
     let r = &driver.renderer;
     let capacity = scene.blade_count() as usize;
     let blades: Vec<shared::Blade> = r.download(&r.field.blades, capacity).unwrap();
@@ -353,6 +390,7 @@ fn tiled_frame_against_the_host(
     let mut far_blades = 0;
     let (mut differ, mut largest) = (0, 0.0f32);
     let (mut moved, mut farthest) = (0, 0.0f32);
+    let mut blown = 0;
     for t in 0..listed {
         let at = TILES_LIST + TILE_WORDS * t;
         let tile = IVec2::new(tiles[at] as i32, tiles[at + 1] as i32);
@@ -364,7 +402,9 @@ fn tiled_frame_against_the_host(
         for k in 0..count {
             let g = &blades[first + k as usize];
             // A frame of no time: the wind's pose at time 0.
-            let h = far_blade(tile, k, camera, &params, map, &forces);
+            let h = far_blade(tile, k, camera, &params, map, &forces, impulses.slots());
+            let calm = far_blade(tile, k, camera, &params, map, &forces, &NO_IMPULSES);
+            blown += usize::from((h.tip() - calm.tip()).length() > 1e-3);
             assert_eq!(ids[IDS_WORDS * (first + k as usize)], blade_id(tile, k));
             // A decision at a threshold may fall either way: whether a blade is kept.
             if kept(g) != kept(&h) {
@@ -438,6 +478,13 @@ fn tiled_frame_against_the_host(
     // Relative to the point's size: measured at most 6.4e-6 on lavapipe and 1.1e-4 on
     // the NVIDIA H100 (a far blade's settled pose on the textured square).
     assert!(largest <= 5e-4, "{largest}");
+    if impulses.live() > 0 {
+        println!("{blown} of {far_blades} far blades leaned by the wind impulses");
+        assert!(
+            blown * 5 >= far_blades as usize,
+            "{blown} leaned by the impulses"
+        );
+    }
 
     // The pool's tiles, rooted as the far ones are (and as rarely elsewhere).
     assert!(!held.is_empty());
@@ -771,7 +818,14 @@ fn height_and_colour_maps_paint_the_blades() {
                 maps.push((COLOUR, 8, 1, colours.as_slice()));
             }
             scene.paint = words(&maps);
-            let (pixels, driver) = still_frame(&ctx, &scene, &settings, &camera, (width, height));
+            let (pixels, driver) = still_frame(
+                &ctx,
+                &scene,
+                &settings,
+                &camera,
+                (width, height),
+                &Impulses::default(),
+            );
             let eye = camera.viewpoint((width, height));
             images.push(pixels);
             if with_colour {
@@ -890,7 +944,14 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
             let mut settings = scene.settings();
             settings.look.style = shared::settings::Look::Paper;
             settings.shape = shape;
-            let (pixels, driver) = still_frame(&ctx, &scene, &settings, &camera, (width, height));
+            let (pixels, driver) = still_frame(
+                &ctx,
+                &scene,
+                &settings,
+                &camera,
+                (width, height),
+                &Impulses::default(),
+            );
             let r = &driver.renderer;
             let blades: Vec<shared::Blade> = r
                 .download(&r.field.blades, scene.blade_count() as usize)
@@ -994,7 +1055,17 @@ fn the_painted_maps_act_on_a_stored_field() {
         let mut images = Vec::new();
         for maps in [Vec::new(), words(&[(COLOUR, 64, 1, &red)])] {
             scene.paint = maps;
-            images.push(still_frame(&ctx, &scene, &settings, &camera, (width, height)).0);
+            images.push(
+                still_frame(
+                    &ctx,
+                    &scene,
+                    &settings,
+                    &camera,
+                    (width, height),
+                    &Impulses::default(),
+                )
+                .0,
+            );
         }
         let (left_drop, right_diff) = red_on_the_left(&images[0], &images[1], width);
         println!(
@@ -1062,7 +1133,7 @@ fn a_simulated_tile_stands_as_the_far_pose_and_returns_to_it() {
                 time: driver.clock.time(),
                 ..settings.environment(0)
             };
-            far_blade(tile, k, eye, &spec.params, &[], &env)
+            far_blade(tile, k, eye, &spec.params, &[], &env, &NO_IMPULSES)
         };
         for _ in 0..60 {
             frame(&mut driver, home);

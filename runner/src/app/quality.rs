@@ -57,7 +57,7 @@ pub fn run(common: &Common, args: &QualityArgs) -> Result<Vec<MethodQuality>> {
         anyhow::bail!("--orbit: quality turns the camera itself, a third of a pixel a frame");
     }
     let size = (args.width, args.height);
-    let mut run = Headless::open(common, size, &args.camera)?;
+    let mut run = Headless::open(common, size, &args.camera, &Default::default())?;
     let big = (args.width * args.scale, args.height * args.scale);
     let mut reference_target = Offscreen::new(&run.ctx, big.0, big.1)
         .with_context(|| format!("a reference target of {}x{}", big.0, big.1))?;

@@ -141,7 +141,12 @@ impl Sink {
 /// Records the clip `args` asks for; returns how many frames it holds.
 pub fn run(common: &Common, args: &RecordArgs) -> Result<u32> {
     let clip = Clip::of(&args.out)?;
-    let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
+    let mut run = Headless::open(
+        common,
+        (args.width, args.height),
+        &args.camera,
+        &args.events,
+    )?;
     let size = run.offscreen.size();
     let mut sink = Sink::open(&clip, size, args.fps)?;
     // The frames are encoded on their own thread (a GIF's palettes are slow), while

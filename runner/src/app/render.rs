@@ -2,10 +2,11 @@
 
 use super::driver::{Frame, FrameDriver};
 use super::headless::{FORMAT, Offscreen};
-use crate::cli::{Common, RenderArgs};
+use crate::cli::{Common, ImpulseSpec, RenderArgs};
 use crate::collider::Ball;
 use crate::renderer::{CullCounts, PassTimes, Renderer};
-use anyhow::{Result, bail};
+use anyhow::{Context as _, Result, bail};
+use shared::sim::impulse::{Impulse, Impulses, MAX_IMPULSES};
 
 /// What a headless render produced.
 pub struct RenderReport {
@@ -169,6 +170,8 @@ pub struct Headless {
     pub eye_at: Box<dyn Fn(f32) -> shared::settings::Viewpoint>,
     /// The ball, if the command line has one.
     pub ball: Option<BallPath>,
+    /// The command line's wind impulses (`--impulse`), centred on the ground.
+    pub impulses: Impulses,
 }
 
 impl Headless {
@@ -178,12 +181,14 @@ impl Headless {
         common: &Common,
         (width, height): (u32, u32),
         camera: &crate::cli::CameraArgs,
+        events: &crate::cli::ImpulseArgs,
     ) -> Result<Self> {
         let (file, ctx) = super::open_headless(common, common.validation_requested())?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
         let offscreen = Offscreen::new(&ctx, width, height)?;
         let driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
         let eye_at = Box::new(camera_path(&scene, camera, offscreen.size())?);
+        let impulses = on_the_ground(&scene, &events.impulses)?;
         Ok(Self {
             ctx,
             scene,
@@ -192,6 +197,7 @@ impl Headless {
             offscreen,
             eye_at,
             ball: BallPath::of(common),
+            impulses,
         })
     }
 
@@ -199,21 +205,48 @@ impl Headless {
     /// simulated time, captured if `capture`.
     pub fn frame(&mut self, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
-        let ball = self.ball.as_ref();
+        let (ball, impulses) = (self.ball.as_ref(), &self.impulses);
         let request = |f: &Frame| {
             let balls = ball
                 .map(|b| b.spheres_at(scene, f.time))
                 .unwrap_or_default();
-            settings.request(&eye_at(f.time), &balls)
+            settings
+                .request(&eye_at(f.time), &balls)
+                .with_impulses(impulses)
         };
         self.driver
             .run(&mut self.offscreen, seconds, request, capture)
     }
 }
 
+/// The wind impulses `specs` asks for, each centred on `scene`'s ground below its
+/// point; an error where the ground does not reach, or for more than a frame holds.
+pub fn on_the_ground(scene: &crate::scene::Scene, specs: &[ImpulseSpec]) -> Result<Impulses> {
+    let mut impulses = Impulses::default();
+    for spec in specs {
+        let below = crate::collider::point_below(&scene.solid, spec.at);
+        let ground = below.with_context(|| {
+            format!("--impulse at {},{}: no ground there", spec.at.x, spec.at.y)
+        })?;
+        let impulse = Impulse {
+            centre: ground.position.extend(spec.impulse.start()),
+            ..spec.impulse
+        };
+        if impulses.add(impulse).is_err() {
+            bail!("--impulse: at most {MAX_IMPULSES} wind impulses");
+        }
+    }
+    Ok(impulses)
+}
+
 /// Renders as `args` asks and returns the pixels of the last frame, writing nothing.
 pub fn render(common: &Common, args: &RenderArgs) -> Result<RenderReport> {
-    let mut run = Headless::open(common, (args.width, args.height), &args.camera)?;
+    let mut run = Headless::open(
+        common,
+        (args.width, args.height),
+        &args.camera,
+        &args.events,
+    )?;
     let progress_every = (args.frames / 10).max(1);
     for frame in 0..args.frames {
         run.frame(1.0 / 60.0, frame + 1 == args.frames)?;

@@ -3,8 +3,10 @@
 use super::common::*;
 use crate::parse::range;
 use clap::{Args, ValueEnum};
+use glam::{Vec2, Vec3};
 use shared::cull::blade as cull;
 use shared::settings::{CullTests, Look};
+use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse};
 use std::path::PathBuf;
 
 /// Options of the soak run.
@@ -200,6 +202,9 @@ pub struct RenderArgs {
     /// Where the camera stands and how it moves.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Wind impulses.
+    #[command(flatten)]
+    pub events: ImpulseArgs,
 }
 
 /// Options of `grass quality`.
@@ -256,6 +261,67 @@ pub struct RecordArgs {
     /// Where the camera stands and how it moves.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Wind impulses.
+    #[command(flatten)]
+    pub events: ImpulseArgs,
+}
+
+/// Wind impulses at set times of a headless run (`shared::sim::impulse`).
+#[derive(Args, Debug, Clone, Default)]
+pub struct ImpulseArgs {
+    /// A wind impulse, "blast,x,z,start" (an explosion) or "downwash,x,z,start" (a
+    /// rotor hovering): centred on the ground below x,z from `start` seconds of
+    /// simulated time, optionally followed by ",strength,radius,lifetime" [default:
+    /// a blast 60,8,2.5; a downwash 30,6,8]. Repeat it for up to 8.
+    #[arg(long = "impulse", value_parser = ImpulseSpec::parse)]
+    pub impulses: Vec<ImpulseSpec>,
+}
+
+/// One `--impulse`: its kind, where on the ground (x, z), and the
+/// `shared::sim::impulse::Impulse` fields.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpulseSpec {
+    /// The ground point below its centre.
+    pub at: Vec2,
+    /// The impulse, its centre's height not yet known (0).
+    pub impulse: Impulse,
+}
+
+impl ImpulseSpec {
+    /// Parses "blast,x,z,start" or "downwash,x,z,start", optionally followed by
+    /// ",strength,radius,lifetime".
+    pub fn parse(s: &str) -> Result<Self, String> {
+        let form = "\"blast,x,z,start\" or \"downwash,x,z,start\", optionally followed \
+                    by \",strength,radius,lifetime\"";
+        let (kind, numbers) = s.split_once(',').ok_or(format!("{s:?}: expected {form}"))?;
+        let kind = match kind.trim() {
+            "blast" => IMPULSE_BLAST,
+            "downwash" => IMPULSE_DOWNWASH,
+            other => return Err(format!("{other:?}: an impulse is a blast or a downwash")),
+        };
+        let numbers = numbers
+            .split(',')
+            .map(|n| n.trim().parse::<f32>().map_err(|e| format!("{n:?}: {e}")))
+            .collect::<Result<Vec<f32>, String>>()?;
+        let (x, z, start) = match numbers[..] {
+            [x, z, start] | [x, z, start, _, _, _] => (x, z, start),
+            _ => return Err(format!("{s:?}: expected {form}")),
+        };
+        let mut impulse = Impulse::of_kind(kind, Vec3::ZERO, start);
+        if let [_, _, _, strength, radius, lifetime] = numbers[..] {
+            (impulse.strength, impulse.radius, impulse.lifetime) = (strength, radius, lifetime);
+        }
+        let at = Vec2::new(x, z);
+        let problem = if !at.is_finite() || start < 0.0 {
+            Some("its place must be finite and its start at least 0")
+        } else {
+            impulse.problem()
+        };
+        match problem {
+            Some(problem) => Err(format!("{s:?}: {problem}")),
+            None => Ok(Self { at, impulse }),
+        }
+    }
 }
 
 /// The headless camera: the scene's framing changed by these.

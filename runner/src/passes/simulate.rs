@@ -8,7 +8,7 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SPEC_MESH_PATH,
+    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SPEC_IMPULSES, SPEC_MESH_PATH,
     SPEC_WIND_FIELD, SimulatePush,
 };
 use shared::settings::WindField;
@@ -24,9 +24,10 @@ pub struct SimulatePass {
     /// The simulate-and-cull entry points' modules, for the pipelines made on first use.
     modules: ShaderModules,
     /// The simulate-and-cull pipelines by look (paper, natural), path (tessellation,
-    /// mesh: `layout::SPEC_MESH_PATH`) and wind field (`layout::SPEC_WIND_FIELD`),
-    /// each made when a frame first needs it.
-    simulate: [[[Option<Pipeline>; WindField::ALL.len()]; 2]; 2],
+    /// mesh: `layout::SPEC_MESH_PATH`), wind field (`layout::SPEC_WIND_FIELD`) and
+    /// wind impulses or none (`layout::SPEC_IMPULSES`), each made when a frame first
+    /// needs it.
+    simulate: [[[[Option<Pipeline>; 2]; WindField::ALL.len()]; 2]; 2],
     write_draws: Pipeline,
     clumps: Pipeline,
 }
@@ -72,26 +73,31 @@ impl SimulatePass {
     }
 
     /// The simulate-and-cull pipeline of the `natural` or paper look, binning for the
-    /// `mesh` path or not, stepping with the wind field `wind` (`sim::wind::WIND_*`),
-    /// made now if no frame needed it before.
+    /// `mesh` path or not, stepping with the wind field `wind` (`sim::wind::WIND_*`)
+    /// and wind impulses or not, made now if no frame needed it before.
     fn simulate(
         &mut self,
         field: &Field,
         (natural, mesh): (bool, bool),
-        wind: u32,
+        (wind, impulses): (u32, bool),
     ) -> Result<vk::Pipeline> {
         let kind = WindField::ALL
             .iter()
             .position(|&w| w as u32 == wind)
             .with_context(|| format!("no wind field {wind}"))?;
-        let slot = &mut self.simulate[usize::from(natural)][usize::from(mesh)][kind];
+        let slot = &mut self.simulate[usize::from(natural)][usize::from(mesh)][kind]
+            [usize::from(impulses)];
         if slot.is_none() {
             let entry = if natural {
                 shaders::SIMULATE_CULL_NATURAL
             } else {
                 shaders::SIMULATE_CULL
             };
-            let constants = [(SPEC_WIND_FIELD, wind), (SPEC_MESH_PATH, u32::from(mesh))];
+            let constants = [
+                (SPEC_WIND_FIELD, wind),
+                (SPEC_MESH_PATH, u32::from(mesh)),
+                (SPEC_IMPULSES, u32::from(impulses)),
+            ];
             let pipeline = Pipeline::compute_specialised(
                 &self.ctx,
                 &field.layout,
@@ -110,14 +116,14 @@ impl SimulatePass {
     /// `natural` also dresses the visible blades for the natural look's draw; `mesh`
     /// bins them by strip length for the mesh path (`shared::meshlet`; the frame
     /// block's `grass.pipeline`); the blades step in the wind field `wind` (the frame
-    /// block's `forces.wind_kind`).
+    /// block's `forces.wind_kind`), with its impulses where `wind.1`.
     pub fn record(
         &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
         look_and_path: (bool, bool),
-        wind: u32,
+        wind: (u32, bool),
     ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;

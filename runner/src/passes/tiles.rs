@@ -16,8 +16,8 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::glam::{IVec2, UVec2, UVec4, Vec2};
 use shared::gpu::layout::{
-    EMPTY_SLOT, FrameUniforms, POOL_WORDS, SIMULATE_WORKGROUP, SelectPush, TILES_DISPATCH,
-    TILES_POOL, TilePush,
+    EMPTY_SLOT, FrameUniforms, POOL_WORDS, SIMULATE_WORKGROUP, SPEC_IMPULSES, SelectPush,
+    TILES_DISPATCH, TILES_POOL, TilePush,
 };
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -52,9 +52,11 @@ pub const FADE_SECONDS: f32 = 1.0;
 pub struct TilesPass {
     ctx: Arc<Context>,
     spec: TiledSpec,
-    pool_tile: Pipeline,
+    /// The pool's and the far tiles' generation, without and with the frame's wind
+    /// impulses (`layout::SPEC_IMPULSES`).
+    pool_tile: [Pipeline; 2],
     select: Pipeline,
-    generate: Pipeline,
+    generate: [Pipeline; 2],
     pool: TilePool,
     /// Trampled tiles and the seconds left before they may leave the pool.
     trails: HashMap<IVec2, f32>,
@@ -74,12 +76,19 @@ impl TilesPass {
         spec: TiledSpec,
     ) -> Result<Self> {
         let layout = &field.layout;
+        let blowing = |entry, on: bool| {
+            let constants = [(SPEC_IMPULSES, u32::from(on))];
+            Pipeline::compute_specialised(ctx, layout, module, entry, &constants)
+        };
+        let both = |entry| -> Result<[Pipeline; 2]> {
+            Ok([blowing(entry, false)?, blowing(entry, true)?])
+        };
         Ok(Self {
             ctx: ctx.clone(),
             spec,
-            pool_tile: Pipeline::compute(ctx, layout, module, shaders::GENERATE_POOL_TILE)?,
+            pool_tile: both(shaders::GENERATE_POOL_TILE)?,
             select: Pipeline::compute(ctx, layout, module, shaders::SELECT_FAR_TILES)?,
-            generate: Pipeline::compute(ctx, layout, module, shaders::GENERATE_FAR)?,
+            generate: both(shaders::GENERATE_FAR)?,
             pool: TilePool::new(spec.pool_tiles as usize),
             trails: HashMap::new(),
             idle: vec![0.0; spec.pool_tiles as usize],
@@ -149,6 +158,7 @@ impl TilesPass {
 
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
+        let blowing = usize::from(uniforms.forces.impulses > 0);
         let tiles = field
             .tiles
             .as_ref()
@@ -179,7 +189,7 @@ impl TilesPass {
         rec.update_buffer(tiles.buffer, bytemuck::cast_slice(&words));
 
         if !update.placed.is_empty() {
-            rec.bind_pipeline(compute, self.pool_tile.pipeline, layout, set);
+            rec.bind_pipeline(compute, self.pool_tile[blowing].pipeline, layout, set);
             let mut params = spec.params;
             // Every blade of a pool tile kept, at its own width.
             params.full_distance = 1e6;
@@ -221,7 +231,7 @@ impl TilesPass {
                 A::SHADER_READ | A::INDIRECT_COMMAND_READ,
             ),
         );
-        rec.bind_pipeline(compute, self.generate.pipeline, layout, set);
+        rec.bind_pipeline(compute, self.generate[blowing].pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch_indirect(tiles.buffer, (TILES_DISPATCH * 4) as u64);
         rec.memory_barrier(

@@ -550,9 +550,10 @@ impl Renderer {
     }
 
     /// Simulate, cull and compact (and on the mesh path bin by strip length), with
-    /// the frame block's wind field and path.
+    /// the frame block's wind field, impulses and path.
     fn record_compute(&mut self, rec: &Recorder, push: SimulatePush, natural: bool) -> Result<()> {
-        let wind = self.block.forces.wind_kind;
+        let forces = &self.block.forces;
+        let wind = (forces.wind_kind, forces.impulses > 0);
         let mesh = self.block.grass.pipeline == layout::PIPELINE_MESH;
         self.simulate
             .record(rec, &self.field, push, (natural, mesh), wind)

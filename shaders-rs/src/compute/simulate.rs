@@ -48,8 +48,9 @@ pub struct BladeBuffers<'a> {
 /// bucket's part of the binned list as the frame before laid it out
 /// (`shared::draw::meshlet::BinLayout`), or past it into the spill half. The paper look's
 /// entry point: nothing of the natural look is compiled in, nor any wind field but
-/// `wind_field`, a specialisation constant (`layout::SPEC_WIND_FIELD`), and the
-/// mesh path's binning only where `mesh_path` (`layout::SPEC_MESH_PATH`).
+/// `wind_field`, a specialisation constant (`layout::SPEC_WIND_FIELD`), the wind
+/// impulses only where `impulses` (`layout::SPEC_IMPULSES`), and the mesh path's
+/// binning only where `mesh_path` (`layout::SPEC_MESH_PATH`).
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(128)))]
 pub fn simulate_cull(
@@ -73,6 +74,7 @@ pub fn simulate_cull(
     #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
     #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
+    #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -110,7 +112,7 @@ pub fn simulate_cull(
         |_| (false, false),
         |_, _, blade: &Blade| *blade,
         true,
-        (wind_field, mesh_path),
+        (wind_field, mesh_path, impulses),
     );
 }
 
@@ -143,6 +145,7 @@ pub fn simulate_cull_natural(
     #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
     #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
+    #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -215,7 +218,7 @@ pub fn simulate_cull_natural(
         casts,
         tested,
         false,
-        (wind_field, mesh_path),
+        (wind_field, mesh_path, impulses),
     );
 }
 
@@ -253,7 +256,7 @@ fn simulate_and_cull<T: Copy + Default>(
     casts: impl Fn(&Blade) -> (bool, bool),
     tested: impl Fn(u32, u32, &Blade) -> Blade,
     by_index: bool,
-    (wind_field, mesh_path): (u32, u32),
+    (wind_field, mesh_path, impulses): (u32, u32, u32),
 ) {
     let BladeBuffers {
         blades,
@@ -274,8 +277,9 @@ fn simulate_and_cull<T: Copy + Default>(
     workgroup_memory_barrier_with_group_sync();
 
     let index = flat_index(id, workgroups, CULL_WORKGROUP);
-    // The wind field this pipeline was made for (`layout::SPEC_WIND_FIELD`).
-    let forces = frame.forces.with_wind_field(wind_field);
+    // The wind field this pipeline was made for (`layout::SPEC_WIND_FIELD`), and the
+    // impulses only where it was made for them (`layout::SPEC_IMPULSES`).
+    let forces = frame.forces.specialised(wind_field, impulses != 0);
     let grass = &frame.grass;
     let tiled = grass.tiled != 0;
     let simulated = index < grass.simulated;
@@ -340,13 +344,22 @@ fn simulate_and_cull<T: Copy + Default>(
                 (blade, held),
                 &forces,
                 &frame.colliders,
+                &frame.impulses,
                 push.first_step,
                 push.steps,
             );
             if fade > 0.0 {
                 let k = index % (push.tiles.per_side * push.tiles.per_side);
                 let params = &push.tiles;
-                let far = far_blade(rest_tile, k, blade.root(), params, paint, &forces);
+                let far = far_blade(
+                    rest_tile,
+                    k,
+                    blade.root(),
+                    params,
+                    paint,
+                    &forces,
+                    &frame.impulses,
+                );
                 blade = fade_to_far(&blade, &far, fade);
             }
             // Unchanged (no collider near, none lingering): nothing to write back.

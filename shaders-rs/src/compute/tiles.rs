@@ -13,6 +13,7 @@ use shared::gpu::layout::{
     GENERATE_WORKGROUP, IDS_WORDS, POOL_WORDS, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST,
     TILES_POOL, TilePush,
 };
+use shared::sim::simulate::Environment;
 use shared::world::tiles::{
     TileParams, blade_id, far_blade, far_count, pack_map_point, tile_blade,
 };
@@ -57,6 +58,7 @@ pub fn generate_pool_tile(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 11)] clumps: &mut [Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
 ) {
     let index = flat_index(id, workgroups, SIMULATE_WORKGROUP);
     let params = &push.params;
@@ -64,15 +66,25 @@ pub fn generate_pool_tile(
         let slot = (push.slot.x + index) as usize;
         let camera = push.camera.truncate();
         let tile = push.tile;
+        let forces = blowing(frame, impulses);
         write_tile_blade(
-            slot, tile, index, camera, frame, params, paint, blades, ids, clumps,
+            slot, tile, index, camera, frame, &forces, params, paint, blades, ids, clumps,
         );
         strengths[slot] = 0.0;
     }
 }
 
+/// The frame's forces with its wind impulses only where the pipeline was made for them
+/// (`layout::SPEC_IMPULSES`, as the simulate-and-cull pass's).
+fn blowing(frame: &FrameUniforms, impulses: u32) -> Environment {
+    frame
+        .forces
+        .specialised(frame.forces.wind_kind, impulses != 0)
+}
+
 /// Writes blade `k` of `tile`, seen from `camera`, into `slot`: the blade in its far
-/// pose ([`far_blade`]), its name and map point, and in the natural look its clump.
+/// pose under `forces` ([`far_blade`]), its name and map point, and in the natural
+/// look its clump.
 #[allow(clippy::too_many_arguments)]
 fn write_tile_blade(
     slot: usize,
@@ -80,13 +92,14 @@ fn write_tile_blade(
     k: u32,
     camera: Vec3,
     frame: &FrameUniforms,
+    forces: &Environment,
     params: &TileParams,
     paint: &[u32],
     blades: &mut [Blade],
     ids: &mut [u32],
     clumps: &mut [Vec4],
 ) {
-    let blade = far_blade(tile, k, camera, params, paint, &frame.forces);
+    let blade = far_blade(tile, k, camera, params, paint, forces, &frame.impulses);
     blades[slot] = blade;
     ids[IDS_WORDS * slot] = blade_id(tile, k);
     ids[IDS_WORDS * slot + 1] = pack_map_point(tile, k, &blade, params, paint);
@@ -199,7 +212,9 @@ pub fn generate_far(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
 ) {
+    let forces = blowing(frame, impulses);
     let entry = TILES_LIST + TILE_WORDS * group.x as usize;
     let tile = IVec2::new(tiles[entry] as i32, tiles[entry + 1] as i32);
     let (first, count) = (tiles[entry + 2], tiles[entry + 3]);
@@ -209,7 +224,7 @@ pub fn generate_far(
         let slot = (first + k) as usize;
         let params = &push.params;
         write_tile_blade(
-            slot, tile, k, camera, frame, params, paint, blades, ids, clumps,
+            slot, tile, k, camera, frame, &forces, params, paint, blades, ids, clumps,
         );
         k += GENERATE_WORKGROUP;
     }

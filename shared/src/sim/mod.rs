@@ -1,9 +1,11 @@
 //! The simulation (paper section 5): the three forces on a blade's tip, the wind
-//! field, collisions with spheres, the validation of the new state, one whole step, and
-//! the closed-form pose of the far blades nobody simulates.
+//! field and its local impulses (a blast, a downwash), collisions with spheres, the
+//! validation of the new state, one whole step, and the closed-form pose of the far
+//! blades nobody simulates.
 
 pub mod collide;
 pub mod forces;
+pub mod impulse;
 pub mod simulate;
 pub mod sway;
 pub mod validate;

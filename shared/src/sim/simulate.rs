@@ -5,6 +5,7 @@ use crate::Blade;
 use crate::sim::collide;
 use crate::sim::collide::MAX_COLLIDERS;
 use crate::sim::forces;
+use crate::sim::impulse::{Impulse, MAX_IMPULSES, impulses_at};
 use crate::sim::validate;
 use crate::sim::wind;
 use spirv_std::glam::{Vec3, Vec4};
@@ -55,6 +56,10 @@ pub struct Environment {
     /// Speed in units a second at which the turbulent field's gusts travel downwind
     /// (`wind::turbulent`).
     pub gust_speed: f32,
+    /// Wind impulses in use (the first of the impulse array).
+    pub impulses: u32,
+    /// Padding to the block's 16-byte alignment.
+    pub pad: [u32; 3],
 }
 
 impl Default for Environment {
@@ -72,17 +77,21 @@ impl Default for Environment {
             time: 0.0,
             far_sway: 1,
             gust_speed: DEFAULT_GUST_SPEED,
+            impulses: 0,
+            pad: [0; 3],
         }
     }
 }
 
 impl Environment {
-    /// This environment with the wind field `kind`: the compute pass's, from its
-    /// specialisation constant (`gpu::layout::SPEC_WIND_FIELD`), so that its pipeline
-    /// holds only the field it steps with.
-    pub fn with_wind_field(&self, kind: u32) -> Self {
+    /// This environment with the wind field `kind`, and without impulses unless
+    /// `impulses`: the compute pass's, from its specialisation constants
+    /// (`gpu::layout::SPEC_WIND_FIELD`, `SPEC_IMPULSES`), so that its pipeline holds
+    /// only the field it steps with, and the impulses' code only where some blow.
+    pub fn specialised(&self, kind: u32, impulses: bool) -> Self {
         Self {
             wind_kind: kind,
+            impulses: if impulses { self.impulses } else { 0 },
             ..*self
         }
     }
@@ -138,17 +147,12 @@ pub fn step(
     state: BladeState,
     env: &Environment,
     spheres: &[Vec4; MAX_COLLIDERS],
+    impulses: &[Impulse; MAX_IMPULSES],
     time: f32,
     dt: f32,
 ) -> BladeState {
-    step_with(
-        &StepConstants::of(&state.0, env),
-        state,
-        env,
-        spheres,
-        time,
-        dt,
-    )
+    let constants = StepConstants::of(&state.0, env);
+    step_with(&constants, state, env, spheres, impulses, time, dt)
 }
 
 /// [`step`] with the blade's [`StepConstants`] already computed.
@@ -157,6 +161,7 @@ pub fn step_with(
     (blade, strength): BladeState,
     env: &Environment,
     spheres: &[Vec4; MAX_COLLIDERS],
+    impulses: &[Impulse; MAX_IMPULSES],
     time: f32,
     dt: f32,
 ) -> BladeState {
@@ -172,7 +177,7 @@ pub fn step_with(
         );
         forces::gravity_from(&blade, g_env)
     };
-    let wi = wind_at(env, blade.root(), time);
+    let wi = wind_at(env, impulses, blade.root(), time);
     let pushed = (gravity + forces::wind_force(&blade, wi)) * dt;
     let k = forces::recovery_rate(&blade, strength) * env.stiffness_scale * dt;
     let tip = semi_implicit_tip(blade.tip(), forces::rest_tip(&blade), pushed, k);
@@ -188,11 +193,21 @@ pub fn step_with(
     (validate::validate(&pushed), strength)
 }
 
-/// The wind w_i at a blade's `root` at `time` (paper eq. 9's field), along the
-/// ground there: what the simulation steps and the settled pose (`sway`) both push
-/// with.
-pub fn wind_at(env: &Environment, root: Vec3, time: f32) -> Vec3 {
-    let wi = wind::wind_field(env.wind_kind, root, time, env.wind, env.gust_speed);
+/// The wind w_i at a blade's `root` at `time` (paper eq. 9's field) with the first
+/// `env.impulses` of `impulses` added (`impulse::impulses_at`), along the ground
+/// there: what the simulation steps and the settled pose (`sway`) both push with.
+pub fn wind_at(
+    env: &Environment,
+    impulses: &[Impulse; MAX_IMPULSES],
+    root: Vec3,
+    time: f32,
+) -> Vec3 {
+    let mut wi = wind::wind_field(env.wind_kind, root, time, env.wind, env.gust_speed);
+    // The whole dispatch takes the same branch: the count is the frame's.
+    if env.impulses > 0 {
+        let down = env.gravity.truncate();
+        wi += impulses_at(impulses, env.impulses, root, time, down);
+    }
     wind::along_surface(wi, root, env.gravity_centre.truncate(), env.centre_blend)
 }
 
@@ -207,6 +222,7 @@ pub fn simulate(
     state: BladeState,
     env: &Environment,
     spheres: &[Vec4; MAX_COLLIDERS],
+    impulses: &[Impulse; MAX_IMPULSES],
     first_step: u32,
     steps: u32,
 ) -> BladeState {
@@ -220,6 +236,7 @@ pub fn simulate(
             s,
             env,
             spheres,
+            impulses,
             step_time(first_step + i),
             STEP_SECONDS,
         );
@@ -263,6 +280,7 @@ impl SimClock {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::impulse::NO_IMPULSES;
 
     const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
 
@@ -278,7 +296,7 @@ mod tests {
 
     /// Runs `steps` steps from rest without colliders.
     fn settle(b: Blade, env: &Environment, steps: u32) -> Blade {
-        simulate((b, 0.0), env, &NO_SPHERES, 0, steps).0
+        simulate((b, 0.0), env, &NO_SPHERES, &NO_IMPULSES, 0, steps).0
     }
 
     fn run(frame_seconds: f64, total: f64) -> Blade {
@@ -287,7 +305,7 @@ mod tests {
         let frames = (total / frame_seconds).round() as u32;
         for _ in 0..frames {
             let (t, n) = clock.advance(frame_seconds);
-            b = simulate((b, 0.0), &env(), &NO_SPHERES, t, n).0;
+            b = simulate((b, 0.0), &env(), &NO_SPHERES, &NO_IMPULSES, t, n).0;
         }
         b
     }
@@ -331,7 +349,7 @@ mod tests {
                     // A ball crossing the field at 8 units/s.
                     let mut spheres = NO_SPHERES;
                     spheres[0] = Vec4::new(-4.0 + frame as f32 * 0.07, 0.8, 0.5, 1.5);
-                    state = simulate(state, &windy, &spheres, frame * 5, 5);
+                    state = simulate(state, &windy, &spheres, &NO_IMPULSES, frame * 5, 5);
                     let b = state.0;
                     assert!(b.v1.is_finite() && b.v2.is_finite() && state.1.is_finite());
                     let (v0, up) = (b.root(), b.up_dir());
@@ -379,7 +397,7 @@ mod tests {
         let mut spheres = NO_SPHERES;
         spheres[0] = Vec4::new(0.6, 1.2, 0.2, 1.0);
         // One second under the ball.
-        let (held, strength) = simulate((rest, 0.0), &calm, &spheres, 0, 120);
+        let (held, strength) = simulate((rest, 0.0), &calm, &spheres, &NO_IMPULSES, 0, 120);
         let height = |b: &Blade| (b.tip() - b.root()).dot(b.up_dir());
         assert!(held.tip().distance(spheres[0].truncate()) >= 1.0 - 1e-3);
         assert!(height(&held) < 0.7 * height(&upright), "{held:?}");
@@ -389,12 +407,12 @@ mod tests {
             colliders: 0,
             ..calm
         };
-        let (after, s1) = simulate((held, strength), &gone, &spheres, 120, 60);
+        let (after, s1) = simulate((held, strength), &gone, &spheres, &NO_IMPULSES, 120, 60);
         assert!(
             (s1 - (strength - 0.25)).abs() < 1e-4,
             "linear decay: {strength} → {s1}"
         );
-        let (stood, s2) = simulate((after, s1), &gone, &spheres, 180, 600);
+        let (stood, s2) = simulate((after, s1), &gone, &spheres, &NO_IMPULSES, 180, 600);
         assert_eq!(s2, 0.0);
         assert!((height(&stood) - height(&upright)).abs() < 1e-3);
         assert!(stood.tip().is_finite());

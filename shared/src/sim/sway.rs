@@ -4,6 +4,7 @@
 
 use crate::Blade;
 use crate::sim::forces;
+use crate::sim::impulse::{Impulse, MAX_IMPULSES};
 use crate::sim::simulate::{Environment, wind_at};
 use crate::sim::validate;
 
@@ -27,7 +28,12 @@ pub const ROUNDS: u32 = 10;
 /// of the old and the new direction: undamped, a soft blade swings between two
 /// directions), then validated with its tip at h·u, twice so the length settles as
 /// the steps' repeated validation settles it.
-pub fn settled(blade: &Blade, env: &Environment, time: f32) -> Blade {
+pub fn settled(
+    blade: &Blade,
+    env: &Environment,
+    impulses: &[Impulse; MAX_IMPULSES],
+    time: f32,
+) -> Blade {
     let root = blade.root();
     let up = blade.up_dir();
     let h = blade.height();
@@ -40,7 +46,7 @@ pub fn settled(blade: &Blade, env: &Environment, time: f32) -> Blade {
     // Uncrushed (collision strength 0): the rate is the blade's stiffness.
     let stiffness = forces::recovery_rate(blade, 0.0) * env.stiffness_scale;
     let pull = forces::gravity_from(blade, g_env) + up * (stiffness * h);
-    let wi = wind_at(env, root, time);
+    let wi = wind_at(env, impulses, root, time);
     let mut pose = *blade;
     let mut u = up;
     let mut round = 0;
@@ -58,6 +64,7 @@ mod tests {
     use super::*;
     use crate::settings::Settings;
     use crate::sim::collide::MAX_COLLIDERS;
+    use crate::sim::impulse::NO_IMPULSES;
     use crate::sim::simulate;
     use crate::sim::wind;
     use crate::world::terrain;
@@ -105,7 +112,14 @@ mod tests {
     fn held(start: &Blade, env: &Environment, time: f32) -> Blade {
         let mut state = (*start, 0.0);
         for _ in 0..10 * simulate::STEPS_PER_SECOND {
-            state = simulate::step(state, env, &NO_SPHERES, time, simulate::STEP_SECONDS);
+            state = simulate::step(
+                state,
+                env,
+                &NO_SPHERES,
+                &NO_IMPULSES,
+                time,
+                simulate::STEP_SECONDS,
+            );
         }
         state.0
     }
@@ -132,7 +146,7 @@ mod tests {
                 let n = 200;
                 for i in 0..n {
                     let (blade, time) = sample(i, sloped);
-                    let pose = settled(&blade, &env, time);
+                    let pose = settled(&blade, &env, &NO_IMPULSES, time);
                     let moved = apart(&pose, &held(&pose, &env, time));
                     let missed = apart(&pose, &held(&blade, &env, time));
                     total += missed;
@@ -162,9 +176,10 @@ mod tests {
         for i in 0..n {
             let (blade, _) = sample(i, false);
             let steps = 10 * simulate::STEPS_PER_SECOND;
-            let (simulated, _) = simulate::simulate((blade, 0.0), &env, &NO_SPHERES, 0, steps);
+            let (simulated, _) =
+                simulate::simulate((blade, 0.0), &env, &NO_SPHERES, &NO_IMPULSES, 0, steps);
             let time = simulate::step_time(steps);
-            near += apart(&simulated, &settled(&blade, &env, time));
+            near += apart(&simulated, &settled(&blade, &env, &NO_IMPULSES, time));
             rest += apart(&simulated, &blade);
         }
         let (near, rest) = (near / n as f32, rest / n as f32);
@@ -178,11 +193,11 @@ mod tests {
     fn settled_is_rest_without_forces_and_always_valid() {
         let still = Environment::default();
         let (blade, _) = sample(3, true);
-        assert!(apart(&blade, &settled(&blade, &still, 1.0)) < 1e-5);
+        assert!(apart(&blade, &settled(&blade, &still, &NO_IMPULSES, 1.0)) < 1e-5);
         for kind in [wind::WIND_BREEZE, wind::WIND_GUSTS] {
             for i in 0..200 {
                 let (blade, time) = sample(i, true);
-                let pose = settled(&blade, &env(kind), time);
+                let pose = settled(&blade, &env(kind), &NO_IMPULSES, time);
                 let length = validate::bezier_length(pose.root(), pose.guide(), pose.tip(), 64);
                 let error = (length - blade.height()).abs() / blade.height();
                 assert!(error < validate::LENGTH_TOLERANCE_BENT, "{error}");

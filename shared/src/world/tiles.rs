@@ -437,8 +437,9 @@ pub fn drawn_width(
 
 /// Blade `index` of `tile` as the far tiles draw it and as a tile entering the pool
 /// starts: [`tile_blade`] in the pose the frame's gravity and wind (`env`, at
-/// `env.time`) settle it into (`sway::settled`), so that it sways with the simulated
-/// blades around it; at rest where `env.far_sway` is 0.
+/// `env.time`, with the first `env.impulses` of `impulses`) settle it into
+/// (`sway::settled`), so that it sways with the simulated blades around it; at rest
+/// where `env.far_sway` is 0.
 pub fn far_blade(
     tile: IVec2,
     index: u32,
@@ -446,12 +447,13 @@ pub fn far_blade(
     params: &TileParams,
     map: &[u32],
     env: &crate::sim::simulate::Environment,
+    impulses: &[crate::sim::impulse::Impulse; crate::sim::impulse::MAX_IMPULSES],
 ) -> Blade {
     let blade = tile_blade(tile, index, camera, params, map);
     if blade.height() <= 0.0 || env.far_sway == 0 {
         return blade;
     }
-    crate::sim::sway::settled(&blade, env, env.time)
+    crate::sim::sway::settled(&blade, env, impulses, env.time)
 }
 
 /// A pool blade `fade` (0..1) of the way to `far`, its pose as a far blade

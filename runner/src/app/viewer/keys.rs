@@ -1,8 +1,33 @@
-//! The viewer's keys and mouse: the live switches, the ball and the camera's drag.
+//! The viewer's keys and mouse: the live switches, the ball, the wind impulses and the
+//! camera's drag.
 
 use super::*;
 
 impl Running {
+    /// Starts a wind impulse of `kind` at simulated `time`, at its default strength,
+    /// radius and lifetime, centred where the ball touches the ground (else below the
+    /// camera's target).
+    pub(super) fn start_impulse(&mut self, kind: u32, time: f32) {
+        let target = self.camera.target;
+        let centre = self
+            .ball
+            .as_ref()
+            .map(|b| b.contact.position)
+            .or_else(|| drop_onto(&self.scene.solid, target.xz()).map(|c| c.position));
+        let impulse = Impulse::of_kind(kind, centre.unwrap_or(target), time);
+        let name = if kind == IMPULSE_BLAST {
+            "blast"
+        } else {
+            "downwash"
+        };
+        match self.impulses.add(impulse) {
+            Ok(()) => log::info!("wind impulse: a {name} at {}", impulse.centre.truncate()),
+            Err(_) => log::warn!(
+                "wind impulse: {MAX_IMPULSES} are blowing already; a {name} waits for one to end"
+            ),
+        }
+    }
+
     /// A key press: the live switches.
     pub(super) fn key(&mut self, key: &Key) {
         let s = &mut self.settings;
@@ -24,6 +49,8 @@ impl Running {
                     self.fly.change_speed(c.as_str() != "-");
                     log::info!("flying speed {} units a second", self.fly.speed);
                 }
+                "x" | "X" => self.blow = Some(IMPULSE_BLAST),
+                "r" | "R" => self.blow = Some(IMPULSE_DOWNWASH),
                 "b" | "B" => {
                     self.ball_on = !self.ball_on;
                     log::info!("ball {}", if self.ball_on { "on" } else { "off" });

@@ -18,6 +18,7 @@ use anyhow::{Context as _, Result};
 use glam::{Vec2, Vec3, Vec3Swizzles};
 use gpu::{Gpu, MAX_RECOVERIES, device_lost};
 use shared::settings::Settings;
+use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses, MAX_IMPULSES};
 use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -82,7 +83,7 @@ struct Mouse {
 
 /// The controls, printed at start.
 pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: zoom, \
-arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, W: next wind, [ ]: wind weaker/stronger, \
+arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, X: blast at the ball, R: rotor downwash at the ball, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
 N: look (paper, natural), H: shadows on/off, M: anti-aliasing (none, TAA, MSAA 2/4/8), P: pipeline (tessellation, mesh), K: screenshot, O: overlay on/off, Esc: quit";
@@ -159,6 +160,10 @@ struct Running {
     camera: OrbitCamera,
     ball: Option<Ball>,
     ball_on: bool,
+    /// The wind impulses blowing.
+    impulses: Impulses,
+    /// A wind impulse asked for (X, R or the overlay), started at the next frame.
+    blow: Option<u32>,
     arrows: Arrows,
     /// The arrows fly the camera.
     fly: Fly,
@@ -212,6 +217,8 @@ impl Running {
             camera: scene.camera(),
             ball,
             ball_on: !common.no_ball,
+            impulses: Impulses::default(),
+            blow: None,
             arrows: Arrows::default(),
             fly: Fly::default(),
             full_distance: scene.tiles.map(|t| t.params.full_distance),
@@ -294,6 +301,10 @@ impl Running {
             return Ok(());
         };
         self.move_ball(dt as f32, frame.time);
+        self.impulses.retire(frame.time);
+        if let Some(kind) = self.blow.take().or(self.overlay.blow.take()) {
+            self.start_impulse(kind, frame.time);
+        }
         self.overlay.frame_time((dt * 1000.0) as f32);
         // After the read-back, so the overlay shows the newest counts.
         let readback = &self.gpu.driver.readback;
@@ -340,7 +351,10 @@ impl Running {
             .collect();
         let eye = self.camera.viewpoint(frame.extent());
         let spec = FrameSpec {
-            request: self.settings.request(&eye, &balls),
+            request: self
+                .settings
+                .request(&eye, &balls)
+                .with_impulses(&self.impulses),
             overlay: painted.as_ref().map(|p| OverlayFrame {
                 changed: p.changed,
                 primitives: &p.primitives,

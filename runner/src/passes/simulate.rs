@@ -8,14 +8,47 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, SIMULATE_WORKGROUP, SPEC_IMPULSES, SPEC_MESH_PATH,
-    SPEC_WIND_FIELD, SimulatePush,
+    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, FrameUniforms, PIPELINE_MESH, SIMULATE_WORKGROUP,
+    SPEC_COLLIDERS, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_WIND_FIELD, SimulatePush,
 };
 use shared::settings::WindField;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
+
+/// What a simulate-and-cull pipeline is made for: its entry point and its
+/// specialisation constants, each leaving out the code a frame does not need (a branch
+/// never taken still costs the pass its registers).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct SimulateVariant {
+    /// The natural look's entry point, which also dresses the visible blades (else
+    /// the paper look's).
+    pub natural: bool,
+    /// The mesh path's binning (`layout::SPEC_MESH_PATH`).
+    pub mesh: bool,
+    /// The wind field (`layout::SPEC_WIND_FIELD`, one of `sim::wind::WIND_*`).
+    pub wind: u32,
+    /// Wind impulses blow (`layout::SPEC_IMPULSES`).
+    pub impulses: bool,
+    /// Sphere colliders are in use (`layout::SPEC_COLLIDERS`).
+    pub colliders: bool,
+}
+
+impl SimulateVariant {
+    /// The variant a frame of `block` needs, in the `natural` look or the paper look.
+    pub fn of(block: &FrameUniforms, natural: bool) -> Self {
+        let forces = &block.forces;
+        Self {
+            natural,
+            mesh: block.grass.pipeline == PIPELINE_MESH,
+            wind: forces.wind_kind,
+            impulses: forces.impulses > 0,
+            colliders: forces.colliders > 0,
+        }
+    }
+}
 
 /// The compute pipelines of the pass: simulate and cull (with the mesh path's
 /// binning), the draw commands, the clumps.
@@ -23,11 +56,9 @@ pub struct SimulatePass {
     ctx: Arc<Context>,
     /// The simulate-and-cull entry points' modules, for the pipelines made on first use.
     modules: ShaderModules,
-    /// The simulate-and-cull pipelines by look (paper, natural), path (tessellation,
-    /// mesh: `layout::SPEC_MESH_PATH`), wind field (`layout::SPEC_WIND_FIELD`) and
-    /// wind impulses or none (`layout::SPEC_IMPULSES`), each made when a frame first
-    /// needs it.
-    simulate: [[[[Option<Pipeline>; 2]; WindField::ALL.len()]; 2]; 2],
+    /// The simulate-and-cull pipelines by what each is made for, each made when a
+    /// frame first needs it.
+    simulate: HashMap<SimulateVariant, Pipeline>,
     write_draws: Pipeline,
     clumps: Pipeline,
 }
@@ -72,62 +103,53 @@ impl SimulatePass {
         );
     }
 
-    /// The simulate-and-cull pipeline of the `natural` or paper look, binning for the
-    /// `mesh` path or not, stepping with the wind field `wind` (`sim::wind::WIND_*`)
-    /// and wind impulses or not, made now if no frame needed it before.
-    fn simulate(
-        &mut self,
-        field: &Field,
-        (natural, mesh): (bool, bool),
-        (wind, impulses): (u32, bool),
-    ) -> Result<vk::Pipeline> {
-        let kind = WindField::ALL
-            .iter()
-            .position(|&w| w as u32 == wind)
-            .with_context(|| format!("no wind field {wind}"))?;
-        let slot = &mut self.simulate[usize::from(natural)][usize::from(mesh)][kind]
-            [usize::from(impulses)];
-        if slot.is_none() {
-            let entry = if natural {
-                shaders::SIMULATE_CULL_NATURAL
-            } else {
-                shaders::SIMULATE_CULL
-            };
-            let constants = [
-                (SPEC_WIND_FIELD, wind),
-                (SPEC_MESH_PATH, u32::from(mesh)),
-                (SPEC_IMPULSES, u32::from(impulses)),
-            ];
-            let pipeline = Pipeline::compute_specialised(
-                &self.ctx,
-                &field.layout,
-                &self.modules,
-                entry,
-                &constants,
-            )?;
-            *slot = Some(pipeline);
+    /// The simulate-and-cull pipeline `variant` is made for, made now if no frame
+    /// needed it before.
+    fn simulate(&mut self, field: &Field, variant: SimulateVariant) -> Result<vk::Pipeline> {
+        if !WindField::ALL.iter().any(|&w| w as u32 == variant.wind) {
+            anyhow::bail!("no wind field {}", variant.wind);
         }
-        Ok(slot.as_ref().context("the simulate pipeline")?.pipeline)
+        if let Some(made) = self.simulate.get(&variant) {
+            return Ok(made.pipeline);
+        }
+        let entry = if variant.natural {
+            shaders::SIMULATE_CULL_NATURAL
+        } else {
+            shaders::SIMULATE_CULL
+        };
+        let constants = [
+            (SPEC_WIND_FIELD, variant.wind),
+            (SPEC_MESH_PATH, u32::from(variant.mesh)),
+            (SPEC_IMPULSES, u32::from(variant.impulses)),
+            (SPEC_COLLIDERS, u32::from(variant.colliders)),
+        ];
+        let pipeline = Pipeline::compute_specialised(
+            &self.ctx,
+            &field.layout,
+            &self.modules,
+            entry,
+            &constants,
+        )?;
+        Ok(self.simulate.entry(variant).or_insert(pipeline).pipeline)
     }
 
     /// Records the pass. The counter reset and the uniform update must come before,
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
-    /// `natural` also dresses the visible blades for the natural look's draw; `mesh`
-    /// bins them by strip length for the mesh path (`shared::meshlet`; the frame
-    /// block's `grass.pipeline`); the blades step in the wind field `wind` (the frame
-    /// block's `forces.wind_kind`), with its impulses where `wind.1`.
+    /// The pipeline is `variant`'s, which must agree with the frame block: the look's
+    /// entry point, the mesh path's binning where its `grass.pipeline` is the mesh
+    /// path, its `forces.wind_kind`, and the impulses' and colliders' code where its
+    /// `forces` counts some.
     pub fn record(
         &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
-        look_and_path: (bool, bool),
-        wind: (u32, bool),
+        variant: SimulateVariant,
     ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
-        let simulate = self.simulate(field, look_and_path, wind)?;
+        let simulate = self.simulate(field, variant)?;
         rec.bind_pipeline(compute, simulate, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));

@@ -20,7 +20,7 @@ use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::shade::ShadePass;
 use crate::passes::shadow::ShadowPass;
-use crate::passes::simulate::SimulatePass;
+use crate::passes::simulate::{SimulatePass, SimulateVariant};
 use crate::passes::temporal::TemporalPass;
 use crate::passes::tiles::TilesPass;
 use crate::passes::tonemap::{ToneMapPass, ToneMapSource};
@@ -34,7 +34,7 @@ use ash::vk;
 use shared::Blade;
 use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use shared::gpu::counters;
-use shared::gpu::layout::{self, FrameUniforms, SimulatePush};
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::world::mesh::SurfaceMesh;
@@ -550,13 +550,10 @@ impl Renderer {
     }
 
     /// Simulate, cull and compact (and on the mesh path bin by strip length), with
-    /// the frame block's wind field, impulses and path.
+    /// the pipeline made for the frame block's path, wind field, impulses and colliders.
     fn record_compute(&mut self, rec: &Recorder, push: SimulatePush, natural: bool) -> Result<()> {
-        let forces = &self.block.forces;
-        let wind = (forces.wind_kind, forces.impulses > 0);
-        let mesh = self.block.grass.pipeline == layout::PIPELINE_MESH;
-        self.simulate
-            .record(rec, &self.field, push, (natural, mesh), wind)
+        let variant = SimulateVariant::of(&self.block, natural);
+        self.simulate.record(rec, &self.field, push, variant)
     }
 
     /// Copies the counters for the read-back, once the compute pass and the compute

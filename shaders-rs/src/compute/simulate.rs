@@ -49,8 +49,9 @@ pub struct BladeBuffers<'a> {
 /// (`shared::draw::meshlet::BinLayout`), or past it into the spill half. The paper look's
 /// entry point: nothing of the natural look is compiled in, nor any wind field but
 /// `wind_field`, a specialisation constant (`layout::SPEC_WIND_FIELD`), the wind
-/// impulses only where `impulses` (`layout::SPEC_IMPULSES`), and the mesh path's
-/// binning only where `mesh_path` (`layout::SPEC_MESH_PATH`).
+/// impulses only where `impulses` (`layout::SPEC_IMPULSES`), the collisions only where
+/// `colliders` (`layout::SPEC_COLLIDERS`), and the mesh path's binning only where
+/// `mesh_path` (`layout::SPEC_MESH_PATH`).
 #[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(128)))]
 pub fn simulate_cull(
@@ -75,6 +76,7 @@ pub fn simulate_cull(
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
     #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
     #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
+    #[spirv(spec_constant(id = 3, default = 0))] colliders: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -112,7 +114,7 @@ pub fn simulate_cull(
         |_| (false, false),
         |_, _, blade: &Blade| *blade,
         true,
-        (wind_field, mesh_path, impulses),
+        (wind_field, mesh_path, impulses, colliders),
     );
 }
 
@@ -146,6 +148,7 @@ pub fn simulate_cull_natural(
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
     #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
     #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
+    #[spirv(spec_constant(id = 3, default = 0))] colliders: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -218,7 +221,7 @@ pub fn simulate_cull_natural(
         casts,
         tested,
         false,
-        (wind_field, mesh_path, impulses),
+        (wind_field, mesh_path, impulses, colliders),
     );
 }
 
@@ -256,7 +259,7 @@ fn simulate_and_cull<T: Copy + Default>(
     casts: impl Fn(&Blade) -> (bool, bool),
     tested: impl Fn(u32, u32, &Blade) -> Blade,
     by_index: bool,
-    (wind_field, mesh_path, impulses): (u32, u32, u32),
+    (wind_field, mesh_path, impulses, colliders): (u32, u32, u32, u32),
 ) {
     let BladeBuffers {
         blades,
@@ -278,8 +281,10 @@ fn simulate_and_cull<T: Copy + Default>(
 
     let index = flat_index(id, workgroups, CULL_WORKGROUP);
     // The wind field this pipeline was made for (`layout::SPEC_WIND_FIELD`), and the
-    // impulses only where it was made for them (`layout::SPEC_IMPULSES`).
-    let forces = frame.forces.specialised(wind_field, impulses != 0);
+    // impulses and colliders only where it was made for them (`layout::SPEC_IMPULSES`,
+    // `SPEC_COLLIDERS`).
+    let blowing = (impulses != 0, colliders != 0);
+    let forces = frame.forces.specialised(wind_field, blowing);
     let grass = &frame.grass;
     let tiled = grass.tiled != 0;
     let simulated = index < grass.simulated;

@@ -75,11 +75,12 @@ pub fn generate_pool_tile(
 }
 
 /// The frame's forces with its wind impulses only where the pipeline was made for them
-/// (`layout::SPEC_IMPULSES`, as the simulate-and-cull pass's).
+/// (`layout::SPEC_IMPULSES`, as the simulate-and-cull pass's), without its colliders
+/// (the far pose feels none).
 fn blowing(frame: &FrameUniforms, impulses: u32) -> Environment {
     frame
         .forces
-        .specialised(frame.forces.wind_kind, impulses != 0)
+        .specialised(frame.forces.wind_kind, (impulses != 0, false))
 }
 
 /// Writes blade `k` of `tile`, seen from `camera`, into `slot`: the blade in its far

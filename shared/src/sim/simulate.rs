@@ -84,14 +84,16 @@ impl Default for Environment {
 }
 
 impl Environment {
-    /// This environment with the wind field `kind`, and without impulses unless
-    /// `impulses`: the compute pass's, from its specialisation constants
-    /// (`gpu::layout::SPEC_WIND_FIELD`, `SPEC_IMPULSES`), so that its pipeline holds
-    /// only the field it steps with, and the impulses' code only where some blow.
-    pub fn specialised(&self, kind: u32, impulses: bool) -> Self {
+    /// This environment with the wind field `kind`, without impulses unless
+    /// `impulses` and without colliders unless `colliders`: the compute pass's, from
+    /// its specialisation constants (`gpu::layout::SPEC_WIND_FIELD`, `SPEC_IMPULSES`,
+    /// `SPEC_COLLIDERS`), so that its pipeline holds only the field it steps with, and
+    /// the impulses' and the collisions' code only where the frame has some.
+    pub fn specialised(&self, kind: u32, (impulses, colliders): (bool, bool)) -> Self {
         Self {
             wind_kind: kind,
             impulses: if impulses { self.impulses } else { 0 },
+            colliders: if colliders { self.colliders } else { 0 },
             ..*self
         }
     }

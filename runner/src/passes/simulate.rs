@@ -9,7 +9,8 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
     CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, FrameUniforms, PIPELINE_MESH, SIMULATE_WORKGROUP,
-    SPEC_COLLIDERS, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_WIND_FIELD, SimulatePush,
+    SPEC_COLLIDERS, SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_TILED,
+    SPEC_WIND_FIELD, SimulatePush,
 };
 use shared::settings::WindField;
 use std::collections::HashMap;
@@ -34,6 +35,10 @@ pub struct SimulateVariant {
     pub impulses: bool,
     /// Sphere colliders are in use (`layout::SPEC_COLLIDERS`).
     pub colliders: bool,
+    /// Gravity pulls towards a centre (`layout::SPEC_GRAVITY_CENTRE`).
+    pub centre: bool,
+    /// The field is tiled (`layout::SPEC_TILED`).
+    pub tiled: bool,
 }
 
 impl SimulateVariant {
@@ -46,6 +51,8 @@ impl SimulateVariant {
             wind: forces.wind_kind,
             impulses: forces.impulses > 0,
             colliders: forces.colliders > 0,
+            centre: forces.centre_blend != 0.0,
+            tiled: block.grass.tiled != 0,
         }
     }
 }
@@ -122,6 +129,8 @@ impl SimulatePass {
             (SPEC_MESH_PATH, u32::from(variant.mesh)),
             (SPEC_IMPULSES, u32::from(variant.impulses)),
             (SPEC_COLLIDERS, u32::from(variant.colliders)),
+            (SPEC_GRAVITY_CENTRE, u32::from(variant.centre)),
+            (SPEC_TILED, u32::from(variant.tiled)),
         ];
         let pipeline = Pipeline::compute_specialised(
             &self.ctx,

@@ -16,7 +16,7 @@ use shared::gpu::counters::{
 };
 use shared::gpu::layout::IDS_WORDS;
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
-use shared::sim::simulate::simulate;
+use shared::sim::simulate::{ForcesHeld, simulate};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
@@ -77,6 +77,8 @@ pub fn simulate_cull(
     #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
     #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
     #[spirv(spec_constant(id = 3, default = 0))] colliders: u32,
+    #[spirv(spec_constant(id = 4, default = 0))] centre: u32,
+    #[spirv(spec_constant(id = 5, default = 0))] tiled: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -114,7 +116,8 @@ pub fn simulate_cull(
         |_| (false, false),
         |_, _, blade: &Blade| *blade,
         true,
-        (wind_field, mesh_path, impulses, colliders),
+        (wind_field, mesh_path),
+        [impulses, colliders, centre, tiled],
     );
 }
 
@@ -149,6 +152,8 @@ pub fn simulate_cull_natural(
     #[spirv(spec_constant(id = 1, default = 0))] mesh_path: u32,
     #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
     #[spirv(spec_constant(id = 3, default = 0))] colliders: u32,
+    #[spirv(spec_constant(id = 4, default = 0))] centre: u32,
+    #[spirv(spec_constant(id = 5, default = 0))] tiled: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -221,7 +226,8 @@ pub fn simulate_cull_natural(
         casts,
         tested,
         false,
-        (wind_field, mesh_path, impulses, colliders),
+        (wind_field, mesh_path),
+        [impulses, colliders, centre, tiled],
     );
 }
 
@@ -259,7 +265,8 @@ fn simulate_and_cull<T: Copy + Default>(
     casts: impl Fn(&Blade) -> (bool, bool),
     tested: impl Fn(u32, u32, &Blade) -> Blade,
     by_index: bool,
-    (wind_field, mesh_path, impulses, colliders): (u32, u32, u32, u32),
+    (wind_field, mesh_path): (u32, u32),
+    [impulses, colliders, centre, tiled_field]: [u32; 4],
 ) {
     let BladeBuffers {
         blades,
@@ -283,10 +290,16 @@ fn simulate_and_cull<T: Copy + Default>(
     // The wind field this pipeline was made for (`layout::SPEC_WIND_FIELD`), and the
     // impulses and colliders only where it was made for them (`layout::SPEC_IMPULSES`,
     // `SPEC_COLLIDERS`).
-    let blowing = (impulses != 0, colliders != 0);
-    let forces = frame.forces.specialised(wind_field, blowing);
+    let held = ForcesHeld {
+        impulses: impulses != 0,
+        colliders: colliders != 0,
+        centre: centre != 0,
+    };
+    let forces = frame.forces.specialised(wind_field, held);
     let grass = &frame.grass;
-    let tiled = grass.tiled != 0;
+    // A stored field's pipeline holds none of the tiled field's code
+    // (`layout::SPEC_TILED`).
+    let tiled = tiled_field != 0 && grass.tiled != 0;
     let simulated = index < grass.simulated;
     let mut in_field = index < grass.blades
         && (simulated || (tiled && index - grass.simulated < counters[COUNTER_TILE_BLADES]));

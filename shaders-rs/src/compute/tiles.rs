@@ -13,7 +13,7 @@ use shared::gpu::layout::{
     GENERATE_WORKGROUP, IDS_WORDS, POOL_WORDS, SelectPush, TILE_WORDS, TILES_DISPATCH, TILES_LIST,
     TILES_POOL, TilePush,
 };
-use shared::sim::simulate::Environment;
+use shared::sim::simulate::{Environment, ForcesHeld};
 use shared::world::tiles::{
     TileParams, blade_id, far_blade, far_count, pack_map_point, tile_blade,
 };
@@ -78,9 +78,14 @@ pub fn generate_pool_tile(
 /// (`layout::SPEC_IMPULSES`, as the simulate-and-cull pass's), without its colliders
 /// (the far pose feels none).
 fn blowing(frame: &FrameUniforms, impulses: u32) -> Environment {
+    let held = |impulses: u32| ForcesHeld {
+        impulses: impulses != 0,
+        colliders: false,
+        centre: true,
+    };
     frame
         .forces
-        .specialised(frame.forces.wind_kind, (impulses != 0, false))
+        .specialised(frame.forces.wind_kind, held(impulses))
 }
 
 /// Writes blade `k` of `tile`, seen from `camera`, into `slot`: the blade in its far

@@ -84,19 +84,33 @@ impl Default for Environment {
 }
 
 impl Environment {
-    /// This environment with the wind field `kind`, without impulses unless
-    /// `impulses` and without colliders unless `colliders`: the compute pass's, from
-    /// its specialisation constants (`gpu::layout::SPEC_WIND_FIELD`, `SPEC_IMPULSES`,
-    /// `SPEC_COLLIDERS`), so that its pipeline holds only the field it steps with, and
-    /// the impulses' and the collisions' code only where the frame has some.
-    pub fn specialised(&self, kind: u32, (impulses, colliders): (bool, bool)) -> Self {
+    /// This environment with the wind field `kind` and only the forces `held` keeps:
+    /// a compute pipeline's, from its specialisation constants
+    /// (`gpu::layout::SPEC_WIND_FIELD`, `SPEC_IMPULSES`, `SPEC_COLLIDERS`,
+    /// `SPEC_GRAVITY_CENTRE`), so that it holds only the field it steps with, and the
+    /// code of the impulses, the collisions and a gravity centre only where the frame
+    /// has them.
+    pub fn specialised(&self, kind: u32, held: ForcesHeld) -> Self {
         Self {
             wind_kind: kind,
-            impulses: if impulses { self.impulses } else { 0 },
-            colliders: if colliders { self.colliders } else { 0 },
+            impulses: if held.impulses { self.impulses } else { 0 },
+            colliders: if held.colliders { self.colliders } else { 0 },
+            centre_blend: if held.centre { self.centre_blend } else { 0.0 },
             ..*self
         }
     }
+}
+
+/// Which of the frame's forces a compute pipeline holds the code of
+/// ([`Environment::specialised`]): those left out are taken as absent.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct ForcesHeld {
+    /// Wind impulses.
+    pub impulses: bool,
+    /// Sphere colliders.
+    pub colliders: bool,
+    /// Gravity towards a centre (`centre_blend` above 0).
+    pub centre: bool,
 }
 
 /// A blade and its collision strength η.

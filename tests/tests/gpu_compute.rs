@@ -218,7 +218,9 @@ fn compute_pass_matches_the_host_in_gusts_a_vortex_and_turbulence() {
 
 /// A blast at the field's centre that has ended by the last frame, and a rotor's
 /// downwash beside it still blowing: the GPU's blades are the host's, and the
-/// impulses moved them (the host without them differs).
+/// impulses moved them: a third of the tips are 0.05 away from where the host puts
+/// them without (measured 975 of 2,048; with both impulses starting after the run,
+/// none, and this failed).
 #[test]
 fn compute_pass_matches_the_host_under_a_blast_and_a_downwash() {
     with_device(
@@ -243,7 +245,7 @@ fn compute_pass_matches_the_host_under_a_blast_and_a_downwash() {
                 .count();
             println!("{moved} of {} blades moved by the impulses", host.len());
             assert!(
-                moved > host.len() / 10,
+                moved * 3 > host.len(),
                 "only {moved} blades moved by the impulses"
             );
         },

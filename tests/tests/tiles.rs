@@ -480,8 +480,9 @@ fn tiled_frame_against_the_host(
     assert!(largest <= 5e-4, "{largest}");
     if impulses.live() > 0 {
         println!("{blown} of {far_blades} far blades leaned by the wind impulses");
+        // Measured: all 2,843; with the impulses starting after the frame, none.
         assert!(
-            blown * 5 >= far_blades as usize,
+            blown * 10 >= far_blades as usize * 9,
             "{blown} leaned by the impulses"
         );
     }

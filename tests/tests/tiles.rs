@@ -184,6 +184,17 @@ fn still_frame(
     scene: &Scene,
     settings: &shared::settings::Settings,
     camera: &runner::camera::OrbitCamera,
+    size: (u32, u32),
+) -> (Vec<u8>, runner::app::driver::FrameDriver) {
+    blown_frame(ctx, scene, settings, camera, size, &Impulses::default())
+}
+
+/// [`still_frame`] with the wind `impulses` blowing.
+fn blown_frame(
+    ctx: &std::sync::Arc<runner::vulkan::Context>,
+    scene: &Scene,
+    settings: &shared::settings::Settings,
+    camera: &runner::camera::OrbitCamera,
     (width, height): (u32, u32),
     impulses: &Impulses,
 ) -> (Vec<u8>, runner::app::driver::FrameDriver) {
@@ -370,7 +381,7 @@ fn tiled_frame_against_the_host(
         impulses: impulses.live(),
         ..settings.environment(0)
     };
-    let (_, driver) = still_frame(ctx, scene, &settings, &orbit, size, impulses);
+    let (_, driver) = blown_frame(ctx, scene, &settings, &orbit, size, impulses);
     let r = &driver.renderer;
     let capacity = scene.blade_count() as usize;
     let blades: Vec<shared::Blade> = r.download(&r.field.blades, capacity).unwrap();
@@ -819,14 +830,7 @@ fn height_and_colour_maps_paint_the_blades() {
                 maps.push((COLOUR, 8, 1, colours.as_slice()));
             }
             scene.paint = words(&maps);
-            let (pixels, driver) = still_frame(
-                &ctx,
-                &scene,
-                &settings,
-                &camera,
-                (width, height),
-                &Impulses::default(),
-            );
+            let (pixels, driver) = still_frame(&ctx, &scene, &settings, &camera, (width, height));
             let eye = camera.viewpoint((width, height));
             images.push(pixels);
             if with_colour {
@@ -945,14 +949,7 @@ fn a_type_map_grows_dandelions_and_bare_ground() {
             let mut settings = scene.settings();
             settings.look.style = shared::settings::Look::Paper;
             settings.shape = shape;
-            let (pixels, driver) = still_frame(
-                &ctx,
-                &scene,
-                &settings,
-                &camera,
-                (width, height),
-                &Impulses::default(),
-            );
+            let (pixels, driver) = still_frame(&ctx, &scene, &settings, &camera, (width, height));
             let r = &driver.renderer;
             let blades: Vec<shared::Blade> = r
                 .download(&r.field.blades, scene.blade_count() as usize)
@@ -1056,17 +1053,7 @@ fn the_painted_maps_act_on_a_stored_field() {
         let mut images = Vec::new();
         for maps in [Vec::new(), words(&[(COLOUR, 64, 1, &red)])] {
             scene.paint = maps;
-            images.push(
-                still_frame(
-                    &ctx,
-                    &scene,
-                    &settings,
-                    &camera,
-                    (width, height),
-                    &Impulses::default(),
-                )
-                .0,
-            );
+            images.push(still_frame(&ctx, &scene, &settings, &camera, (width, height)).0);
         }
         let (left_drop, right_diff) = red_on_the_left(&images[0], &images[1], width);
         println!(

@@ -145,10 +145,8 @@ impl SimulatePass {
     /// Records the pass. The counter reset and the uniform update must come before,
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
-    /// The pipeline is `variant`'s, which must agree with the frame block: the look's
-    /// entry point, the mesh path's binning where its `grass.pipeline` is the mesh
-    /// path, its `forces.wind_kind`, and the impulses' and colliders' code where its
-    /// `forces` counts some.
+    /// The pipeline is `variant`'s, which must agree with the frame block
+    /// ([`SimulateVariant::of`]).
     pub fn record(
         &mut self,
         rec: &Recorder,

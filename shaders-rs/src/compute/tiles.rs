@@ -78,14 +78,12 @@ pub fn generate_pool_tile(
 /// (`layout::SPEC_IMPULSES`, as the simulate-and-cull pass's), without its colliders
 /// (the far pose feels none).
 fn blowing(frame: &FrameUniforms, impulses: u32) -> Environment {
-    let held = |impulses: u32| ForcesHeld {
+    let held = ForcesHeld {
         impulses: impulses != 0,
         colliders: false,
         centre: true,
     };
-    frame
-        .forces
-        .specialised(frame.forces.wind_kind, held(impulses))
+    frame.forces.specialised(frame.forces.wind_kind, held)
 }
 
 /// Writes blade `k` of `tile`, seen from `camera`, into `slot`: the blade in its far

@@ -23,7 +23,7 @@ impl Running {
         match self.impulses.add(impulse) {
             Ok(()) => log::info!("wind impulse: a {name} at {}", impulse.centre.truncate()),
             Err(_) => log::warn!(
-                "wind impulse: {MAX_IMPULSES} are blowing already; a {name} waits for one to end"
+                "wind impulse: {MAX_IMPULSES} are blowing already; the {name} is not set off"
             ),
         }
     }

@@ -302,7 +302,7 @@ impl Running {
         };
         self.move_ball(dt as f32, frame.time);
         self.impulses.retire(frame.time);
-        if let Some(kind) = self.blow.take().or(self.overlay.blow.take()) {
+        if let Some(kind) = self.blow.take().or_else(|| self.overlay.blow.take()) {
             self.start_impulse(kind, frame.time);
         }
         self.overlay.frame_time((dt * 1000.0) as f32);

@@ -36,7 +36,7 @@ fn main() -> anyhow::Result<()> {
     // Two seconds at 60 frames a second, the last one captured.
     for frame in 0..120 {
         let request = settings.request(&eye, &[]);
-        driver.run(&mut target, 1.0 / 60.0, |_| request, frame == 119)?;
+        driver.run(&mut target, 1.0 / 60.0, |_| request.clone(), frame == 119)?;
     }
     driver.finish()?;
     let rgba = target.pixels()?;

@@ -34,6 +34,7 @@ use bevy::render::renderer::{
 use bevy::render::settings::RenderCreation;
 use bevy::render::view::{ExtractedView, ViewDepthTexture, ViewTarget};
 use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderPlugin, RenderSystems};
+use shared::sim::collide::Collider;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::{Arc, Mutex};
 
@@ -171,7 +172,7 @@ impl Plugin for GrassPlugin {
 #[derive(Default)]
 struct FrameInput {
     seconds: f64,
-    colliders: Vec<glam::Vec4>,
+    colliders: Vec<Collider>,
     sun: Option<glam::Vec3>,
     settings: Option<GrassSettings>,
 }
@@ -219,7 +220,7 @@ fn extract(
         colliders: colliders
             .iter()
             .take(max)
-            .map(|(c, at)| vec3(at.translation()).extend(c.radius))
+            .map(|(c, at)| Collider::sphere(vec3(at.translation()), c.radius))
             .collect(),
         // Towards the light: against its forward direction.
         sun: lights.iter().next().map(|at| -vec3(*at.forward())),

@@ -190,6 +190,8 @@ pub struct ViewerState {
     pub full_distance: Option<f32>,
     /// The ball is on (B; `--no-ball` when off).
     pub ball: bool,
+    /// Walkers wandering the ground (`--walkers`).
+    pub walkers: u32,
 }
 
 /// The running `settings` and `viewer` state (as the overlay and the keys leave them)
@@ -256,6 +258,7 @@ pub fn current(
                 .map(|p| format!("{:?}", p.to_string())),
         ),
         ("no-ball", switch(!viewer.ball)),
+        ("walkers", Some(viewer.walkers.to_string())),
         ("look", Some(word(look.style.to_possible_value()))),
         ("no-shadows", switch(!look.shadows)),
         ("shadows", switch(look.shadows)),

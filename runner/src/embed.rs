@@ -52,9 +52,9 @@ use crate::vulkan::features::{device_name, format_has};
 use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use shared::settings::{GrassPipeline, Look};
-use shared::sim::collide::MAX_COLLIDERS;
+use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::sim::impulse::{Impulse, Impulses, MAX_IMPULSES};
 use shared::sim::simulate::{Environment, SimClock};
 use shared::world::mesh::SurfaceMesh;
@@ -150,9 +150,10 @@ pub struct Frame<'a> {
     /// Time since the last frame, seconds: the simulation runs in fixed steps of
     /// `shared::sim::simulate::STEP_SECONDS` to catch up with it.
     pub seconds: f64,
-    /// Spheres (centre xyz, radius w) that push the blades down; at most
+    /// Spheres, capsules and boxes that push the blades aside
+    /// (`shared::sim::collide::Collider::sphere`, `capsule`, `cuboid`); at most
     /// [`MAX_COLLIDERS`].
-    pub colliders: &'a [Vec4],
+    pub colliders: &'a [Collider],
 }
 
 /// A grass field drawn by your renderer.
@@ -246,7 +247,8 @@ impl GrassField {
         let (first_step, steps) = self.clock.advance(frame.seconds);
         let request = self
             .settings
-            .request(&frame.camera, frame.colliders)
+            .request(&frame.camera, &[])
+            .with_colliders(frame.colliders)
             .with_impulses(&self.impulses);
         let push = shared::gpu::layout::SimulatePush {
             first_step,

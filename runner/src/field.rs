@@ -20,6 +20,8 @@ use shared::gpu::layout::{
     ThroughputPush,
 };
 use shared::gpu::layout::{SelectPush, TilePush};
+use shared::sim::collide::{Collider, MAX_COLLIDERS};
+use shared::sim::grid::{GRID_SLOTS, GRID_WORDS};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -49,7 +51,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 25] = [
+pub const BINDINGS: [BindingSpec; 28] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -129,6 +131,11 @@ pub const BINDINGS: [BindingSpec; 25] = [
     // The visible blades' previous control points (temporal anti-aliasing), read by
     // the grass's geometry stages.
     storage_in(layout::BINDING_MOTION, GEOMETRY_OR_RESOLVE),
+    // The frame's colliders and their grid, built each frame that has colliders.
+    storage(layout::BINDING_COLLIDERS),
+    storage(layout::BINDING_COLLIDER_GRID),
+    // The blades handed to the compute pass's collision pass, and its dispatch.
+    storage(layout::BINDING_NEAR),
 ];
 
 /// The fragment stages and the compute stage (the natural look shaded after the
@@ -263,6 +270,19 @@ pub struct Field {
     pub motion: Buffer,
     /// The frame's uniform block, updated by a transfer at the start of each frame.
     pub uniforms: Buffer,
+    /// The frame's colliders (`sim::collide::Collider`), updated by a transfer at
+    /// the start of each frame that has any.
+    pub colliders: Buffer,
+    /// The colliders' grid (`sim::grid`), cleared and built each frame that has
+    /// colliders.
+    pub collider_grid: Buffer,
+    /// The blades handed to the compute pass's collision pass, after its indirect
+    /// dispatch (`layout::BINDING_NEAR`).
+    pub near: Buffer,
+    /// How far the tallest blade reaches from its root (`sim::grid::ColliderGrid::reach`):
+    /// a stored field's tallest, twice the tallest a tile grows for a tiled one (a
+    /// painted height map doubles at most).
+    pub reach: f32,
     /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
     pub pyramid: Buffer,
     /// Descriptor set over the buffers above.
@@ -348,6 +368,10 @@ impl Field {
             _ => &no_map[..],
         };
         let paint = Buffer::upload(ctx, pool, "painted maps", paint_words, U::STORAGE_BUFFER)?;
+        let reach = match source {
+            FieldBlades::Stored { blades, .. } => tallest(blades),
+            FieldBlades::Tiled { .. } => 2.0 * shared::blade::HEIGHT.1,
+        };
         let (blade_buffer, simulated, tiles, ids) = match source {
             FieldBlades::Stored { blades, .. } => {
                 let buffer = Buffer::upload(ctx, pool, "blades", blades, blade_usage)?;
@@ -443,6 +467,21 @@ impl Field {
             size_of::<FrameUniforms>() as u64,
             U::STORAGE_BUFFER | U::TRANSFER_DST,
         )?;
+        let colliders = device_buffer(
+            "colliders",
+            (MAX_COLLIDERS * size_of::<Collider>()) as u64,
+            U::STORAGE_BUFFER | U::TRANSFER_DST,
+        )?;
+        let near = device_buffer(
+            "blades near colliders",
+            (layout::NEAR_LIST as u64 + u64::from(simulated)) * 4,
+            U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
+        )?;
+        let collider_grid = device_buffer(
+            "collider grid",
+            u64::from(GRID_SLOTS) * GRID_WORDS as u64 * 4,
+            U::STORAGE_BUFFER | U::TRANSFER_DST,
+        )?;
 
         // A placeholder until a frame sizes it: no occlusion test without a target.
         let pyramid = Self::pyramid_buffer(ctx, 1)?;
@@ -470,6 +509,10 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_CASTERS, storage, casters.buffer);
         descriptors.write_buffer(layout::BINDING_CLUMPS, storage, clumps.buffer);
         descriptors.write_buffer(layout::BINDING_MOTION, storage, motion.buffer);
+        descriptors.write_buffer(layout::BINDING_COLLIDERS, storage, colliders.buffer);
+        let grid = collider_grid.buffer;
+        descriptors.write_buffer(layout::BINDING_COLLIDER_GRID, storage, grid);
+        descriptors.write_buffer(layout::BINDING_NEAR, storage, near.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_RASTER_ARGS, storage, raster_args.buffer);
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
@@ -507,6 +550,10 @@ impl Field {
             clumps,
             motion,
             uniforms,
+            colliders,
+            collider_grid,
+            near,
+            reach,
             pyramid,
             descriptors,
             layout,
@@ -542,6 +589,7 @@ impl Field {
         use vk::BufferUsageFlags as U;
         let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
         self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
+        self.reach = tallest(blades);
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         self.descriptors
             .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
@@ -570,4 +618,9 @@ impl Field {
         );
         Ok(())
     }
+}
+
+/// The tallest of `blades` (at least a hundredth).
+fn tallest(blades: &[Blade]) -> f32 {
+    blades.iter().map(Blade::height).fold(0.01, f32::max)
 }

@@ -53,7 +53,7 @@
 //! // Two seconds at 60 frames a second, the last one captured.
 //! for frame in 0..120 {
 //!     let request = settings.request(&eye, &[]);
-//!     driver.run(&mut target, 1.0 / 60.0, |_| request, frame == 119)?;
+//!     driver.run(&mut target, 1.0 / 60.0, |_| request.clone(), frame == 119)?;
 //! }
 //! driver.finish()?;
 //! let rgba: Vec<u8> = target.pixels()?; // 640 x 360, sRGB, row by row
@@ -155,3 +155,4 @@ pub mod scene;
 pub mod shaders;
 pub mod tiles;
 pub mod vulkan;
+pub mod walkers;

@@ -36,6 +36,10 @@ pub const RESOLVE_TAA: &str = "compute::temporal::resolve_taa";
 /// Compute: the natural look shaded after the draw, one thread per pixel
 /// (`shared::draw::look::visibility`).
 pub const SHADE_NATURAL: &str = "compute::shade::shade_natural";
+/// Compute: the colliders' grid, each frame that has colliders (`shared::sim::grid`).
+pub const BUILD_COLLIDER_GRID: &str = "compute::grid::build_collider_grid";
+/// Compute: the collision pass's indirect dispatch, from the blades handed to it.
+pub const NEAR_DISPATCH: &str = "compute::grid::near_dispatch";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clumps::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).

@@ -6,8 +6,9 @@
 //! slot takes a free one, else the least recently needed unpinned tile's, else it is
 //! dropped for the frame (drawn in the far tiles' pose) and counted.
 
-use shared::glam::{IVec2, Vec2, Vec3, Vec4};
+use shared::glam::{IVec2, Vec2, Vec3};
 use shared::gpu::layout::{MAX_POOL_TILES, TILE_WORDS, TILES_LIST};
+use shared::sim::collide::Collider;
 use shared::world::tiles::TileParams;
 use std::collections::HashMap;
 
@@ -97,11 +98,13 @@ impl TiledSpec {
         self.tiles_within(Vec2::new(camera.x, camera.z), self.pool_radius)
     }
 
-    /// The tiles a collider ball (centre xyz, radius w) can bend blades in: those its
-    /// ground shadow, grown by the tallest blade, touches.
-    pub fn touched(&self, ball: Vec4) -> Vec<IVec2> {
-        let reach = ball.w + shared::blade::HEIGHT.1;
-        self.tiles_within(Vec2::new(ball.x, ball.z), reach)
+    /// The tiles a collider can bend blades in: those its bounding sphere's ground
+    /// shadow, grown by the tallest blade, touches.
+    pub fn touched(&self, collider: &Collider) -> Vec<IVec2> {
+        let (lo, hi) = collider.bounds();
+        let centre = (lo + hi) * 0.5;
+        let reach = 0.5 * (hi - lo).length() + shared::blade::HEIGHT.1;
+        self.tiles_within(Vec2::new(centre.x, centre.z), reach)
     }
 
     /// Tiles from the camera's tile to the edge of the far tiles' candidate square:

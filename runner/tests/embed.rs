@@ -343,7 +343,8 @@ fn a_field_on_your_own_mesh() {
         seconds: 0.0,
         colliders,
     };
-    let many = [Vec4::ONE; shared::sim::collide::MAX_COLLIDERS + 1];
+    let ball = shared::sim::collide::Collider::from_sphere(Vec4::ONE);
+    let many = [ball; shared::sim::collide::MAX_COLLIDERS + 1];
     let error = field
         .record(ash::vk::CommandBuffer::null(), &frame(&many))
         .expect_err("too many colliders");

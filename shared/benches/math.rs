@@ -11,7 +11,7 @@ use shared::cull::lod::{focal_pixels, screen_level};
 use shared::draw::shape::{SHAPE_QUADRATIC, surface_point};
 use shared::glam::camera::rh;
 use shared::glam::{Mat4, Vec3, Vec4};
-use shared::sim::collide::MAX_COLLIDERS;
+use shared::sim::grid::ColliderSet;
 use shared::sim::impulse::NO_IMPULSES;
 use shared::sim::simulate::{Environment, simulate};
 use shared::world::generate::{side_for, square_field};
@@ -43,15 +43,15 @@ fn simulate_one_step(bencher: Bencher, balls: usize) {
         colliders: balls as u32,
         ..Default::default()
     };
-    let mut spheres = [Vec4::ZERO; MAX_COLLIDERS];
-    for (i, s) in spheres.iter_mut().take(balls).enumerate() {
-        *s = Vec4::new(i as f32 * 2.0 - 3.0, 0.5, 0.0, 1.0);
-    }
+    let spheres: Vec<Vec4> = (0..balls)
+        .map(|i| Vec4::new(i as f32 * 2.0 - 3.0, 0.5, 0.0, 1.0))
+        .collect();
+    let set = ColliderSet::spheres(&spheres);
     bencher
         .counter(divan::counter::ItemsCount::new(BLADES))
         .bench(|| {
             for b in &blades {
-                black_box(simulate((*b, 0.0), &env, &spheres, &NO_IMPULSES, 0, 1));
+                black_box(simulate((*b, 0.0), &env, set.nearby(), &NO_IMPULSES, 0, 1));
             }
         });
 }

@@ -20,38 +20,54 @@ use crate::settings::{
     Antialiasing, GrassPipeline, Look, MIN_RENDER_SCALE, NATURAL_EDGE_ON_SHARE, RASTER_SEGMENTS,
     Settings, View, Viewpoint, shadow_sphere,
 };
-use crate::sim::collide::MAX_COLLIDERS;
+use crate::sim::collide::{Collider, MAX_COLLIDERS};
+use crate::sim::grid::{ColliderGrid, GRID_SLOTS, fitted};
 use crate::sim::impulse::Impulses;
 use crate::sim::simulate::Environment;
 use spirv_std::glam::{Mat4, Vec4};
 
-/// What a caller asks of one frame: the settings, where it is seen from, the sphere
-/// colliders (centre xyz, radius w) and the live wind impulses.
-#[derive(Copy, Clone, Debug, PartialEq)]
+/// What a caller asks of one frame: the settings, where it is seen from, the
+/// colliders (the first [`MAX_COLLIDERS`]) and the live wind impulses.
+#[derive(Clone, Debug, PartialEq)]
 pub struct FrameRequest {
     /// The settings the frame is drawn with.
     pub settings: Settings,
     /// Where it is seen from.
     pub eye: Viewpoint,
-    colliders: [Vec4; MAX_COLLIDERS],
-    used: u32,
+    colliders: Vec<Collider>,
     impulses: Impulses,
 }
 
 impl FrameRequest {
-    /// A frame of `settings` seen from `eye` with the colliders `balls` (the first
-    /// `MAX_COLLIDERS` of them).
+    /// A frame of `settings` seen from `eye` with the sphere colliders `balls`
+    /// (centre xyz, radius w).
     pub fn new(settings: &Settings, eye: &Viewpoint, balls: &[Vec4]) -> Self {
-        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
-        let used = balls.len().min(MAX_COLLIDERS);
-        colliders[..used].copy_from_slice(&balls[..used]);
         Self {
             settings: *settings,
             eye: *eye,
-            colliders,
-            used: used as u32,
+            colliders: Vec::new(),
             impulses: Impulses::default(),
         }
+        .with_colliders(
+            &balls
+                .iter()
+                .map(|b| Collider::from_sphere(*b))
+                .collect::<Vec<_>>(),
+        )
+    }
+
+    /// This frame with the colliders `more` after those it has (up to
+    /// [`MAX_COLLIDERS`] in all).
+    pub fn with_colliders(mut self, more: &[Collider]) -> Self {
+        let room = MAX_COLLIDERS - self.colliders.len();
+        self.colliders
+            .extend_from_slice(&more[..more.len().min(room)]);
+        self
+    }
+
+    /// The colliders.
+    pub fn colliders(&self) -> &[Collider] {
+        &self.colliders
     }
 
     /// This frame with the wind impulses `impulses` (those not ended act).
@@ -67,11 +83,6 @@ impl FrameRequest {
         &self.impulses
     }
 
-    /// The colliders in use.
-    pub fn balls(&self) -> &[Vec4] {
-        &self.colliders[..self.used as usize]
-    }
-
     /// The frame the settings ask for, before the renderer's means narrow it.
     pub fn plan(&self) -> FramePlan {
         FramePlan::of(&self.settings)
@@ -80,7 +91,7 @@ impl FrameRequest {
     /// The whole GPU block of this frame drawn as `plan` says, with `facts`
     /// ([`Settings::uniforms`]).
     pub fn uniforms(&self, plan: &FramePlan, facts: &FrameFacts) -> FrameUniforms {
-        let around = (self.balls(), &self.impulses);
+        let around = (self.colliders(), &self.impulses);
         self.settings.uniforms(plan, &self.eye, around, facts)
     }
 }
@@ -97,6 +108,9 @@ pub struct FrameFacts {
     pub field: FieldPart,
     /// Simulated time after the frame's steps, seconds.
     pub time: f32,
+    /// How far the field's tallest blade reaches from its root (the colliders'
+    /// grid's reach, `sim::grid::ColliderGrid::reach`).
+    pub reach: f32,
     /// Frames drawn before this one (the jitter's place in its sequence).
     pub frame: u32,
     /// The previous frame's unjittered view-projection, where the temporal history
@@ -204,7 +218,8 @@ impl FramePlan {
 }
 
 impl Settings {
-    /// A frame of these settings seen from `eye`, with the sphere colliders `balls`.
+    /// A frame of these settings seen from `eye`, with the sphere colliders `balls`
+    /// (centre xyz, radius w).
     pub fn request(&self, eye: &Viewpoint, balls: &[Vec4]) -> FrameRequest {
         FrameRequest::new(self, eye, balls)
     }
@@ -213,14 +228,14 @@ impl Settings {
 impl Settings {
     /// The whole frame block, built once: these settings drawn as `plan` says (its
     /// look, view, pipeline, shadow map, occlusion test and far blades), seen from
-    /// `eye`, with the sphere colliders `balls` (centre xyz, radius w; the first
-    /// `MAX_COLLIDERS` are used) and the wind `impulses` around, and what the renderer
+    /// `eye`, with the `colliders` (the first `MAX_COLLIDERS`, in a grid fitted to
+    /// them: `sim::grid::fitted`) and the wind `impulses` around, and what the renderer
     /// knows of the frame (`facts`).
     pub fn uniforms(
         &self,
         plan: &FramePlan,
         eye: &Viewpoint,
-        (balls, impulses): (&[Vec4], &Impulses),
+        (colliders, impulses): (&[Collider], &Impulses),
         facts: &FrameFacts,
     ) -> FrameUniforms {
         // Drawn smaller than the output, the camera's pixels are the drawn image's.
@@ -228,9 +243,12 @@ impl Settings {
             height: plan.drawn_side(eye.height),
             ..*eye
         };
-        let mut colliders = [Vec4::ZERO; MAX_COLLIDERS];
-        let used = balls.len().min(MAX_COLLIDERS);
-        colliders[..used].copy_from_slice(&balls[..used]);
+        let used = colliders.len().min(MAX_COLLIDERS);
+        let collider_grid = if used == 0 {
+            ColliderGrid::default()
+        } else {
+            fitted(&colliders[..used], facts.reach, GRID_SLOTS)
+        };
         let cull = &self.cull;
         let lod = &self.lod;
         let field = &facts.field;
@@ -263,7 +281,7 @@ impl Settings {
                 impulses: impulses.live(),
                 ..self.environment(used as u32)
             },
-            colliders,
+            collider_grid,
             impulses: *impulses.slots(),
             hiz: if plan.occlusion {
                 facts.hiz
@@ -382,7 +400,7 @@ mod tests {
             height: 200,
             forward: Vec3::Z,
         };
-        let balls = [Vec4::ONE; MAX_COLLIDERS + 3];
+        let balls = [Collider::from_sphere(Vec4::ONE); MAX_COLLIDERS + 3];
         let facts = FrameFacts {
             extent: (320, 200),
             field: FieldPart {
@@ -436,6 +454,7 @@ mod tests {
                 tiled: true,
             },
             time: 0.0,
+            reach: 2.5,
             frame: 0,
             previous: None,
         };

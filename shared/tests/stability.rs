@@ -30,8 +30,8 @@
 use proptest::prelude::*;
 use shared::Blade;
 use shared::glam::{Vec3, Vec4};
-use shared::sim::collide::MAX_COLLIDERS;
 use shared::sim::collide::MAX_STRENGTH;
+use shared::sim::grid::ColliderSet;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, MAX_IMPULSES, NO_IMPULSES};
 use shared::sim::simulate::{
     BladeState, Environment, MAX_STEPS_PER_FRAME, STEP_SECONDS, STEPS_PER_SECOND, SimClock,
@@ -86,7 +86,16 @@ const CASES_SWEEP: u32 = 4096;
 /// Proptest cases of the settling property.
 const CASES_SETTLE: u32 = 1024;
 
+/// Spheres a frame of these tests holds at most (the collider buffer holds
+/// `collide::MAX_COLLIDERS`; every blade here tests each of them, in turn).
+const MAX_COLLIDERS: usize = 16;
+
 const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
+
+/// The first `env.colliders` of `spheres`, each tested by every blade.
+fn tested(env: &Environment, spheres: &[Vec4; MAX_COLLIDERS]) -> ColliderSet {
+    ColliderSet::spheres(&spheres[..env.colliders as usize])
+}
 
 /// How far one step can move the tip from where the last one left it, before
 /// validation pulls it back: recovery (|Iv2 − v2| ≤ 2.5·h, as |v2 − v0| ≤ 1.5·h,
@@ -386,7 +395,14 @@ fn run_frames(
             continue;
         }
         let s = spheres(i, &state.0, t);
-        state = simulate(state, env, &s, &extreme_impulses(), first, steps);
+        state = simulate(
+            state,
+            env,
+            tested(env, &s).nearby(),
+            &extreme_impulses(),
+            first,
+            steps,
+        );
         if let Some(v) = violation(state, &start.0, reach(env, &state.0, &s)) {
             return Err(format!("frame {i} ({dt} s, {steps} steps): {v}"));
         }
@@ -533,7 +549,8 @@ proptest! {
         // Step by step: a blade flailing with period 2 is back where it was after two.
         let mut state = settled;
         for i in 0..STEPS_PER_SECOND / 60 {
-            let next = simulate(state, &env, &NO_SPHERES, &NO_IMPULSES, steps + i, 1);
+            let set = tested(&env, &NO_SPHERES);
+            let next = simulate(state, &env, set.nearby(), &NO_IMPULSES, steps + i, 1);
             let moved = (next.0.tip() - state.0.tip()).length();
             prop_assert!(
                 moved < SETTLED * settled.0.height(),

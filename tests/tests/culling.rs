@@ -176,7 +176,9 @@ fn gpu_pyramid_and_occlusion_decisions_match_the_host() {
             let request = settings.request(&eye, &[]);
             // No time, no simulation step: the GPU culls the blades exactly as the host
             // holds them.
-            driver.run(&mut target, 0.0, |_| request, false).unwrap();
+            driver
+                .run(&mut target, 0.0, |_| request.clone(), false)
+                .unwrap();
             driver.finish().unwrap();
             let counts = driver.readback.counts.expect("counts");
             let renderer = &driver.renderer;

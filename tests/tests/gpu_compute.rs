@@ -13,6 +13,7 @@ use shared::cull::blade as cull;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::FrameRequest;
 use shared::settings::WindField;
+use shared::sim::grid::ColliderSet;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses};
 use shared::sim::simulate::simulate;
 use std::collections::HashSet;
@@ -112,13 +113,14 @@ fn run_both(
             ..Default::default()
         };
         driver.compute_frame(request, push).expect("compute frame");
-        // The block the GPU read.
+        // The block the GPU read, and its colliders, each tested by every blade.
         let block = *driver.renderer.block();
+        let every = ColliderSet::every(&request.colliders()[..block.forces.colliders as usize]);
         for state in &mut host {
             *state = simulate(
                 *state,
                 &block.forces,
-                &block.colliders,
+                every.nearby(),
                 &block.impulses,
                 push.first_step,
                 push.steps,
@@ -234,7 +236,7 @@ fn compute_pass_matches_the_host_under_a_blast_and_a_downwash() {
             let downwash = Impulse::new(IMPULSE_DOWNWASH, rotor, 0.2, 40.0, 0.5 * r, 10.0);
             impulses.add(blast).unwrap();
             impulses.add(downwash).unwrap();
-            let blown = request.with_impulses(&impulses);
+            let blown = request.clone().with_impulses(&impulses);
             let (driver, host, _) = run_both(&ctx, &scene, &blown);
             assert_eq!(driver.renderer.block().forces.impulses, 2);
             let (_, still, _) = run_both(&ctx, &scene, &request);
@@ -331,7 +333,9 @@ fn the_motion_buffer_holds_the_visible_blades_previous_control_points() {
             let mut settings = request.settings;
             settings.look.style = Look::Paper;
             settings.look.aa = Antialiasing::Taa;
-            let request = settings.request(&request.eye, request.balls());
+            let request = settings
+                .request(&request.eye, &[])
+                .with_colliders(request.colliders());
             let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).expect("renderer");
             let mut driver = FrameDriver::new(&ctx, renderer).expect("frame driver");
             let push = |frame: u32| SimulatePush {

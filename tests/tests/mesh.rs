@@ -167,7 +167,9 @@ fn mesh_stage_vertices_equal_the_hosts() {
             // NaN marks what the draw did not write.
             capture.write(&vec![Vec4::NAN; entries]).unwrap();
             // No time, no simulation step: the blades are the host's.
-            driver.run(&mut target, 0.0, |_| request, false).unwrap();
+            driver
+                .run(&mut target, 0.0, |_| request.clone(), false)
+                .unwrap();
             driver.finish().unwrap();
             let renderer = &driver.renderer;
             let uniforms = *renderer.block();

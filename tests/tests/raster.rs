@@ -94,7 +94,9 @@ fn equal_to_the_hosts(
     camera.distance /= nearer;
     let eye = camera.viewpoint(target.size());
     let request = settings.request(&eye, &[]);
-    driver.run(&mut target, 0.0, |_| request, false).unwrap();
+    driver
+        .run(&mut target, 0.0, |_| request.clone(), false)
+        .unwrap();
     driver.finish().unwrap();
     let counts = driver.readback.counts.expect("counts");
     let renderer = &driver.renderer;
@@ -367,7 +369,9 @@ fn frame_to_frame(
         let eye = camera.viewpoint(target.size());
         let request = settings.request(&eye, &[]);
         // No time: no simulation step, the blades stand still.
-        driver.run(&mut target, 0.0, |_| request, true).unwrap();
+        driver
+            .run(&mut target, 0.0, |_| request.clone(), true)
+            .unwrap();
         driver.finish().unwrap();
         frames.push(target.pixels().unwrap());
         camera.yaw += step;

@@ -79,7 +79,7 @@ fn turning_keeps_the_shadow_map(ctx: &Arc<Context>, scene: &Scene) {
         let request = settings.request(&eye, &[]);
         // No time: the blades stand as they are.
         driver
-            .run(&mut target, 0.0, |_| request, false)
+            .run(&mut target, 0.0, |_| request.clone(), false)
             .expect("frame");
         driver.finish().expect("finish");
         let visible = driver.readback.visible().expect("visible count");
@@ -137,7 +137,7 @@ fn the_shadow_maps_grass_is_the_hosts() {
         let mut driver = FrameDriver::new(&ctx, renderer).expect("frame driver");
         let request = settings.request(&view, &[]);
         driver
-            .run(&mut target, 0.0, |_| request, false)
+            .run(&mut target, 0.0, |_| request.clone(), false)
             .expect("frame");
         driver.finish().expect("finish");
         let renderer = &driver.renderer;

@@ -11,6 +11,7 @@ use runner::shaders;
 use runner::vulkan::descriptors::BindingSpec;
 use shared::draw::look::shadow::CASTERS_PER_GROUP;
 use shared::gpu::layout;
+use shared::sim::grid::ColliderGrid;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Every (entry point, its module).
@@ -513,7 +514,16 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(Environment, pad),
             ],
         ),
-        ("colliders", offset_of!(FrameUniforms, colliders), vec![]),
+        (
+            "collider_grid",
+            offset_of!(FrameUniforms, collider_grid),
+            vec![
+                offset_of!(ColliderGrid, cell),
+                offset_of!(ColliderGrid, reach),
+                offset_of!(ColliderGrid, slots),
+                offset_of!(ColliderGrid, pad),
+            ],
+        ),
         ("impulses", offset_of!(FrameUniforms, impulses), vec![]),
         (
             "hiz",

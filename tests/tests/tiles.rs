@@ -203,7 +203,9 @@ fn blown_frame(
     let mut driver = runner::app::driver::FrameDriver::new(ctx, renderer).unwrap();
     let eye = camera.viewpoint(target.size());
     let request = settings.request(&eye, &[]).with_impulses(impulses);
-    driver.run(&mut target, 0.0, |_| request, true).unwrap();
+    driver
+        .run(&mut target, 0.0, |_| request.clone(), true)
+        .unwrap();
     driver.finish().unwrap();
     (target.pixels().unwrap(), driver)
 }
@@ -582,7 +584,7 @@ fn a_trail_survives_the_camera_leaving_and_fades_as_the_decay_says() {
                 let eye = camera_at(at).viewpoint(target.size());
                 let request = settings.request(&eye, balls);
                 driver
-                    .run(&mut target, 1.0 / 60.0, |_| request, false)
+                    .run(&mut target, 1.0 / 60.0, |_| request.clone(), false)
                     .unwrap();
             };
             for _ in 0..30 {
@@ -644,7 +646,7 @@ fn a_larger_world_takes_no_more_device_memory() {
             let request = scene.settings().request(&eye, &[]);
             for _ in 0..3 {
                 driver
-                    .run(&mut target, 1.0 / 60.0, |_| request, false)
+                    .run(&mut target, 1.0 / 60.0, |_| request.clone(), false)
                     .unwrap();
             }
             driver.finish().unwrap();
@@ -708,7 +710,9 @@ fn a_density_map_paints_where_grass_grows() {
         settings.look.style = shared::settings::Look::Paper;
         settings.cull.tests = shared::settings::CullTests::NONE;
         let request = settings.request(&eye, &[]);
-        driver.run(&mut target, 0.0, |_| request, true).unwrap();
+        driver
+            .run(&mut target, 0.0, |_| request.clone(), true)
+            .unwrap();
         driver.finish().unwrap();
         let image = image::RgbaImage::from_raw(width, height, target.pixels().unwrap()).unwrap();
         let r = &driver.renderer;
@@ -1092,7 +1096,7 @@ fn a_simulated_tile_stands_as_the_far_pose_and_returns_to_it() {
             let eye = camera_at(at).viewpoint(target.size());
             let request = settings.request(&eye, &[]);
             driver
-                .run(&mut target, 1.0 / 60.0, |_| request, false)
+                .run(&mut target, 1.0 / 60.0, |_| request.clone(), false)
                 .unwrap();
         };
         let eye = camera_at(home).viewpoint((96, 64)).position;

@@ -114,7 +114,7 @@ pub(crate) fn record_frame(
         },
         camera: embed::viewpoint(view, proj, extent.height),
         seconds: FRAME_SECONDS,
-        colliders: &[stage.cube.extend(CUBE_HALF * 3f32.sqrt())],
+        colliders: &[stage.cube_collider(field.time())],
     };
     field.record(cmd, &frame)
 }

@@ -2,8 +2,9 @@
 //! the middle of the field, spinning, the camera looking at it, the sky behind.
 
 use glam::camera::rh;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Quat, Vec2, Vec3};
 use runner::embed::GrassField;
+use shared::sim::collide::Collider;
 
 /// The cube's colour (linear): a magenta nothing else in the frame has.
 pub const CUBE_COLOR: Vec3 = Vec3::new(0.8, 0.06, 0.5);
@@ -41,9 +42,18 @@ impl Stage {
     /// tilted so three faces show.
     pub fn cube_model(&self, time: f32) -> Mat4 {
         Mat4::from_translation(self.cube)
-            * Mat4::from_rotation_y(time * std::f32::consts::FRAC_PI_2)
-            * Mat4::from_rotation_x(0.5)
+            * Mat4::from_quat(self.cube_turn(time))
             * Mat4::from_scale(Vec3::splat(CUBE_HALF))
+    }
+
+    /// The cube's turn at simulated `time`.
+    fn cube_turn(&self, time: f32) -> Quat {
+        Quat::from_rotation_y(time * std::f32::consts::FRAC_PI_2) * Quat::from_rotation_x(0.5)
+    }
+
+    /// The cube as a collider at simulated `time`: a box turning with it.
+    pub fn cube_collider(&self, time: f32) -> Collider {
+        Collider::cuboid(self.cube, Vec3::splat(CUBE_HALF), self.cube_turn(time), 0.0)
     }
 
     /// (view, projection) on a `width` × `height` target (Vulkan clip space).

@@ -184,7 +184,7 @@ pub fn draw_frame(
         },
     );
     let camera = embed::viewpoint(view, proj, size.height);
-    let colliders = [stage.cube.extend(CUBE_HALF * 3f32.sqrt())];
+    let colliders = [stage.cube_collider(field.time())];
     let grass = record(
         gpu,
         &mut scene,

@@ -13,7 +13,7 @@ use winit::event::WindowEvent;
 use winit::window::Window;
 
 mod controls;
-pub use controls::{AA_CHOICES, aa_name, next_aa};
+pub use controls::{AA_CHOICES, Actors, aa_name, next_aa};
 
 /// Frames in the frame-time graph.
 const HISTORY: usize = 240;
@@ -89,7 +89,7 @@ pub struct Overlay {
 #[derive(Clone, PartialEq)]
 struct Shown {
     settings: Settings,
-    ball_on: bool,
+    actors: Actors,
     fly: Fly,
     full_distance: Option<f32>,
     notice: Option<String>,
@@ -147,14 +147,14 @@ impl Overlay {
 
     /// Runs the interface for one frame when its picture is due (input for it, an
     /// animation, a changed setting or message, the window's size, or [`REFRESH`]
-    /// passed): shows `readings`, lets the user edit `settings` and `ball_on`, and
+    /// passed): shows `readings`, lets the user edit `settings` and `actors`, and
     /// returns what to paint (nothing when hidden; the last picture kept when not due).
     pub fn run(
         &mut self,
         window: &Window,
         readings: &Readings,
         settings: &mut Settings,
-        (ball_on, fly, full_distance): (&mut bool, &mut Fly, &mut Option<f32>),
+        (actors, fly, full_distance): (&mut Actors, &mut Fly, &mut Option<f32>),
     ) -> Option<Painted> {
         if !self.visible {
             self.last = None;
@@ -162,16 +162,16 @@ impl Overlay {
         }
         let now = Instant::now();
         let size = window.inner_size();
-        let shown = |settings: &Settings, ball_on: bool, fly: Fly, full_distance| Shown {
+        let shown = |settings: &Settings, actors: Actors, fly: Fly, full_distance| Shown {
             settings: *settings,
-            ball_on,
+            actors,
             fly,
             full_distance,
             notice: readings.notice.clone(),
             saved: readings.saved.clone(),
             size: (size.width, size.height),
         };
-        let before = shown(settings, *ball_on, *fly, *full_distance);
+        let before = shown(settings, *actors, *fly, *full_distance);
         let due = self.input
             || self.repaint_at.is_some_and(|at| now >= at)
             || self
@@ -198,7 +198,7 @@ impl Overlay {
                 performance(ui, readings, &self.device, frame_ms);
                 counts(ui, readings);
                 tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
-                controls::controls(ui, settings, ball_on, &mut blow);
+                controls::controls(ui, settings, actors, &mut blow);
                 ui.separator();
                 save |= ui
                     .button("save settings (grass-settings.toml)")
@@ -216,7 +216,7 @@ impl Overlay {
             .get(&egui::ViewportId::ROOT)
             .map_or(Duration::MAX, |v| v.repaint_delay);
         self.repaint_at = now.checked_add(delay);
-        self.last = Some((now, shown(settings, *ball_on, *fly, *full_distance)));
+        self.last = Some((now, shown(settings, *actors, *fly, *full_distance)));
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
         let opaque = window_rect.and_then(|rect| opaque_part(&self.ctx.global_style(), rect));

@@ -166,7 +166,7 @@ fn one_frame(
     target: &mut Offscreen,
     request: shared::plan::FrameRequest,
 ) -> Result<Vec<u8>> {
-    driver.run(target, 0.0, |_| request, true)?;
+    driver.run(target, 0.0, |_| request.clone(), true)?;
     driver.finish()?;
     target.pixels()
 }

@@ -5,6 +5,7 @@ use super::headless::{FORMAT, Offscreen};
 use crate::cli::{Common, ImpulseSpec, RenderArgs};
 use crate::collider::Ball;
 use crate::renderer::{CullCounts, PassTimes, Renderer};
+use crate::walkers::Walkers;
 use anyhow::{Context as _, Result, bail};
 use shared::sim::impulse::{Impulse, Impulses, MAX_IMPULSES};
 
@@ -172,6 +173,8 @@ pub struct Headless {
     pub ball: Option<BallPath>,
     /// The command line's wind impulses (`--impulse`), centred on the ground.
     pub impulses: Impulses,
+    /// The command line's walkers (`--walkers`).
+    pub walkers: Walkers,
 }
 
 impl Headless {
@@ -189,6 +192,7 @@ impl Headless {
         let driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
         let eye_at = Box::new(camera_path(&scene, camera, offscreen.size())?);
         let impulses = on_the_ground(&scene, &events.impulses)?;
+        let walkers = Walkers::new(&scene, common.walkers);
         Ok(Self {
             ctx,
             scene,
@@ -198,20 +202,22 @@ impl Headless {
             eye_at,
             ball: BallPath::of(common),
             impulses,
+            walkers,
         })
     }
 
-    /// Runs one frame of `seconds`, the camera and the ball where they are at its
-    /// simulated time, captured if `capture`.
+    /// Runs one frame of `seconds`, the camera, the ball and the walkers where they
+    /// are at its simulated time, captured if `capture`.
     pub fn frame(&mut self, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
-        let (ball, impulses) = (self.ball.as_ref(), &self.impulses);
+        let (ball, impulses, walkers) = (self.ball.as_ref(), &self.impulses, &self.walkers);
         let request = |f: &Frame| {
             let balls = ball
                 .map(|b| b.spheres_at(scene, f.time))
                 .unwrap_or_default();
             settings
                 .request(&eye_at(f.time), &balls)
+                .with_colliders(&walkers.colliders(scene, f.time))
                 .with_impulses(impulses)
         };
         self.driver

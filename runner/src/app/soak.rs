@@ -203,7 +203,8 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     let mut readings = Vec::new();
     let phase_frames = (args.every / PHASES_PER_READING).max(1);
     // One frame of `settings` at `size` seen by `camera`, `dt` seconds on, with the ball
-    // circling the camera's target.
+    // circling the camera's target and the walkers (`--walkers`) wandering.
+    let walkers = crate::walkers::Walkers::new(&scene, common.walkers);
     let draw = |driver: &mut FrameDriver,
                 offscreen: &mut Offscreen,
                 settings: &Settings,
@@ -218,7 +219,9 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
                 .iter()
                 .map(Ball::sphere)
                 .collect();
-            settings.request(&camera.viewpoint(size), &balls)
+            settings
+                .request(&camera.viewpoint(size), &balls)
+                .with_colliders(&walkers.colliders(&scene, f.time))
         };
         driver.run(offscreen, dt, request, false)
     };

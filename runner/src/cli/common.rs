@@ -146,6 +146,11 @@ pub struct Common {
     /// Speed of the ball along its path, units per second.
     #[arg(long, global = true, default_value_t = 3.0, value_parser = range(0.0, 1000.0))]
     pub collider_speed: f32,
+    /// Walkers: capsules the size of people (0.3 by 1.8 units) wandering the ground,
+    /// each pushing the grass aside like the ball (in the valley, around the first 60
+    /// units of its path).
+    #[arg(long, global = true, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::walkers::MAX_WALKERS)))]
+    pub walkers: u32,
     /// How fast trampled grass gets its stiffness back: collision strength lost per
     /// second (strength 1 holds a blade down fully).
     #[arg(long, global = true, default_value_t = 0.25, value_parser = range(0.0, 100.0))]

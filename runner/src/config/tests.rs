@@ -141,6 +141,7 @@ fn loaded(cli: &Cli, scene: &crate::scene::Scene) -> (shared::settings::Settings
     let viewer = ViewerState {
         full_distance: cli.common.full_distance,
         ball: !cli.common.no_ball,
+        walkers: cli.common.walkers,
     };
     (settings, viewer)
 }
@@ -217,6 +218,7 @@ fn every_setting_is_saved_and_read_back() {
     let viewer = ViewerState {
         full_distance: Some(37.5),
         ball: false,
+        walkers: 640,
     };
 
     let unchanged: Vec<String> = leaves(&format!("{defaults:#?}"))
@@ -232,6 +234,7 @@ fn every_setting_is_saved_and_read_back() {
     );
     assert_ne!(viewer.full_distance, default_viewer.full_distance);
     assert_ne!(viewer.ball, default_viewer.ball);
+    assert_ne!(viewer.walkers, default_viewer.walkers);
 
     let path = file("saved.toml", &current(&first.common, &s, &viewer));
     let again = parse(&path, &[]).unwrap();

@@ -180,7 +180,7 @@ pub fn record(
     (color, depth): (TextureTarget, TextureTarget),
     field: &mut GrassField,
     (camera, seconds): (super::Viewpoint, f64),
-    colliders: &[glam::Vec4],
+    colliders: &[shared::sim::collide::Collider],
 ) -> Result<wgpu::CommandBuffer> {
     let raw = device.raw();
     scene.transition_resources(

@@ -15,9 +15,9 @@ use crate::vulkan::pipeline::ShaderModules;
 use crate::vulkan::{Attachments, Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
-use glam::Vec4;
 use shared::plan::FramePlan;
 use shared::settings::View;
+use shared::sim::collide::Collider;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
 
@@ -135,7 +135,7 @@ impl DrawPass {
         field: &Field,
         images: &DrawImages,
         plan: &FramePlan,
-        balls: &[Vec4],
+        colliders: &[Collider],
         stamp: &dyn Fn(Mark),
         triangles: Option<vk::QueryPool>,
     ) {
@@ -192,7 +192,7 @@ impl DrawPass {
             rec.end_query(pool);
         }
         stamp(Mark::Grass);
-        self.ground.record(rec, field, balls);
+        self.ground.record(rec, field, colliders);
         stamp(Mark::Ground);
         if !far {
             stamp(Mark::Raster);

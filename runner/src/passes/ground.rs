@@ -1,4 +1,4 @@
-//! The surfaces: the scene's ground mesh and the collider balls, from one vertex and
+//! The surfaces: the scene's ground mesh and the colliders, from one vertex and
 //! one index buffer, textured and lit in the fragment stage.
 
 use super::by_target::{ByTarget, DrawTarget};
@@ -11,6 +11,7 @@ use anyhow::Result;
 use ash::vk;
 use glam::{Mat4, Vec4};
 use shared::gpu::layout::{GROUND_GRID, GROUND_MESH, SurfacePush, SurfaceVertex};
+use shared::sim::collide::{COLLIDER_BOX, COLLIDER_CAPSULE, COLLIDER_SPHERE, Collider};
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
 
@@ -61,6 +62,13 @@ pub struct GroundPass {
     indices: Buffer,
     ground: Vec<Range>,
     ball: Range,
+    /// A coarse unit sphere (80 triangles), stretched over a capsule or a box: the
+    /// walkers, a thousand of them, at the ball's 1,280 triangles each would cost an
+    /// NVIDIA H100 more than a millisecond of its raster units.
+    coarse: Range,
+    /// The camera's view-projection this frame: colliders outside its view are not
+    /// drawn.
+    view_proj: Mat4,
     /// The valley's ground grid, drawn around the camera instead of the ground
     /// meshes: its range and the world's half extent.
     grid: Option<(Range, f32)>,
@@ -113,6 +121,8 @@ impl GroundPass {
             (set.add(&mesh, shared::draw::shade::MATERIAL_SOIL), half)
         });
         let ball = set.add(ball, shared::draw::shade::MATERIAL_BALL);
+        let coarse = crate::scene::builtin::sphere(glam::Vec3::ZERO, 1.0, 1);
+        let coarse = set.add(&coarse, shared::draw::shade::MATERIAL_BALL);
         use vk::BufferUsageFlags as U;
         let vertices = Buffer::upload(
             ctx,
@@ -133,6 +143,8 @@ impl GroundPass {
             indices,
             ground,
             ball,
+            coarse,
+            view_proj: Mat4::IDENTITY,
             grid,
             centre: glam::Vec3::ZERO,
         })
@@ -140,8 +152,9 @@ impl GroundPass {
 
     /// Centres the valley's grid under `camera` for the frame's draws: on the
     /// centre cells' lattice, so near vertices keep their place as the camera moves.
-    pub fn follow(&mut self, camera: glam::Vec3) {
+    pub fn follow(&mut self, camera: glam::Vec3, view_proj: Mat4) {
         self.centre = (camera / GRID_SPACING).round() * GRID_SPACING;
+        self.view_proj = view_proj;
     }
 
     /// The lit surface pipeline for `target` (colour `UNDEFINED`: depth only); a
@@ -188,21 +201,28 @@ impl GroundPass {
             .select(target, || Self::pipeline(ctx, module, field, target))
     }
 
-    /// Records the ground and one ball per collider (centre xyz, radius w) inside the
-    /// frame's rendering scope.
-    pub fn record(&self, rec: &Recorder, field: &Field, balls: &[Vec4]) {
-        self.record_with(self.pipeline.current(), rec, field, balls);
+    /// Records the ground and each of the `colliders` in the camera's view
+    /// ([`collider_model`]) inside the frame's rendering scope.
+    pub fn record(&self, rec: &Recorder, field: &Field, colliders: &[Collider]) {
+        let seen = |c: &Collider| in_view(self.view_proj, c);
+        self.record_with(self.pipeline.current(), rec, field, (colliders, &seen));
     }
 
     /// Records the ground's depth alone (the occluders of the occlusion test) inside
     /// a depth-only rendering scope.
     pub fn record_occluders(&self, rec: &Recorder, field: &Field) {
-        self.record_with(&self.depth_only, rec, field, &[]);
+        self.record_with(&self.depth_only, rec, field, (&[], &|_| false));
     }
 
-    /// Records the ground and `balls` with `pipeline` (one taking the surface
-    /// vertices).
-    pub fn record_with(&self, pipeline: &Pipeline, rec: &Recorder, field: &Field, balls: &[Vec4]) {
+    /// Records the ground and the `colliders` `drawn` says with `pipeline` (one
+    /// taking the surface vertices).
+    pub fn record_with(
+        &self,
+        pipeline: &Pipeline,
+        rec: &Recorder,
+        field: &Field,
+        (colliders, drawn): (&[Collider], &Drawn<'_>),
+    ) {
         let graphics = vk::PipelineBindPoint::GRAPHICS;
         let layout = field.layout.layout;
         rec.bind_pipeline(graphics, pipeline.pipeline, layout, field.descriptors.set);
@@ -222,10 +242,56 @@ impl GroundPass {
             let terrain = Vec4::new(GROUND_GRID, *half, 0.0, 0.0);
             draw(range, Mat4::from_translation(centre), terrain);
         }
-        for ball in balls {
-            let model = Mat4::from_translation(ball.truncate())
-                * Mat4::from_scale(glam::Vec3::splat(ball.w));
-            draw(&self.ball, model, mesh);
+        for c in colliders.iter().filter(|c| drawn(c)) {
+            let range = if c.kind == COLLIDER_SPHERE {
+                &self.ball
+            } else {
+                &self.coarse
+            };
+            draw(range, collider_model(c), mesh);
         }
     }
+}
+
+/// Which colliders a pass draws.
+pub type Drawn<'a> = dyn Fn(&Collider) -> bool + 'a;
+
+/// The model matrix of a unit sphere drawn for collider `c`: a sphere as itself, a
+/// capsule as the ellipsoid through its ends and around its radius, a box as the
+/// ellipsoid through its faces' centres.
+pub fn collider_model(c: &Collider) -> Mat4 {
+    let a = c.a.truncate();
+    let r = c.a.w;
+    match c.kind {
+        COLLIDER_CAPSULE => {
+            let b = c.b.truncate();
+            let axis = b - a;
+            let turn =
+                glam::Quat::from_rotation_arc(glam::Vec3::Y, axis.normalize_or(glam::Vec3::Y));
+            let half = glam::Vec3::new(r, 0.5 * axis.length() + r, r);
+            Mat4::from_scale_rotation_translation(half, turn, (a + b) * 0.5)
+        }
+        COLLIDER_BOX => {
+            let turn = glam::Quat::from_vec4(c.rotation);
+            let half = c.b.truncate() + glam::Vec3::splat(r);
+            Mat4::from_scale_rotation_translation(half, turn, a)
+        }
+        _ => Mat4::from_translation(a) * Mat4::from_scale(glam::Vec3::splat(r)),
+    }
+}
+
+/// Whether collider `c`'s bounding sphere reaches into the view of `view_proj`
+/// (its clip-space planes, Gribb and Hartmann 2001).
+pub fn in_view(view_proj: Mat4, c: &Collider) -> bool {
+    let (lo, hi) = c.bounds();
+    let centre = ((lo + hi) * 0.5).extend(1.0);
+    let radius = (hi - lo).length() * 0.5;
+    let m = view_proj.transpose();
+    let (x, y, z, w) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
+    // Left, right, bottom, top, and depth 0 (the near plane, or the far one of a
+    // reversed depth); no far plane, as an infinite projection has none.
+    [w + x, w - x, w + y, w - y, z].iter().all(|plane| {
+        let length = plane.truncate().length().max(1e-12);
+        plane.dot(centre) / length >= -radius
+    })
 }

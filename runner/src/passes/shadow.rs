@@ -30,11 +30,11 @@ use crate::vulkan::sampler::Sampler;
 use crate::vulkan::{Attachments, Buffer, Context, Image, Recorder};
 use anyhow::Result;
 use ash::vk;
-use glam::Vec4;
 use gpu_allocator::MemoryLocation;
 use shared::draw::look::shadow_raster::EMPTY_DEPTH;
 use shared::gpu::layout::SurfaceVertex;
 use shared::settings::SHADOW_SIZES;
+use shared::sim::collide::Collider;
 use std::sync::Arc;
 
 use vk::AccessFlags2 as A;
@@ -202,9 +202,14 @@ impl ShadowPass {
     }
 
     /// Records the map: the grass's casters by compute threads into the depth words,
-    /// copied into the map, then the surfaces and `balls` drawn over them; the map is
+    /// copied into the map, then the surfaces and `colliders` drawn over them; the map is
     /// then ready for the fragment stages and the shading pass to sample.
-    pub fn record(&self, rec: &Recorder, field: &Field, (ground, balls): (&GroundPass, &[Vec4])) {
+    pub fn record(
+        &self,
+        rec: &Recorder,
+        field: &Field,
+        (ground, colliders): (&GroundPass, &[Collider]),
+    ) {
         let aspect = vk::ImageAspectFlags::DEPTH;
         let words = self.casters_depth.buffer;
         let compute_rw = (
@@ -266,7 +271,7 @@ impl ShadowPass {
                     height: side,
                 },
             });
-            ground.record_with(surfaces, rec, field, balls);
+            ground.record_with(surfaces, rec, field, (colliders, &|_| true));
         }
         rec.end_rendering();
         rec.image_barrier(

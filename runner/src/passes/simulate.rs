@@ -8,11 +8,12 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, CULL_WORKGROUP, ChunkPush, FrameUniforms, PIPELINE_MESH, SIMULATE_WORKGROUP,
-    SPEC_COLLIDERS, SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_TILED,
-    SPEC_WIND_FIELD, SimulatePush,
+    CHUNK_WORKGROUP, COLLIDERS_HAND_OVER, COLLIDERS_NEAR, COLLIDERS_NONE, CULL_WORKGROUP,
+    ChunkPush, FrameUniforms, NEAR_DISPATCH, PIPELINE_MESH, SIMULATE_WORKGROUP, SPEC_COLLIDERS,
+    SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_TILED, SPEC_WIND_FIELD, SimulatePush,
 };
 use shared::settings::WindField;
+use shared::sim::grid::{GRID_CORNERS, GRID_WORKGROUP};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -33,8 +34,9 @@ pub struct SimulateVariant {
     pub wind: u32,
     /// Wind impulses blow (`layout::SPEC_IMPULSES`).
     pub impulses: bool,
-    /// Sphere colliders are in use (`layout::SPEC_COLLIDERS`).
-    pub colliders: bool,
+    /// What it does with the colliders (`layout::SPEC_COLLIDERS`: none, hand the
+    /// blades near them over, or the collision pass).
+    pub colliders: u32,
     /// Gravity pulls towards a centre (`layout::SPEC_GRAVITY_CENTRE`).
     pub centre: bool,
     /// The field is tiled (`layout::SPEC_TILED`).
@@ -50,7 +52,11 @@ impl SimulateVariant {
             mesh: block.grass.pipeline == PIPELINE_MESH,
             wind: forces.wind_kind,
             impulses: forces.impulses > 0,
-            colliders: forces.colliders > 0,
+            colliders: if forces.colliders > 0 {
+                COLLIDERS_HAND_OVER
+            } else {
+                COLLIDERS_NONE
+            },
             centre: forces.centre_blend != 0.0,
             tiled: block.grass.tiled != 0,
         }
@@ -68,6 +74,8 @@ pub struct SimulatePass {
     simulate: HashMap<SimulateVariant, Pipeline>,
     write_draws: Pipeline,
     clumps: Pipeline,
+    grid: Pipeline,
+    near_dispatch: Pipeline,
 }
 
 impl SimulatePass {
@@ -89,6 +97,8 @@ impl SimulatePass {
             simulate: Default::default(),
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
+            grid: Pipeline::compute(ctx, &field.layout, module, shaders::BUILD_COLLIDER_GRID)?,
+            near_dispatch: Pipeline::compute(ctx, &field.layout, module, shaders::NEAR_DISPATCH)?,
         })
     }
 
@@ -128,7 +138,7 @@ impl SimulatePass {
             (SPEC_WIND_FIELD, variant.wind),
             (SPEC_MESH_PATH, u32::from(variant.mesh)),
             (SPEC_IMPULSES, u32::from(variant.impulses)),
-            (SPEC_COLLIDERS, u32::from(variant.colliders)),
+            (SPEC_COLLIDERS, variant.colliders),
             (SPEC_GRAVITY_CENTRE, u32::from(variant.centre)),
             (SPEC_TILED, u32::from(variant.tiled)),
         ];
@@ -140,6 +150,57 @@ impl SimulatePass {
             &constants,
         )?;
         Ok(self.simulate.entry(variant).or_insert(pipeline).pipeline)
+    }
+
+    /// Records the colliders' grid's build from `colliders` colliders:
+    /// `GRID_CORNERS` threads each (`compute::grid`). Their update and the grid's clearing must come before,
+    /// with their barrier.
+    pub fn record_grid(&self, rec: &Recorder, field: &Field, colliders: u32) {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        rec.bind_pipeline(compute, self.grid.pipeline, layout, set);
+        rec.dispatch(self.workgroups(colliders * GRID_CORNERS, GRID_WORKGROUP));
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_READ),
+        );
+    }
+
+    /// Records the collision pass after the pass over every blade: its dispatch from
+    /// the handed blades' count, then the blades near colliders simulated and tested
+    /// with them (`layout::COLLIDERS_NEAR`).
+    fn record_near(
+        &mut self,
+        rec: &Recorder,
+        field: &Field,
+        push: SimulatePush,
+        variant: SimulateVariant,
+    ) -> Result<()> {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        let written = (S::COMPUTE_SHADER, A::SHADER_WRITE);
+        rec.memory_barrier(
+            written,
+            (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
+        );
+        rec.bind_pipeline(compute, self.near_dispatch.pipeline, layout, set);
+        rec.dispatch((1, 1));
+        rec.memory_barrier(
+            written,
+            (
+                S::DRAW_INDIRECT | S::COMPUTE_SHADER,
+                A::INDIRECT_COMMAND_READ | A::SHADER_READ,
+            ),
+        );
+        let near = SimulateVariant {
+            colliders: COLLIDERS_NEAR,
+            ..variant
+        };
+        let pipeline = self.simulate(field, near)?;
+        rec.bind_pipeline(compute, pipeline, layout, set);
+        rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
+        rec.dispatch_indirect(field.near.buffer, (NEAR_DISPATCH * 4) as u64);
+        Ok(())
     }
 
     /// Records the pass. The counter reset and the uniform update must come before,
@@ -160,6 +221,9 @@ impl SimulatePass {
         rec.bind_pipeline(compute, simulate, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
+        if variant.colliders == COLLIDERS_HAND_OVER {
+            self.record_near(rec, field, push, variant)?;
+        }
         // The visible count is complete before the chunk pass reads it.
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),

@@ -19,6 +19,7 @@ use shared::gpu::layout::{
     EMPTY_SLOT, FrameUniforms, POOL_WORDS, SIMULATE_WORKGROUP, SPEC_IMPULSES, SelectPush,
     TILES_DISPATCH, TILES_POOL, TilePush,
 };
+use shared::sim::collide::Collider;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -126,7 +127,7 @@ impl TilesPass {
         &mut self,
         rec: &Recorder,
         field: &Field,
-        uniforms: &FrameUniforms,
+        (uniforms, colliders): (&FrameUniforms, &[Collider]),
         seconds: f32,
     ) -> Result<()> {
         let spec = self.spec;
@@ -137,10 +138,9 @@ impl TilesPass {
             *hold -= seconds;
         }
         self.trails.retain(|_, hold| *hold > 0.0);
-        let balls = (uniforms.forces.colliders as usize).min(uniforms.colliders.len());
         let hold = trail_hold(uniforms.forces.strength_decay);
-        for ball in &uniforms.colliders[..balls] {
-            for tile in spec.touched(*ball) {
+        for collider in colliders {
+            for tile in spec.touched(collider) {
                 self.trails.insert(tile, hold);
             }
         }

@@ -79,11 +79,12 @@ impl Renderer {
         stamp(Mark::Start);
         // Orders this frame after the caller's rendering into the targets too (a
         // global dependency on every stage a frame uses).
-        self.begin_compute(rec, &uniforms);
-        self.record_tiles(rec, &uniforms, frame.push)?;
+        let colliders = &frame.request.colliders()[..uniforms.forces.colliders as usize];
+        self.begin_compute(rec, &uniforms, colliders);
+        self.record_tiles(rec, (&uniforms, colliders), frame.push)?;
         stamp(Mark::Pyramid);
         // The caller draws its own colliders: none in the shadow map.
-        self.record_simulation(rec, &plan, frame.push, &[], &stamp)?;
+        self.record_simulation(rec, &plan, frame.push, (colliders, false), &stamp)?;
         let images = LoadedImages {
             color: frame.targets.color,
             depth: frame.targets.depth,

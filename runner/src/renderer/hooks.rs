@@ -30,7 +30,8 @@ impl Renderer {
         let facts = self.facts(vk::Extent2D::default(), push);
         self.block = request.uniforms(&plan, &facts);
         let uniforms = self.block;
-        self.begin_compute(rec, &uniforms);
+        let colliders = &request.colliders()[..uniforms.forces.colliders as usize];
+        self.begin_compute(rec, &uniforms, colliders);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.
         self.record_compute(rec, self.simulate_push(push), false)?;
         self.copy_counters(rec, queries);

@@ -37,6 +37,8 @@ use shared::gpu::counters;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
+use shared::sim::collide::Collider;
+use shared::sim::grid::GRID_WORDS;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
 use targets::{DrawTargets, TargetSpec, draw_images, finish_frame, tone_map};
@@ -348,21 +350,28 @@ impl Renderer {
             rec.reset_queries(pool, 0, 1);
         }
         stamp(Mark::Start);
-        self.begin_compute(rec, &uniforms);
+        let colliders = &input.request.colliders()[..uniforms.forces.colliders as usize];
+        self.begin_compute(rec, &uniforms, colliders);
         if occlusion {
             let targets = self.targets.as_ref().context("draw targets")?;
             self.occlusion
                 .record(rec, &self.field, &self.draw.ground, &targets.depth);
         }
         // After the pyramid: the far tiles are tested against it.
-        self.record_tiles(rec, &uniforms, input.push)?;
+        self.record_tiles(rec, (&uniforms, colliders), input.push)?;
         stamp(Mark::Pyramid);
-        let balls = input.request.balls();
-        self.record_simulation(rec, &plan, input.push, balls, &stamp)?;
+        self.record_simulation(rec, &plan, input.push, (colliders, true), &stamp)?;
         let targets = self.targets.as_ref().context("draw targets")?;
         let images = draw_images(targets, &target, drawn, natural);
-        self.draw
-            .record(rec, &self.field, &images, &plan, balls, &stamp, triangles);
+        self.draw.record(
+            rec,
+            &self.field,
+            &images,
+            &plan,
+            colliders,
+            &stamp,
+            triangles,
+        );
         stamp(Mark::Resolve);
         if let Some(images) = targets.shaded() {
             self.shade.record(rec, &self.field, images, drawn);
@@ -425,7 +434,9 @@ impl Renderer {
             self.shadow
                 .resize(&self.ctx, &self.pool, &self.field, side)?;
         }
-        self.draw.ground.follow(request.eye.position);
+        self.draw
+            .ground
+            .follow(request.eye.position, request.eye.view_proj);
         self.block = request.uniforms(plan, &self.facts(extent, push));
         Ok(self.block)
     }
@@ -438,6 +449,7 @@ impl Renderer {
             hiz: self.occlusion.hiz,
             field: self.field_part(),
             time: shared::sim::simulate::step_time(push.first_step + push.steps),
+            reach: self.field.reach,
             frame: self.temporal.frame,
             previous: self.temporal.previous,
         }
@@ -458,32 +470,33 @@ impl Renderer {
         }
     }
 
-    /// A tiled field's tiles for the frame of `push`'s steps (nothing for a stored
-    /// field).
+    /// A tiled field's tiles for the frame of `push`'s steps with the `colliders`
+    /// (nothing for a stored field).
     fn record_tiles(
         &mut self,
         rec: &Recorder,
-        uniforms: &FrameUniforms,
+        (uniforms, colliders): (&FrameUniforms, &[Collider]),
         push: SimulatePush,
     ) -> Result<()> {
         match self.tiles.as_mut() {
             Some(tiles) => {
                 let seconds = push.steps as f32 * shared::sim::simulate::STEP_SECONDS;
-                tiles.record(rec, &self.field, uniforms, seconds)
+                tiles.record(rec, &self.field, (uniforms, colliders), seconds)
             }
             None => Ok(()),
         }
     }
 
     /// Simulate, cull and compact (the clumps first when the natural look's changed),
-    /// then the natural look's shadow map with `balls`: [`Mark::SimulateCull`] and
-    /// [`Mark::Shadow`] after each.
+    /// (the colliders' grid first where there are any), then the natural
+    /// look's shadow map, with the `colliders` where they are `drawn` (not where the
+    /// caller draws them): [`Mark::SimulateCull`] and [`Mark::Shadow`] after each.
     fn record_simulation(
         &mut self,
         rec: &Recorder,
         plan: &FramePlan,
         push: SimulatePush,
-        balls: &[glam::Vec4],
+        (colliders, drawn): (&[Collider], bool),
         stamp: &dyn Fn(Mark),
     ) -> Result<()> {
         let natural = plan.natural();
@@ -495,7 +508,8 @@ impl Renderer {
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
             let ground = &self.draw.ground;
-            self.shadow.record(rec, &self.field, (ground, balls));
+            let cast = if drawn { colliders } else { &[] };
+            self.shadow.record(rec, &self.field, (ground, cast));
         }
         stamp(Mark::Shadow);
         Ok(())
@@ -526,9 +540,9 @@ impl Renderer {
         }
     }
 
-    /// Orders the frame after the previous one, then updates the uniforms and clears
-    /// the counters.
-    fn begin_compute(&self, rec: &Recorder, uniforms: &FrameUniforms) {
+    /// Orders the frame after the previous one, then updates the uniforms and the
+    /// `colliders` (clearing their grid) and clears the counters.
+    fn begin_compute(&self, rec: &Recorder, uniforms: &FrameUniforms, colliders: &[Collider]) {
         let field = &self.field;
         // Everything the previous frame read or wrote is done before this one
         // overwrites the uniforms, the counters, the pyramid and the blades.
@@ -537,6 +551,12 @@ impl Renderer {
             (FRAME_STAGES, A::MEMORY_READ | A::MEMORY_WRITE),
         );
         rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
+        if !colliders.is_empty() {
+            rec.update_buffer(field.colliders.buffer, bytemuck::cast_slice(colliders));
+            // The slots this frame's grid uses.
+            let words = u64::from(uniforms.collider_grid.slots) * GRID_WORDS as u64;
+            rec.fill_buffer_start(field.collider_grid.buffer, words * 4, 0);
+        }
         // The counters, not the binned list's layout after them, which the frame
         // before left for this one.
         rec.fill_buffer_start(field.counters.buffer, counters::COUNTER_BYTES, 0);
@@ -549,10 +569,14 @@ impl Renderer {
         );
     }
 
-    /// Simulate, cull and compact (and on the mesh path bin by strip length), with
-    /// the pipeline made for the frame block's path, wind field, impulses and colliders.
+    /// The colliders' grid where the frame has colliders, then simulate, cull and
+    /// compact (and on the mesh path bin by strip length), with the pipeline made for the frame block's path, wind field, impulses and colliders.
     fn record_compute(&mut self, rec: &Recorder, push: SimulatePush, natural: bool) -> Result<()> {
         let variant = SimulateVariant::of(&self.block, natural);
+        let colliders = self.block.forces.colliders;
+        if colliders > 0 {
+            self.simulate.record_grid(rec, &self.field, colliders);
+        }
         self.simulate.record(rec, &self.field, push, variant)
     }
 

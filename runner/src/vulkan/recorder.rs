@@ -81,9 +81,17 @@ impl<'a> Recorder<'a> {
         unsafe { self.device.cmd_pipeline_barrier2(self.cmd, &info) };
     }
 
-    /// Writes `data` (at most 64 KiB) at the start of `buffer`.
+    /// Writes `data` (a multiple of 4 bytes) at the start of `buffer`, in updates of
+    /// 64 KiB at most (`vkCmdUpdateBuffer`'s limit).
     pub fn update_buffer(&self, buffer: vk::Buffer, data: &[u8]) {
-        unsafe { self.device.cmd_update_buffer(self.cmd, buffer, 0, data) };
+        const MOST: usize = 65536;
+        for (k, part) in data.chunks(MOST).enumerate() {
+            let offset = (k * MOST) as u64;
+            unsafe {
+                self.device
+                    .cmd_update_buffer(self.cmd, buffer, offset, part)
+            };
+        }
     }
 
     /// Fills the whole of `buffer` with `value`.

@@ -1,9 +1,11 @@
-//! The compute passes: reduce the occluders' depth into a pyramid, then simulate every
+//! The compute passes: reduce the occluders' depth into a pyramid, build the
+//! colliders' grid, then simulate every
 //! blade, cull it, count each test's removals and compact the survivors, then write
 //! the indirect draw commands; after the draw, the temporal resolve.
 
 pub mod clumps;
 pub mod draws;
+pub mod grid;
 pub mod hiz;
 pub mod raster;
 pub mod reference;

@@ -11,11 +11,14 @@ use shared::draw::meshlet::{BUCKETS, BinPlaces, StripBlade, visible_bucket};
 use shared::draw::raster::is_far;
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::{
-    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_FAR, COUNTER_NEAR_CASTERS, COUNTER_SPILLED,
-    COUNTER_STRIPS, COUNTER_TILE_BLADES, COUNTER_VISIBLE, bin_part, far_slot, strip_counter,
+    COUNTER_CASTERS, COUNTER_COUNT, COUNTER_FAR, COUNTER_NEAR, COUNTER_NEAR_CASTERS,
+    COUNTER_SPILLED, COUNTER_STRIPS, COUNTER_TILE_BLADES, COUNTER_VISIBLE, bin_part, far_slot,
+    strip_counter,
 };
-use shared::gpu::layout::IDS_WORDS;
+use shared::gpu::layout::{COLLIDERS_HAND_OVER, COLLIDERS_NEAR, IDS_WORDS, NEAR_LIST};
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
+use shared::sim::collide::Collider;
+use shared::sim::grid::Nearby;
 use shared::sim::simulate::{ForcesHeld, simulate};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
@@ -37,6 +40,9 @@ pub struct BladeBuffers<'a> {
     paint: &'a [u32],
     casters: &'a mut [u32],
     motion: &'a mut [BladeMotion],
+    colliders: &'a [Collider],
+    grid: &'a [u32],
+    near: &'a mut [u32],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -71,6 +77,9 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] collider_list: &[Collider],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
     #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
@@ -92,6 +101,9 @@ pub fn simulate_cull(
         paint,
         casters,
         motion,
+        colliders: collider_list,
+        grid,
+        near,
     };
     let mesh = mesh_path != 0;
     let prepare = |_: u32, _: u32, kept: &Blade, before: BladeMotion, _: &[u32], _: Vec2| {
@@ -146,6 +158,9 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 23)] casters: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] collider_list: &[Collider],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
     #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
@@ -167,6 +182,9 @@ pub fn simulate_cull_natural(
         paint,
         casters,
         motion,
+        colliders: collider_list,
+        grid,
+        near,
     };
     let camera = frame.camera.position;
     let half = push.tiles.half_extent;
@@ -280,22 +298,43 @@ fn simulate_and_cull<T: Copy + Default>(
         paint,
         casters,
         motion,
+        colliders: collider_list,
+        grid,
+        near,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
     }
     workgroup_memory_barrier_with_group_sync();
 
-    let index = flat_index(id, workgroups, CULL_WORKGROUP);
+    // What this pipeline does with the colliders (`layout::SPEC_COLLIDERS`): the
+    // collision pass takes the blade its thread stands for from the handed list.
+    let (hand_over, near_pass) = (
+        colliders == COLLIDERS_HAND_OVER,
+        colliders == COLLIDERS_NEAR,
+    );
+    let mut index = flat_index(id, workgroups, CULL_WORKGROUP);
+    if near_pass {
+        index = if index < counters[COUNTER_NEAR] {
+            near[NEAR_LIST + index as usize]
+        } else {
+            u32::MAX
+        };
+    }
     // The wind field this pipeline was made for (`layout::SPEC_WIND_FIELD`), and the
     // impulses and colliders only where it was made for them (`layout::SPEC_IMPULSES`,
-    // `SPEC_COLLIDERS`).
+    // `SPEC_COLLIDERS`: the collision pass's alone).
     let held = ForcesHeld {
         impulses: impulses != 0,
-        colliders: colliders != 0,
+        colliders: near_pass,
         centre: centre != 0,
     };
     let forces = frame.forces.specialised(wind_field, held);
+    let nearby = Nearby {
+        colliders: collider_list,
+        words: grid,
+        grid: frame.collider_grid,
+    };
     let grass = &frame.grass;
     // A stored field's pipeline holds none of the tiled field's code
     // (`layout::SPEC_TILED`).
@@ -309,7 +348,7 @@ fn simulate_and_cull<T: Copy + Default>(
     let mut far = false;
     let mut place = 0;
     let (mut caster, mut near_caster) = (false, false);
-    let (mut caster_place, mut near_place) = (0, 0);
+    let (mut caster_place, mut near_caster_place) = (0, 0);
     let mut prepared = T::default();
     let mut moved = BladeMotion::default();
     let mut level = 0.0;
@@ -346,6 +385,24 @@ fn simulate_and_cull<T: Copy + Default>(
         // A stored blade reads the maps at its root, over the map square.
         map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
+    // A simulated blade with a collider in its slot of the grid goes to the
+    // collision pass, which simulates and tests it instead.
+    let mut handed = false;
+    if hand_over && in_field && simulated {
+        let b = &blades[index as usize];
+        let count = frame.forces.colliders;
+        let slot = nearby.around(b.root(), b.height(), count);
+        handed = nearby.reaches(b.root(), &slot, count);
+        in_field = !handed;
+    }
+    let mut near_place = 0;
+    if handed {
+        near_place = unsafe {
+            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
+                &mut tally[COUNTER_NEAR],
+            )
+        };
+    }
     let mut drawn = in_field;
     let mut blade = Blade::default();
     if in_field {
@@ -361,7 +418,7 @@ fn simulate_and_cull<T: Copy + Default>(
             (blade, strength) = simulate(
                 (blade, held),
                 &forces,
-                &frame.colliders,
+                nearby,
                 &frame.impulses,
                 push.first_step,
                 push.steps,
@@ -397,7 +454,7 @@ fn simulate_and_cull<T: Copy + Default>(
         };
     }
     if near_caster {
-        near_place = unsafe {
+        near_caster_place = unsafe {
             atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
                 &mut tally[COUNTER_NEAR_CASTERS],
             )
@@ -479,6 +536,7 @@ fn simulate_and_cull<T: Copy + Default>(
                 || k == COUNTER_FAR
                 || k == COUNTER_CASTERS
                 || k == COUNTER_NEAR_CASTERS
+                || k == COUNTER_NEAR
             {
                 tally[k] = base;
             } else if strips {
@@ -522,6 +580,9 @@ fn simulate_and_cull<T: Copy + Default>(
         casters[(tally[COUNTER_CASTERS] + caster_place) as usize] = index;
     }
     if near_caster {
-        casters[(grass.blades + tally[COUNTER_NEAR_CASTERS] + near_place) as usize] = index;
+        casters[(grass.blades + tally[COUNTER_NEAR_CASTERS] + near_caster_place) as usize] = index;
+    }
+    if handed {
+        near[NEAR_LIST + (tally[COUNTER_NEAR] + near_place) as usize] = index;
     }
 }

@@ -52,6 +52,10 @@ pub const COUNTER_CASTERS: usize = COUNTER_TILES_HIDDEN + 1;
 /// Of those, the casters inside the near cascade (`look::shadow::near_sphere`): their
 /// indices fill the list's second half, from the field's blade count on.
 pub const COUNTER_NEAR_CASTERS: usize = COUNTER_CASTERS + 1;
+/// Blades the compute pass handed to its collision pass (`layout::SPEC_COLLIDERS`):
+/// those whose slot of the colliders' grid holds a collider, listed at
+/// `layout::BINDING_NEAR` and simulated and tested there.
+pub const COUNTER_NEAR: usize = COUNTER_NEAR_CASTERS + 1;
 /// First of the mesh path's counts of visible blades by bucket (strip length, and
 /// for the longest strips the band of distance: `meshlet::bucket_of`,
 /// [`strip_counter`]), counted by the compute pass as it bins them. They begin a
@@ -63,7 +67,7 @@ pub const COUNTER_STRIPS: usize = 32;
 /// list (`meshlet::BinLayout`): they go to the list's spill part, drawn at the most
 /// segments (`meshlet::SPILL_DRAW`).
 pub const COUNTER_SPILLED: usize = COUNTER_STRIPS + BUCKETS as usize;
-/// Number of `u32` counters (words 5 and 15 to 31 unused). The compute pass tallies each
+/// Number of `u32` counters (words 5 and 16 to 31 unused). The compute pass tallies each
 /// in workgroup memory and adds it with one device atomic, a thread a counter.
 pub const COUNTER_COUNT: usize = COUNTER_SPILLED + 1;
 

@@ -10,7 +10,7 @@ use crate::draw::look::LookParams;
 use crate::draw::raster::RasterParams;
 use crate::draw::shade::Light;
 use crate::draw::temporal::TemporalParams;
-use crate::sim::collide::MAX_COLLIDERS;
+use crate::sim::grid::ColliderGrid;
 use crate::sim::impulse::{Impulse, MAX_IMPULSES};
 use crate::sim::simulate::Environment;
 use crate::world::tiles::TileParams;
@@ -58,11 +58,24 @@ pub const SPEC_MESH_PATH: u32 = 1;
 /// then holds none of their code (with it compiled in, the pass took 0.013 ms more at
 /// 4 M blades on the NVIDIA H100, no impulse blowing).
 pub const SPEC_IMPULSES: u32 = 2;
-/// Specialisation constant of the simulate-and-cull pass: 1 where the frame has sphere
-/// colliders (`Environment::colliders` above 0), 0 where it has none, whose pipeline
-/// then holds none of the collisions' code (with it, the paper look's pass took 0.007
-/// ms more at 4 M blades on the NVIDIA H100, no collider in the frame).
+/// Specialisation constant of the simulate-and-cull pass: what it does with the
+/// frame's colliders (`Environment::colliders`): [`COLLIDERS_NONE`] where it has
+/// none, else [`COLLIDERS_HAND_OVER`] for the pass over every blade and
+/// [`COLLIDERS_NEAR`] for its collision pass. Only the collision pass holds the
+/// collisions' code: in the pass over every blade it took the NVIDIA H100 from 64
+/// registers to 96, and simulate + cull at 4 M blades from 0.237 ms to 0.401 with a
+/// single collider in the frame.
 pub const SPEC_COLLIDERS: u32 = 3;
+/// [`SPEC_COLLIDERS`]: no colliders; every blade simulated without them.
+pub const COLLIDERS_NONE: u32 = 0;
+/// [`SPEC_COLLIDERS`]: the pass over every blade hands a blade whose slot of the
+/// colliders' grid holds one (`sim::grid::Nearby::around`) to the collision pass
+/// ([`BINDING_NEAR`], `counters::COUNTER_NEAR`), and simulates the others without
+/// colliders.
+pub const COLLIDERS_HAND_OVER: u32 = 1;
+/// [`SPEC_COLLIDERS`]: the collision pass, a thread a handed blade (an indirect
+/// dispatch, [`NEAR_DISPATCH`]): the same steps and tests, with the colliders.
+pub const COLLIDERS_NEAR: u32 = 2;
 /// Specialisation constant of the simulate-and-cull pass: 1 where the frame's gravity
 /// pulls towards a centre (`Environment::centre_blend` above 0), 0 where it does not,
 /// whose pipeline then holds none of that code (0.004 ms of the paper look's pass at 4
@@ -187,6 +200,21 @@ pub const BINDING_CASTERS: u32 = 23;
 /// compute pass while temporal anti-aliasing is on, read by the grass's geometry
 /// stages for each vertex's motion.
 pub const BINDING_MOTION: u32 = 24;
+/// Binding of the frame's colliders (storage, `sim::collide::Collider`, the first
+/// `Environment::colliders` used): written by the renderer each frame that has any,
+/// read by the grid's build and the compute pass.
+pub const BINDING_COLLIDERS: u32 = 25;
+/// Binding of the colliders' grid (storage, `sim::grid::GRID_SLOTS` slots of
+/// `GRID_WORDS` words): cleared, then built on the GPU each frame that has colliders
+/// (`compute::grid`), read by the compute pass.
+pub const BINDING_COLLIDER_GRID: u32 = 26;
+/// Binding of the blades handed to the collision pass (storage): its indirect
+/// dispatch at [`NEAR_DISPATCH`], then the blades' indices from [`NEAR_LIST`].
+pub const BINDING_NEAR: u32 = 27;
+/// Word of the collision pass's `VkDispatchIndirectCommand` in [`BINDING_NEAR`].
+pub const NEAR_DISPATCH: usize = 0;
+/// First word of the handed blades' indices in [`BINDING_NEAR`].
+pub const NEAR_LIST: usize = 4;
 /// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
 /// per far tile in view).
 pub const TILES_DISPATCH: usize = 0;
@@ -314,9 +342,9 @@ pub struct FrameUniforms {
     pub light: Light,
     /// Gravity, wind, recovery and collision decay (paper section 5).
     pub forces: Environment,
-    /// Sphere colliders: centre (xyz) and radius (w); the first `forces.colliders`
-    /// are used.
-    pub colliders: [Vec4; MAX_COLLIDERS],
+    /// The colliders' grid (`sim::grid`); the first `forces.colliders` of the
+    /// collider buffer ([`BINDING_COLLIDERS`]) are used.
+    pub collider_grid: ColliderGrid,
     /// Wind impulses (`sim::impulse`); the first `forces.impulses` are used.
     pub impulses: [Impulse; MAX_IMPULSES],
     /// This frame's occluder depth pyramid; empty when there is none.

@@ -1,11 +1,159 @@
-//! Collisions of blades with spheres (paper section 5.1, "Collision"), and the
-//! collision strength η that keeps trampled grass down for a while.
+//! Collisions of blades with colliders (paper section 5.1, "Collision", where they
+//! are spheres; here also capsules and boxes), and the collision strength η that
+//! keeps trampled grass down for a while.
 
 use crate::Blade;
-use spirv_std::glam::{Vec3, Vec4};
+use spirv_std::glam::{Quat, Vec3, Vec4, Vec4Swizzles};
 
-/// Most sphere colliders per frame.
-pub const MAX_COLLIDERS: usize = 16;
+/// Most colliders per frame: the collider buffer's room, and 64 words of one bit each
+/// in a grid cell (`sim::grid`).
+pub const MAX_COLLIDERS: usize = 2048;
+
+/// A sphere: centre `a.xyz`, radius `a.w`.
+pub const COLLIDER_SPHERE: u32 = 0;
+/// A capsule (a character): the segment from `a.xyz` to `b.xyz`, radius `a.w`.
+pub const COLLIDER_CAPSULE: u32 = 1;
+/// A box (a vehicle, a crate): centre `a.xyz`, half extents `b.xyz`, turned by the
+/// quaternion `rotation`, its edges rounded by `a.w` (0: sharp).
+pub const COLLIDER_BOX: u32 = 2;
+
+/// One collider as the collider buffer holds it (`gpu::layout::BINDING_COLLIDERS`):
+/// a sphere, a capsule or a box ([`COLLIDER_SPHERE`], [`COLLIDER_CAPSULE`],
+/// [`COLLIDER_BOX`]).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Collider {
+    /// A sphere's or a box's centre, a capsule's first end (xyz); the radius, a box's
+    /// rounding (w).
+    pub a: Vec4,
+    /// A capsule's second end, a box's half extents (xyz); w unused.
+    pub b: Vec4,
+    /// A box's rotation, a unit quaternion (x, y, z, w); the others' is unused.
+    pub rotation: Vec4,
+    /// A sphere around the whole collider (centre xyz, radius w): a point outside it
+    /// is not pushed, found with one distance before the shape's own test.
+    pub bound: Vec4,
+    /// Which shape: `COLLIDER_*`.
+    pub kind: u32,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 3],
+}
+
+impl Collider {
+    /// A sphere of `radius` around `centre`.
+    pub fn sphere(centre: Vec3, radius: f32) -> Self {
+        Self::of(COLLIDER_SPHERE, centre.extend(radius), Vec4::ZERO, Vec4::W)
+    }
+
+    /// A sphere from centre (xyz) and radius (w), as the paper gives it.
+    pub fn from_sphere(sphere: Vec4) -> Self {
+        Self::sphere(sphere.xyz(), sphere.w)
+    }
+
+    /// A capsule of `radius` around the segment from `a` to `b`.
+    pub fn capsule(a: Vec3, b: Vec3, radius: f32) -> Self {
+        Self::of(COLLIDER_CAPSULE, a.extend(radius), b.extend(0.0), Vec4::W)
+    }
+
+    /// A box around `centre` with `half` extents, turned by `rotation`, its edges
+    /// rounded by `rounding`.
+    pub fn cuboid(centre: Vec3, half: Vec3, rotation: Quat, rounding: f32) -> Self {
+        let r = Vec4::new(rotation.x, rotation.y, rotation.z, rotation.w);
+        Self::of(COLLIDER_BOX, centre.extend(rounding), half.extend(0.0), r)
+    }
+
+    fn of(kind: u32, a: Vec4, b: Vec4, rotation: Vec4) -> Self {
+        let mut c = Self {
+            a,
+            b,
+            rotation,
+            bound: Vec4::ZERO,
+            kind,
+            pad: [0; 3],
+        };
+        let (lo, hi) = c.bounds();
+        let centre = (lo + hi) * 0.5;
+        c.bound = centre.extend(match kind {
+            COLLIDER_CAPSULE => 0.5 * (b.xyz() - a.xyz()).length() + a.w,
+            COLLIDER_BOX => b.xyz().length() + a.w,
+            _ => a.w,
+        });
+        c
+    }
+
+    /// Whether `p` may be inside: within the bounding sphere [`Collider::bound`].
+    pub fn may_hold(&self, p: Vec3) -> bool {
+        (p - self.bound.xyz()).length_squared() < self.bound.w * self.bound.w
+    }
+
+    /// The displacement that moves `p` out of this collider onto its surface; zero
+    /// outside it ([`penetration`] of the nearest point of a capsule's segment, or of
+    /// a box's inner box: [`box_penetration`]).
+    pub fn penetration(&self, p: Vec3) -> Vec3 {
+        if self.kind == COLLIDER_CAPSULE {
+            penetration(
+                p,
+                closest_on_segment(p, self.a.xyz(), self.b.xyz()).extend(self.a.w),
+            )
+        } else if self.kind == COLLIDER_BOX {
+            box_penetration(p, self)
+        } else {
+            penetration(p, self.a)
+        }
+    }
+
+    /// The collider's axis-aligned bounds (least and greatest corner).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let r = Vec3::splat(self.a.w);
+        let a = self.a.xyz();
+        if self.kind == COLLIDER_CAPSULE {
+            let b = self.b.xyz();
+            (a.min(b) - r, a.max(b) + r)
+        } else if self.kind == COLLIDER_BOX {
+            let q = Quat::from_vec4(self.rotation);
+            let h = self.b.xyz();
+            // Each world axis reaches Σ |R_ij|·h_j.
+            let reach =
+                (q * Vec3::X * h.x).abs() + (q * Vec3::Y * h.y).abs() + (q * Vec3::Z * h.z).abs();
+            (a - reach - r, a + reach + r)
+        } else {
+            (a - r, a + r)
+        }
+    }
+}
+
+/// The point of the segment from `a` to `b` nearest `p`.
+pub fn closest_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
+    a + ab * t
+}
+
+/// Penetration of `p` into a (rounded) box: in the box's frame, outside its inner
+/// box the rounding's sphere around the inner box's nearest point
+/// ([`penetration`]); inside, out through the nearest face, plus the rounding.
+pub fn box_penetration(p: Vec3, collider: &Collider) -> Vec3 {
+    let q = Quat::from_vec4(collider.rotation);
+    let half = collider.b.xyz();
+    let local = q.conjugate() * (p - collider.a.xyz());
+    let nearest = local.clamp(-half, half);
+    let out = if local != nearest {
+        penetration(local, nearest.extend(collider.a.w))
+    } else {
+        // Inside: the face with the least way out.
+        let room = half - local.abs();
+        let sign = Vec3::select(local.cmplt(Vec3::ZERO), -Vec3::ONE, Vec3::ONE);
+        let way = room + Vec3::splat(collider.a.w);
+        if room.x <= room.y && room.x <= room.z {
+            Vec3::new(way.x * sign.x, 0.0, 0.0)
+        } else if room.y <= room.z {
+            Vec3::new(0.0, way.y * sign.y, 0.0)
+        } else {
+            Vec3::new(0.0, 0.0, way.z * sign.z)
+        }
+    };
+    q * out
+}
 
 /// Penetration of point `p` into the sphere (centre xyz, radius w):
 /// d(p) = min(|c − p| − ρ, 0)·normalize(c − p). Zero outside; inside, the
@@ -15,26 +163,37 @@ pub fn penetration(p: Vec3, sphere: Vec4) -> Vec3 {
     (to_centre.length() - sphere.w).min(0.0) * to_centre.normalize_or_zero()
 }
 
-/// Displacement of `v2` for one sphere: d(v2) + 4·d(m), with m = ¼v0 + ½v1 + ¼v2 the
+/// Displacement of `v2` for one collider: d(v2) + 4·d(m), with m = ¼v0 + ½v1 + ¼v2 the
 /// curve midpoint (moving v2 by δ moves m by about ¼δ, hence the 4).
-pub fn sphere_displacement(blade: &Blade, sphere: Vec4) -> Vec3 {
-    penetration(blade.tip(), sphere) + 4.0 * penetration(blade.midpoint(), sphere)
+pub fn displacement(blade: &Blade, collider: &Collider) -> Vec3 {
+    collider.penetration(blade.tip()) + 4.0 * collider.penetration(blade.midpoint())
 }
 
-/// Pushes the tip out of the first `count` spheres in turn (each sees the tip the
-/// previous one left) and returns the blade with its new tip and the total
-/// displacement. `v1` is left for validation to recompute.
-pub fn collide(blade: &Blade, spheres: &[Vec4; MAX_COLLIDERS], count: u32) -> (Blade, Vec3) {
-    let mut b = *blade;
-    let mut total = Vec3::ZERO;
-    let mut i = 0;
-    while i < (count as usize).min(MAX_COLLIDERS) {
-        let d = sphere_displacement(&b, spheres[i]);
-        b = b.with_curve(b.guide(), b.tip() + d);
-        total += d;
-        i += 1;
+/// Pushes the tip out of `collider` (seeing the tip `blade` has) and returns the blade
+/// with its new tip and `total` plus the displacement. `v1` is left for validation
+/// to recompute.
+pub fn push_out(blade: &Blade, collider: &Collider, total: Vec3) -> (Blade, Vec3) {
+    let fixed = fixed_midpoint(blade);
+    let d = tip_push(blade.tip(), fixed, collider);
+    (blade.with_curve(blade.guide(), blade.tip() + d), total + d)
+}
+
+/// The part of the midpoint m = ¼v0 + ½v1 + ¼v2 a collision does not move,
+/// ¼v0 + ½v1: the midpoint of the tip `v2` is this plus ¼v2.
+pub fn fixed_midpoint(blade: &Blade) -> Vec3 {
+    0.25 * blade.root() + 0.5 * blade.guide()
+}
+
+/// The displacement [`displacement`] of the tip `tip` of a blade whose midpoint is
+/// `fixed` + ¼·`tip` ([`fixed_midpoint`]); zero, at the cost of two distances, where
+/// neither point is within the collider's bounding sphere.
+pub fn tip_push(tip: Vec3, fixed: Vec3, collider: &Collider) -> Vec3 {
+    let mid = fixed + 0.25 * tip;
+    if collider.may_hold(tip) || collider.may_hold(mid) {
+        collider.penetration(tip) + 4.0 * collider.penetration(mid)
+    } else {
+        Vec3::ZERO
     }
-    (b, total)
 }
 
 /// Most collision strength a blade keeps: recovery is already at its floor
@@ -73,11 +232,11 @@ mod tests {
         let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 10.0);
         // Sphere of radius 0.5 centred 0.3 beside the tip (2 units up).
         let sphere = Vec4::new(0.3, 2.0, 0.0, 0.5);
-        let d = sphere_displacement(&b, sphere);
+        let d = displacement(&b, &Collider::from_sphere(sphere));
         // The midpoint (1.5 up) is outside: only d(v2) = (0.3 − 0.5)·(+X) = −0.2 X.
         assert!((d - Vec3::new(-0.2, 0.0, 0.0)).length() < 1e-6);
         let far = Vec4::new(5.0, 0.0, 5.0, 1.0);
-        assert_eq!(sphere_displacement(&b, far), Vec3::ZERO);
+        assert_eq!(displacement(&b, &Collider::from_sphere(far)), Vec3::ZERO);
     }
 
     #[test]
@@ -96,24 +255,53 @@ mod tests {
     }
 
     #[test]
-    fn two_spheres_push_in_turn_and_unused_slots_are_ignored() {
+    fn a_capsule_pushes_from_its_segment_and_a_box_through_its_nearest_face() {
+        // A capsule lying along X at height 1, radius 0.5: a point 0.3 above its axis
+        // goes to 0.5 above it, straight up; beyond an end, away from that end.
+        let c = Collider::capsule(Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), 0.5);
+        let p = Vec3::new(0.4, 1.3, 0.0);
+        assert!((c.penetration(p) - Vec3::new(0.0, 0.2, 0.0)).length() < 1e-6);
+        let beyond = Vec3::new(1.3, 1.0, 0.0);
+        assert!((c.penetration(beyond) - Vec3::new(0.2, 0.0, 0.0)).length() < 1e-6);
+        assert_eq!(c.penetration(Vec3::new(0.0, 2.0, 0.0)), Vec3::ZERO);
+        assert_eq!(
+            c.bounds(),
+            (Vec3::new(-1.5, 0.5, -0.5), Vec3::new(1.5, 1.5, 0.5))
+        );
+        // A box 2 x 1 x 4 turned 90 degrees about Y (so 4 along X, 2 along Z): a point
+        // 0.2 inside its +X face leaves through it; 0.1 inside +Z through that one.
+        let turn = Quat::from_rotation_y(core::f32::consts::FRAC_PI_2);
+        let b = Collider::cuboid(Vec3::ZERO, Vec3::new(1.0, 0.5, 2.0), turn, 0.0);
+        let d = b.penetration(Vec3::new(1.8, 0.0, 0.3));
+        assert!((d - Vec3::new(0.2, 0.0, 0.0)).length() < 1e-5, "{d}");
+        let d = b.penetration(Vec3::new(0.3, 0.0, 0.9));
+        assert!((d - Vec3::new(0.0, 0.0, 0.1)).length() < 1e-5, "{d}");
+        assert_eq!(b.penetration(Vec3::new(0.0, 0.6, 0.0)), Vec3::ZERO);
+        let (lo, hi) = b.bounds();
+        assert!((lo - Vec3::new(-2.0, -0.5, -1.0)).length() < 1e-5, "{lo}");
+        assert!((hi - Vec3::new(2.0, 0.5, 1.0)).length() < 1e-5, "{hi}");
+        // Rounded by 0.25: a point 0.1 beyond the inner box's +Y face is pushed to
+        // 0.25 beyond it.
+        let r = Collider::cuboid(Vec3::ZERO, Vec3::ONE, Quat::IDENTITY, 0.25);
+        let d = r.penetration(Vec3::new(0.5, 1.1, 0.0));
+        assert!((d - Vec3::new(0.0, 0.15, 0.0)).length() < 1e-6, "{d}");
+    }
+
+    #[test]
+    fn two_spheres_push_in_turn() {
         let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 10.0);
-        let mut spheres = [Vec4::new(100.0, 0.0, 0.0, 0.1); MAX_COLLIDERS];
-        // First pushes the tip 0.2 along −X, the second (beyond it on −X) pushes back.
-        spheres[0] = Vec4::new(0.3, 2.0, 0.0, 0.5);
-        spheres[1] = Vec4::new(-0.7, 2.0, 0.0, 0.6);
-        let (moved, total) = collide(&b, &spheres, 1);
+        // The first pushes the tip 0.2 along −X; the second (beyond it on −X) pushes
+        // it back, seeing the moved tip 0.5 from its centre, 0.1 inside.
+        let first = Collider::from_sphere(Vec4::new(0.3, 2.0, 0.0, 0.5));
+        let second = Collider::from_sphere(Vec4::new(-0.7, 2.0, 0.0, 0.6));
+        let (moved, total) = push_out(&b, &first, Vec3::ZERO);
         assert!((moved.tip() - Vec3::new(-0.2, 2.0, 0.0)).length() < 1e-6);
         assert!((total - Vec3::new(-0.2, 0.0, 0.0)).length() < 1e-6);
-        // The second sphere sees the moved tip: 0.5 from its centre, 0.1 inside.
-        let (moved, total) = collide(&b, &spheres, 2);
+        let (moved, total) = push_out(&moved, &second, total);
         assert!(
             (moved.tip() - Vec3::new(-0.1, 2.0, 0.0)).length() < 1e-5,
             "{moved:?}"
         );
         assert!((total - Vec3::new(-0.1, 0.0, 0.0)).length() < 1e-5);
-        // A sphere in an unused slot (count 0) does nothing, even when it touches.
-        spheres[0] = Vec4::new(0.0, 2.0, 0.0, 1.0);
-        assert_eq!(collide(&b, &spheres, 0), (b, Vec3::ZERO));
     }
 }

@@ -3,8 +3,8 @@
 
 use crate::Blade;
 use crate::sim::collide;
-use crate::sim::collide::MAX_COLLIDERS;
 use crate::sim::forces;
+use crate::sim::grid::{Nearby, Slot, collide_near};
 use crate::sim::impulse::{Impulse, MAX_IMPULSES, impulses_at};
 use crate::sim::validate;
 use crate::sim::wind;
@@ -46,7 +46,7 @@ pub struct Environment {
     pub strength_decay: f32,
     /// Factor on every blade's stiffness s (1: as generated).
     pub stiffness_scale: f32,
-    /// Sphere colliders in use (the first of the collider array).
+    /// Colliders in use (the first of the collider buffer).
     pub colliders: u32,
     /// Simulated time at the end of the frame's steps: when the far blades' wind pose
     /// is taken (`sway::settled`). The renderer sets it from the frame's steps.
@@ -135,40 +135,49 @@ pub fn semi_implicit_tip(tip: Vec3, rest: Vec3, pushed: Vec3, k: f32) -> Vec3 {
 /// What a blade's steps of one frame share, computed once before them: where the
 /// gravity has no centre (`Environment::centre_blend` 0), the whole gravity on it,
 /// g = g_E + ¼‖g_E‖·f (paper eq. 2–4), which then depends only on the blade's
-/// orientation (its front f), not on its tip. The rest tip is taken again at each
-/// step: three multiply-adds cost the compute pass less than three more live registers.
+/// orientation (its front f), not on its tip; and where its colliders are found (its
+/// root's slot of the grid, `grid::Nearby::around`). The rest tip is taken again at
+/// each step: three multiply-adds cost the compute pass less than three more live
+/// registers.
 #[derive(Copy, Clone, Debug)]
 pub struct StepConstants {
     /// The gravity g, when it has no centre (else recomputed at each step's tip).
     pub gravity: Vec3,
+    /// Where it finds its colliders in the grid.
+    pub slot: Slot,
 }
 
 impl StepConstants {
-    /// The constants of `blade`'s steps under `env`.
-    pub fn of(blade: &Blade, env: &Environment) -> Self {
+    /// The constants of `blade`'s steps under `env` among the colliders `near`.
+    pub fn of(blade: &Blade, env: &Environment, near: &Nearby) -> Self {
         let gravity = if env.centre_blend == 0.0 {
             forces::gravity_from(blade, forces::environment_gravity(env.gravity))
         } else {
             Vec3::ZERO
         };
-        Self { gravity }
+        let slot = if env.colliders == 0 {
+            Slot::default()
+        } else {
+            near.around(blade.root(), blade.height(), env.colliders)
+        };
+        Self { gravity, slot }
     }
 }
 
 /// One step of length `dt` at time `time` (paper section 5): gravity and wind move
 /// v2 explicitly, the recovery (weakened by η) semi-implicitly
-/// ([`semi_implicit_tip`]), then the sphere collisions (which grow η; η decays
-/// linearly), then the three validation steps.
+/// ([`semi_implicit_tip`]), then the collisions with the colliders `near` (which grow
+/// η; η decays linearly), then the three validation steps.
 pub fn step(
     state: BladeState,
     env: &Environment,
-    spheres: &[Vec4; MAX_COLLIDERS],
+    near: Nearby,
     impulses: &[Impulse; MAX_IMPULSES],
     time: f32,
     dt: f32,
 ) -> BladeState {
-    let constants = StepConstants::of(&state.0, env);
-    step_with(&constants, state, env, spheres, impulses, time, dt)
+    let constants = StepConstants::of(&state.0, env, &near);
+    step_with(&constants, state, env, near, impulses, time, dt)
 }
 
 /// [`step`] with the blade's [`StepConstants`] already computed.
@@ -176,7 +185,7 @@ pub fn step_with(
     constants: &StepConstants,
     (blade, strength): BladeState,
     env: &Environment,
-    spheres: &[Vec4; MAX_COLLIDERS],
+    near: Nearby,
     impulses: &[Impulse; MAX_IMPULSES],
     time: f32,
     dt: f32,
@@ -203,7 +212,8 @@ pub fn step_with(
     let (pushed, displacement) = if env.colliders == 0 {
         (moved, Vec3::ZERO)
     } else {
-        collide::collide(&moved, spheres, env.colliders)
+        let found = (near.colliders, near.words);
+        collide_near(&moved, found, &constants.slot, env.colliders)
     };
     let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
     (validate::validate(&pushed), strength)
@@ -237,13 +247,13 @@ pub fn step_time(index: u32) -> f32 {
 pub fn simulate(
     state: BladeState,
     env: &Environment,
-    spheres: &[Vec4; MAX_COLLIDERS],
+    near: Nearby,
     impulses: &[Impulse; MAX_IMPULSES],
     first_step: u32,
     steps: u32,
 ) -> BladeState {
     // The root, up direction and orientation do not change over the steps.
-    let constants = StepConstants::of(&state.0, env);
+    let constants = StepConstants::of(&state.0, env, &near);
     let mut s = state;
     let mut i = 0;
     while i < steps {
@@ -251,7 +261,7 @@ pub fn simulate(
             &constants,
             s,
             env,
-            spheres,
+            near,
             impulses,
             step_time(first_step + i),
             STEP_SECONDS,
@@ -296,9 +306,8 @@ impl SimClock {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::grid::{ColliderSet, NOTHING_NEAR};
     use crate::sim::impulse::NO_IMPULSES;
-
-    const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
 
     fn env() -> Environment {
         Environment {
@@ -312,7 +321,7 @@ mod tests {
 
     /// Runs `steps` steps from rest without colliders.
     fn settle(b: Blade, env: &Environment, steps: u32) -> Blade {
-        simulate((b, 0.0), env, &NO_SPHERES, &NO_IMPULSES, 0, steps).0
+        simulate((b, 0.0), env, NOTHING_NEAR, &NO_IMPULSES, 0, steps).0
     }
 
     fn run(frame_seconds: f64, total: f64) -> Blade {
@@ -321,7 +330,7 @@ mod tests {
         let frames = (total / frame_seconds).round() as u32;
         for _ in 0..frames {
             let (t, n) = clock.advance(frame_seconds);
-            b = simulate((b, 0.0), &env(), &NO_SPHERES, &NO_IMPULSES, t, n).0;
+            b = simulate((b, 0.0), &env(), NOTHING_NEAR, &NO_IMPULSES, t, n).0;
         }
         b
     }
@@ -363,9 +372,9 @@ mod tests {
                 let mut state = (b, 0.0);
                 for frame in 0..120 {
                     // A ball crossing the field at 8 units/s.
-                    let mut spheres = NO_SPHERES;
-                    spheres[0] = Vec4::new(-4.0 + frame as f32 * 0.07, 0.8, 0.5, 1.5);
-                    state = simulate(state, &windy, &spheres, &NO_IMPULSES, frame * 5, 5);
+                    let ball = Vec4::new(-4.0 + frame as f32 * 0.07, 0.8, 0.5, 1.5);
+                    let set = ColliderSet::spheres(&[ball]);
+                    state = simulate(state, &windy, set.nearby(), &NO_IMPULSES, frame * 5, 5);
                     let b = state.0;
                     assert!(b.v1.is_finite() && b.v2.is_finite() && state.1.is_finite());
                     let (v0, up) = (b.root(), b.up_dir());
@@ -410,12 +419,13 @@ mod tests {
             },
             600,
         );
-        let mut spheres = NO_SPHERES;
-        spheres[0] = Vec4::new(0.6, 1.2, 0.2, 1.0);
+        let ball = Vec4::new(0.6, 1.2, 0.2, 1.0);
+        let set = ColliderSet::spheres(&[ball]);
+        let spheres = set.nearby();
         // One second under the ball.
-        let (held, strength) = simulate((rest, 0.0), &calm, &spheres, &NO_IMPULSES, 0, 120);
+        let (held, strength) = simulate((rest, 0.0), &calm, spheres, &NO_IMPULSES, 0, 120);
         let height = |b: &Blade| (b.tip() - b.root()).dot(b.up_dir());
-        assert!(held.tip().distance(spheres[0].truncate()) >= 1.0 - 1e-3);
+        assert!(held.tip().distance(ball.truncate()) >= 1.0 - 1e-3);
         assert!(height(&held) < 0.7 * height(&upright), "{held:?}");
         assert!(strength > 0.5, "η {strength}");
         // The ball leaves: η falls at 0.5/s, so it is gone after 2 s.
@@ -423,12 +433,12 @@ mod tests {
             colliders: 0,
             ..calm
         };
-        let (after, s1) = simulate((held, strength), &gone, &spheres, &NO_IMPULSES, 120, 60);
+        let (after, s1) = simulate((held, strength), &gone, spheres, &NO_IMPULSES, 120, 60);
         assert!(
             (s1 - (strength - 0.25)).abs() < 1e-4,
             "linear decay: {strength} → {s1}"
         );
-        let (stood, s2) = simulate((after, s1), &gone, &spheres, &NO_IMPULSES, 180, 600);
+        let (stood, s2) = simulate((after, s1), &gone, spheres, &NO_IMPULSES, 180, 600);
         assert_eq!(s2, 0.0);
         assert!((height(&stood) - height(&upright)).abs() < 1e-3);
         assert!(stood.tip().is_finite());

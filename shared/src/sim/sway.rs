@@ -63,14 +63,12 @@ pub fn settled(
 mod tests {
     use super::*;
     use crate::settings::Settings;
-    use crate::sim::collide::MAX_COLLIDERS;
+    use crate::sim::grid::NOTHING_NEAR;
     use crate::sim::impulse::NO_IMPULSES;
     use crate::sim::simulate;
     use crate::sim::wind;
     use crate::world::terrain;
-    use spirv_std::glam::{Vec2, Vec3, Vec4};
-
-    const NO_SPHERES: [Vec4; MAX_COLLIDERS] = [Vec4::ZERO; MAX_COLLIDERS];
+    use spirv_std::glam::{Vec2, Vec3};
 
     /// Blade `i` of a spread of tiled-world blades (`tiles::HEIGHT`, `STIFFNESS`),
     /// on the valley's slopes where `sloped`, with a time for the wind.
@@ -115,7 +113,7 @@ mod tests {
             state = simulate::step(
                 state,
                 env,
-                &NO_SPHERES,
+                NOTHING_NEAR,
                 &NO_IMPULSES,
                 time,
                 simulate::STEP_SECONDS,
@@ -177,7 +175,7 @@ mod tests {
             let (blade, _) = sample(i, false);
             let steps = 10 * simulate::STEPS_PER_SECOND;
             let (simulated, _) =
-                simulate::simulate((blade, 0.0), &env, &NO_SPHERES, &NO_IMPULSES, 0, steps);
+                simulate::simulate((blade, 0.0), &env, NOTHING_NEAR, &NO_IMPULSES, 0, steps);
             let time = simulate::step_time(steps);
             near += apart(&simulated, &settled(&blade, &env, &NO_IMPULSES, time));
             rest += apart(&simulated, &blade);

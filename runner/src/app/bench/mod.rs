@@ -141,7 +141,14 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     ) {
         anyhow::bail!("--compute-raster: {why} (64-bit atomics for its visibility buffer)");
     }
-    let total = counts.len() * configs.len() * looks.len() * pipelines.len() * rasters.len();
+    // With walkers, each point runs without them first, then with them.
+    let crowds = if common.walkers > 0 {
+        vec![0, common.walkers]
+    } else {
+        vec![0]
+    };
+    let total =
+        counts.len() * configs.len() * looks.len() * pipelines.len() * rasters.len() * crowds.len();
     let mut offscreen = Offscreen::new(&ctx, args.width, args.height)?;
     let mut points = Vec::new();
     let mut references = References::default();
@@ -163,6 +170,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         let n = scene.blade_count();
         last_count = n;
         let base = super::device_settings(common, &scene, &ctx)?;
+        let walkers = crate::walkers::Walkers::new(&scene, common.walkers);
         let size = offscreen.size();
         let still_camera = camera(&scene, args.camera);
         let preset = args.camera;
@@ -189,7 +197,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             } else {
                 1
             };
-            let request = |config, pipeline, raster: Option<f32>, frame: u32| {
+            let request = |(config, pipeline), raster: Option<f32>, crowd, frame: u32| {
                 let mut settings = base;
                 settings.look.style = look;
                 settings.look.aa = aa;
@@ -199,22 +207,30 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                     settings.compute_raster_below = below;
                 }
                 configure(&mut settings, config);
-                settings.request(&eye(frame), &[])
+                // The measured frames step 1/60 s each from a clock started anew.
+                let time = frame as f32 / 60.0;
+                let walkers = walkers.with_count(crowd).colliders(&scene, time);
+                settings.request(&eye(frame), &[]).with_colliders(&walkers)
             };
             let first = points.len();
             for &config in &configs {
                 for &pipeline in &pipelines {
-                    for &raster in &rasters {
-                        let what =
-                            format!("{config:?}, {look:?} look, {pipeline:?}, at {n} blades");
+                    for (&raster, &crowd) in rasters
+                        .iter()
+                        .flat_map(|r| crowds.iter().map(move |c| (r, c)))
+                    {
+                        let what = format!(
+                            "{config:?}, {look:?} look, {pipeline:?}, at {n} blades, {crowd} walkers"
+                        );
                         progress.show(points.len(), &what);
                         let frames = (&mut driver, &mut offscreen);
-                        let frame = |f| request(config, pipeline, raster, f);
+                        let frame = |f| request((config, pipeline), raster, crowd, f);
                         let mut point = measure(frames, &frame, args, config, n)?;
                         point.look = look;
                         point.pipeline = pipeline;
                         point.samples = ctx.supported_samples(msaa);
                         point.aa = aa;
+                        point.walkers = crowd;
                         points.push(point);
                     }
                 }
@@ -224,7 +240,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let unculled_by: Vec<_> = pipelines
                 .iter()
                 .map(|&p| {
-                    let frame = request(BenchConfig::None, p, Some(0.0), 0);
+                    let frame = request((BenchConfig::None, p), Some(0.0), 0, 0);
                     still(&mut driver, &mut offscreen, frame)
                 })
                 .collect::<Result<_>>()?;
@@ -234,7 +250,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 view = still(
                     &mut driver,
                     &mut offscreen,
-                    request(point.config, point.pipeline, raster, 0),
+                    request((point.config, point.pipeline), raster, point.walkers, 0),
                 )?;
                 let at = pipelines.iter().position(|&p| p == point.pipeline);
                 let unculled = &unculled_by[at.unwrap_or(0)];
@@ -255,6 +271,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     let device = ctx.device_name();
     print_table(&device, args, &points);
     print_looks(&points);
+    report::print_walkers(&points);
     print_raster(&points);
     print_references(last_count, &references, &points);
     write_csv(&args.out, &device, common, args, &points, &references)
@@ -361,6 +378,7 @@ fn measure(
         raster_covered: Spread::of(&covered).median,
         raster_written: Spread::of(&written).median,
         config,
+        walkers: 0,
         blades,
         drawn: Spread::of(&drawn).median,
         cpu: Spread::of(&cpu),
@@ -390,10 +408,10 @@ pub(crate) fn still(
     // Temporal anti-aliasing shows a still frame once its history has settled.
     if request.plan().taa {
         for _ in 1..shared::draw::temporal::SETTLE_FRAMES {
-            driver.run(offscreen, 0.0, |_| request, false)?;
+            driver.run(offscreen, 0.0, |_| request.clone(), false)?;
         }
     }
-    driver.run(offscreen, 0.0, |_| request, true)?;
+    driver.run(offscreen, 0.0, |_| request.clone(), true)?;
     driver.finish()?;
     offscreen.pixels()
 }

@@ -170,6 +170,49 @@ pub fn print_raster(points: &[Point]) {
     }
 }
 
+/// Each point with walkers against the same point without them (`--walkers`): the
+/// whole frame and the compute pass, GPU medians.
+pub fn print_walkers(points: &[Point]) {
+    let pairs: Vec<(&Point, &Point)> = points
+        .iter()
+        .filter(|p| p.walkers > 0)
+        .filter_map(|crowd| {
+            points
+                .iter()
+                .find(|p| {
+                    p.walkers == 0
+                        && p.look == crowd.look
+                        && p.config == crowd.config
+                        && p.blades == crowd.blades
+                        && p.pipeline == crowd.pipeline
+                        && p.compute_below == crowd.compute_below
+                })
+                .map(|none| (none, crowd))
+        })
+        .collect();
+    if pairs.is_empty() {
+        return;
+    }
+    println!(
+        "walkers against none (GPU ms, medians): {:<20} {:>8} {:>9} {:>8} {:>8} {:>7} | {:>9} {:>9}",
+        "config", "look", "blades", "none", "walkers", "ratio", "sim none", "sim with"
+    );
+    for (none, crowd) in pairs {
+        println!(
+            "{:<20} {:>8} {:>9} {:>8.3} {:>8.3} {:>7.3} | {:>9.3} {:>9.3}   ({} walkers)",
+            format!("{:?}", none.config),
+            format!("{:?}", none.look),
+            none.blades,
+            none.gpu.median,
+            crowd.gpu.median,
+            crowd.gpu.median / none.gpu.median.max(1e-9),
+            none.simulate_cull.median,
+            crowd.simulate_cull.median,
+            crowd.walkers
+        );
+    }
+}
+
 /// With both looks measured: for each count and configuration, the natural look's GPU
 /// frame against the paper's, and the natural look's passes.
 pub fn print_looks(points: &[Point]) {
@@ -245,7 +288,8 @@ pub fn write_csv(
          grass_ns_per_drawn_blade,compute_raster_below,drawn_by_compute,\
          raster_ms_median,raster_pixels_covered,raster_pixels_written,\
          raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written,\
-         gpu_ms_p99,potential_blades,far_tiles,far_blades,aa,shade_ms_median,render_scale,shadow_casters\n",
+         gpu_ms_p99,potential_blades,far_tiles,far_blades,aa,shade_ms_median,render_scale,shadow_casters,\
+         walkers\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -256,7 +300,7 @@ pub fn write_csv(
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         let costs = raster_costs(p);
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0},{}\n",
             common.scene,
             args.camera,
             args.width,
@@ -303,6 +347,7 @@ pub fn write_csv(
             p.shade.median,
             p.render_scale,
             p.casters,
+            p.walkers,
         );
     }
     crate::files::write(path, out.as_bytes())?;

@@ -1,5 +1,5 @@
 //! The overlay's controls: the look, the culling tests, LOD and view, the wind and
-//! its impulses, the forces, the blade shape and the ball.
+//! its impulses, the forces, the blade shape, the ball and the walkers.
 
 use shared::settings::{
     Antialiasing, BladeShape, GrassPipeline, Look, MIN_RENDER_SCALE, SHADOW_SIZES, Settings, View,
@@ -7,11 +7,20 @@ use shared::settings::{
 };
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH};
 
-/// The culling tests, LOD, view, wind, forces, shape and ball.
+/// What moves through the grass besides the wind: the ball and the walkers.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Actors {
+    /// The ball is on (B).
+    pub ball: bool,
+    /// Walkers wandering the ground (`--walkers`).
+    pub walkers: u32,
+}
+
+/// The culling tests, LOD, view, wind, forces, shape, ball and walkers.
 pub(super) fn controls(
     ui: &mut egui::Ui,
     s: &mut Settings,
-    ball_on: &mut bool,
+    actors: &mut Actors,
     blow: &mut Option<u32>,
 ) {
     egui::CollapsingHeader::new("Look (keys N, H, M)")
@@ -23,9 +32,9 @@ pub(super) fn controls(
     egui::CollapsingHeader::new("Pipeline, level of detail and view")
         .default_open(false)
         .show(ui, |ui| detail(ui, s));
-    egui::CollapsingHeader::new("Wind, forces, shape, ball")
+    egui::CollapsingHeader::new("Wind, forces, shape, ball, walkers")
         .default_open(false)
-        .show(ui, |ui| forces(ui, s, ball_on, blow));
+        .show(ui, |ui| forces(ui, s, actors, blow));
     ui.label("O hides this panel");
 }
 
@@ -167,7 +176,7 @@ fn detail(ui: &mut egui::Ui, s: &mut Settings) {
     });
 }
 
-fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool, blow: &mut Option<u32>) {
+fn forces(ui: &mut egui::Ui, s: &mut Settings, actors: &mut Actors, blow: &mut Option<u32>) {
     let wind = &mut s.wind;
     egui::ComboBox::from_label("wind (W)")
         .selected_text(format!("{:?}", wind.field))
@@ -206,5 +215,8 @@ fn forces(ui: &mut egui::Ui, s: &mut Settings, ball_on: &mut bool, blow: &mut Op
             }
         });
     ui.add(egui::Slider::new(&mut s.tip_start, 0.0..=1.0).text("tip start"));
-    ui.checkbox(ball_on, "ball (B)");
+    ui.checkbox(&mut actors.ball, "ball (B)");
+    let most = crate::walkers::MAX_WALKERS;
+    ui.add(egui::Slider::new(&mut actors.walkers, 0..=most).text("walkers"))
+        .on_hover_text("capsules the size of people wandering the ground (--walkers)");
 }

@@ -52,8 +52,8 @@ impl Running {
                 "x" | "X" => self.blow = Some(IMPULSE_BLAST),
                 "r" | "R" => self.blow = Some(IMPULSE_DOWNWASH),
                 "b" | "B" => {
-                    self.ball_on = !self.ball_on;
-                    log::info!("ball {}", if self.ball_on { "on" } else { "off" });
+                    self.actors.ball = !self.actors.ball;
+                    log::info!("ball {}", if self.actors.ball { "on" } else { "off" });
                 }
                 "w" | "W" => {
                     s.wind.field = s.wind.field.next();

@@ -9,11 +9,13 @@ mod keys;
 use super::driver::FrameSpec;
 use super::overlay::{Overlay, Readings};
 use super::storm::{Gust, Storm};
+use crate::app::overlay::Actors;
 use crate::camera::{Fly, OrbitCamera};
 use crate::cli::{Common, ViewArgs};
 use crate::collider::{Ball, drop_onto};
 use crate::passes::overlay::OverlayFrame;
 use crate::scene::{Scene, SceneFile};
+use crate::walkers::Walkers;
 use anyhow::{Context as _, Result};
 use glam::{Vec2, Vec3, Vec3Swizzles};
 use gpu::{Gpu, MAX_RECOVERIES, device_lost};
@@ -159,7 +161,9 @@ struct Running {
     common: Common,
     camera: OrbitCamera,
     ball: Option<Ball>,
-    ball_on: bool,
+    /// The ball on or off, and how many walkers wander (`walkers`' count).
+    actors: Actors,
+    walkers: Walkers,
     /// The wind impulses blowing.
     impulses: Impulses,
     /// A wind impulse asked for (X, R or the overlay), started at the next frame.
@@ -216,7 +220,11 @@ impl Running {
             common: common.clone(),
             camera: scene.camera(),
             ball,
-            ball_on: !common.no_ball,
+            actors: Actors {
+                ball: !common.no_ball,
+                walkers: common.walkers,
+            },
+            walkers: Walkers::new(&scene, common.walkers),
             impulses: Impulses::default(),
             blow: None,
             arrows: Arrows::default(),
@@ -322,13 +330,17 @@ impl Running {
             &self.window,
             &readings,
             &mut self.settings,
-            (&mut self.ball_on, &mut self.fly, &mut self.full_distance),
+            (&mut self.actors, &mut self.fly, &mut self.full_distance),
         );
+        if self.actors.walkers != self.walkers.count() {
+            self.walkers = self.walkers.with_count(self.actors.walkers);
+        }
         if std::mem::take(&mut self.overlay.save_settings) {
             let path = self.screenshot_dir.join("grass-settings.toml");
             let viewer = crate::config::ViewerState {
                 full_distance: self.full_distance,
-                ball: self.ball_on,
+                ball: self.actors.ball,
+                walkers: self.walkers.count(),
             };
             let text = crate::config::current(&self.common, &self.settings, &viewer);
             let written = crate::files::write(&path, text.as_bytes());
@@ -346,7 +358,7 @@ impl Running {
         let balls: Vec<_> = self
             .ball
             .iter()
-            .filter(|_| self.ball_on)
+            .filter(|_| self.actors.ball)
             .map(Ball::sphere)
             .collect();
         let eye = self.camera.viewpoint(frame.extent());
@@ -354,6 +366,7 @@ impl Running {
             request: self
                 .settings
                 .request(&eye, &balls)
+                .with_colliders(&self.walkers.colliders(&self.scene, frame.time))
                 .with_impulses(&self.impulses),
             overlay: painted.as_ref().map(|p| OverlayFrame {
                 changed: p.changed,

@@ -1,0 +1,162 @@
+//! Walkers: capsules the size of people wandering over a scene's ground, each a
+//! collider of the frame (`shared::sim::collide::COLLIDER_CAPSULE`). Where each is
+//! at a simulated time is a function of that time alone, so a headless run, a bench
+//! and the viewer put the same walkers in the same places whatever their frame rate.
+
+use crate::scene::{Scene, SceneKind};
+use glam::{Vec2, Vec3};
+use shared::sim::collide::{Collider, MAX_COLLIDERS};
+use shared::world::terrain::{path_centre, valley_height};
+
+/// Most walkers: half the collider buffer's room (the rest for the ball and a host
+/// program's own colliders).
+pub const MAX_WALKERS: u32 = MAX_COLLIDERS as u32 / 2;
+
+/// A walker's radius (shoulders) and height, scene units (metres in the valley).
+pub const WALKER_SIZE: (f32, f32) = (0.3, 1.8);
+
+/// Walking speeds, units a second: a stroll to a brisk walk.
+const SPEED: (f32, f32) = (0.8, 1.8);
+
+/// The ground the walkers wander: a square (centre, half its side) and how they stand
+/// on it.
+#[derive(Clone, Debug)]
+pub struct Walkers {
+    count: u32,
+    centre: Vec2,
+    half: f32,
+    seed: u32,
+}
+
+impl Walkers {
+    /// `count` walkers (at most [`MAX_WALKERS`]) over `scene`: in the valley, a square
+    /// of 96 units around the first 60 units of its path (where the flight camera
+    /// flies); elsewhere the scene's ground seen from above.
+    pub fn new(scene: &Scene, count: u32) -> Self {
+        let (centre, half) = if scene.kind == SceneKind::Valley {
+            let z = -30.0;
+            (Vec2::new(path_centre(z).0, z), 48.0)
+        } else {
+            scene.paint_square()
+        };
+        Self {
+            count: count.min(MAX_WALKERS),
+            centre,
+            half,
+            seed: scene.seed as u32,
+        }
+    }
+
+    /// How many there are.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// This set with `count` walkers (the first ones keep their ways).
+    pub fn with_count(&self, count: u32) -> Self {
+        Self {
+            count: count.min(MAX_WALKERS),
+            ..self.clone()
+        }
+    }
+
+    /// Walker `i`'s place on the ground (x, z) at `time`: a straight walk at its own
+    /// speed and heading, turned back at the square's edges (a triangle wave on each
+    /// axis), with a sway of a metre across it.
+    pub fn place(&self, i: u32, time: f32) -> Vec2 {
+        let r = |k: u32| unit(hash(self.seed ^ hash(i * 8 + k)));
+        let heading = r(0) * std::f32::consts::TAU;
+        let speed = SPEED.0 + (SPEED.1 - SPEED.0) * r(1);
+        let dir = Vec2::new(heading.cos(), heading.sin());
+        let sway = (0.9 * time + r(2) * 6.0).sin() * Vec2::new(-dir.y, dir.x);
+        let side = 2.0 * self.half;
+        let start = Vec2::new(r(3), r(4)) * side;
+        let travelled = start + dir * speed * time + sway;
+        let bounce = |u: f32| {
+            let t = (u / side).rem_euclid(2.0);
+            side * (1.0 - (t - 1.0).abs())
+        };
+        self.centre - Vec2::splat(self.half) + Vec2::new(bounce(travelled.x), bounce(travelled.y))
+    }
+
+    /// The walkers' capsules at `time`, standing on `scene`'s ground (the valley's
+    /// terrain, rocks aside; else straight down onto its surface, upright along its
+    /// normal on a planet).
+    pub fn colliders(&self, scene: &Scene, time: f32) -> Vec<Collider> {
+        let (radius, height) = WALKER_SIZE;
+        (0..self.count)
+            .filter_map(|i| {
+                let at = self.place(i, time);
+                let (foot, up) = if scene.kind == SceneKind::Valley {
+                    (Vec3::new(at.x, valley_height(at), at.y), Vec3::Y)
+                } else {
+                    let p = crate::collider::drop_onto(&scene.solid, at)?;
+                    let up = if scene.gravity_centre.is_some() {
+                        p.normal
+                    } else {
+                        Vec3::Y
+                    };
+                    (p.position, up)
+                };
+                Some(Collider::capsule(
+                    foot + up * radius,
+                    foot + up * (height - radius),
+                    radius,
+                ))
+            })
+            .collect()
+    }
+}
+
+/// A 32-bit integer hash (Wellons' lowbias32).
+fn hash(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
+/// `h` as a number in [0, 1).
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 / (1u32 << 24) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn walkers_stay_in_their_square_and_walk_at_their_pace() {
+        let scene = Scene::plane(2048, 3);
+        let walkers = Walkers::new(&scene, 200);
+        let (centre, half) = scene.paint_square();
+        let dt = 0.1;
+        for i in 0..200 {
+            for step in 0..100 {
+                let t = step as f32 * dt;
+                let (a, b) = (walkers.place(i, t), walkers.place(i, t + dt));
+                let off = (a - centre).abs().max_element();
+                assert!(off <= half + 1e-3, "walker {i} at {a} off its square");
+                // Walking speed plus the sway's, never a jump.
+                assert!(
+                    a.distance(b) <= (SPEED.1 + 1.0) * dt,
+                    "walker {i}: {a} → {b}"
+                );
+            }
+        }
+        // Standing on the plane, a person's height.
+        let capsules = walkers.colliders(&scene, 3.0);
+        assert_eq!(capsules.len(), 200);
+        for c in &capsules {
+            let (lo, hi) = c.bounds();
+            assert!(
+                lo.y.abs() < 1e-4 && (hi.y - WALKER_SIZE.1).abs() < 1e-4,
+                "{lo} {hi}"
+            );
+        }
+        // The same walkers at the same time, whatever came before.
+        assert_eq!(walkers.colliders(&scene, 3.0), capsules);
+        assert_eq!(walkers.with_count(5000).count(), MAX_WALKERS);
+    }
+}

@@ -21,7 +21,7 @@ use shared::gpu::layout::{
 };
 use shared::gpu::layout::{SelectPush, TilePush};
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
-use shared::sim::grid::{GRID_SLOTS, GRID_WORDS};
+use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, REACH_MARGIN};
 use std::sync::Arc;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -279,9 +279,10 @@ pub struct Field {
     /// The blades handed to the compute pass's collision pass, after its indirect
     /// dispatch (`layout::BINDING_NEAR`).
     pub near: Buffer,
-    /// How far the tallest blade reaches from its root (`sim::grid::ColliderGrid::reach`):
-    /// a stored field's tallest, twice the tallest a tile grows for a tiled one (a
-    /// painted height map doubles at most).
+    /// How far a blade reaches from its root (`sim::grid::ColliderGrid::reach`): the
+    /// tallest blade times `sim::grid::REACH_MARGIN`; a tiled field's tallest is the
+    /// tallest a tile grows, twice that under a painted height map (which doubles at
+    /// most).
     pub reach: f32,
     /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
     pub pyramid: Buffer,
@@ -368,10 +369,14 @@ impl Field {
             _ => &no_map[..],
         };
         let paint = Buffer::upload(ctx, pool, "painted maps", paint_words, U::STORAGE_BUFFER)?;
-        let reach = match source {
+        let tallest = match source {
             FieldBlades::Stored { blades, .. } => tallest(blades),
-            FieldBlades::Tiled { .. } => 2.0 * shared::blade::HEIGHT.1,
+            FieldBlades::Tiled { paint, .. } => {
+                let painted = shared::world::paint::has(paint, shared::world::paint::HEIGHT);
+                shared::blade::HEIGHT.1 * if painted { 2.0 } else { 1.0 }
+            }
         };
+        let reach = REACH_MARGIN * tallest;
         let (blade_buffer, simulated, tiles, ids) = match source {
             FieldBlades::Stored { blades, .. } => {
                 let buffer = Buffer::upload(ctx, pool, "blades", blades, blade_usage)?;
@@ -589,7 +594,7 @@ impl Field {
         use vk::BufferUsageFlags as U;
         let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
         self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
-        self.reach = tallest(blades);
+        self.reach = REACH_MARGIN * tallest(blades);
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         self.descriptors
             .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);

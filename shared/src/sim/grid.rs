@@ -36,6 +36,14 @@ pub const GRID_SLOTS: u32 = 65536;
 /// Cubes a collider marks at most, and threads of the grid's build per collider.
 pub const GRID_CORNERS: u32 = 27;
 
+/// The grid's reach over the field's tallest blade: a blade's tip and midpoint stay
+/// within its height of its root once validated (paper section 5.2), but within a
+/// step the forces move the tip before validation brings it back (by the step's
+/// push, a hundredth of the height in a strong wind), and the length validation
+/// keeps is within a few percent of the height. Every unit of reach grows the blades
+/// each collider hands to the collision pass by the square.
+pub const REACH_MARGIN: f32 = 1.1;
+
 /// Threads of a workgroup of the grid's build: one per collider and cube it may mark.
 pub const GRID_WORKGROUP: u32 = 64;
 
@@ -45,8 +53,8 @@ pub const GRID_WORKGROUP: u32 = 64;
 pub struct ColliderGrid {
     /// Side of a cube, world units: at least the largest collider's grown bounds.
     pub cell: f32,
-    /// How far from its root a blade reaches: the field's tallest blade. A taller
-    /// blade tests every collider.
+    /// How far from its root a blade reaches: the field's tallest blade times
+    /// [`REACH_MARGIN`]. A blade taller than this tests every collider.
     pub reach: f32,
     /// Slots (a power of two; 1: every collider in one slot, the test of them all).
     pub slots: u32,

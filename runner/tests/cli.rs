@@ -441,6 +441,57 @@ fn wind_impulses_through_the_command_line() {
     assert_ne!(calm, blown, "the blast moved no blade");
 }
 
+/// `--walkers`: out of range refused by the parser; walkers change the picture, the
+/// same walkers the same picture.
+#[test]
+fn walkers_through_the_command_line() {
+    if !runs_here("walkers_through_the_command_line", &[]) {
+        return;
+    }
+    let o = grass(&["render", "--walkers", "1025"]);
+    let said = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(!o.status.success() && said.contains("--walkers"), "{said}");
+    let dir = scratch("walkers");
+    let picture = |name: &str, walkers: &str| {
+        let out = dir.join(name);
+        let out = out.to_str().expect("utf-8 path").to_owned();
+        let args = [
+            "render",
+            "--wind",
+            "calm",
+            "--blades",
+            "1024",
+            "--frames",
+            "30",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--look",
+            "paper",
+            "--no-ball",
+            "--walkers",
+            walkers,
+            "--out",
+            &out,
+        ];
+        let o = grass(&args);
+        assert!(o.status.success(), "{}", stderr_of(&args, &o));
+        std::fs::read(&out).expect("the picture")
+    };
+    let crowd = picture("crowd.png", "40");
+    assert_eq!(
+        crowd,
+        picture("crowd-again.png", "40"),
+        "the same walkers differ"
+    );
+    assert_ne!(
+        crowd,
+        picture("none.png", "0"),
+        "the walkers changed nothing"
+    );
+}
+
 #[test]
 fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
     if !runs_here(

@@ -10,10 +10,10 @@ use runner::renderer::Renderer;
 use runner::scene::Scene;
 use shared::Blade;
 use shared::cull::blade as cull;
+use shared::gpu::counters::{COUNTER_COUNT, COUNTER_NEAR};
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::FrameRequest;
 use shared::settings::WindField;
-use shared::gpu::counters::{COUNTER_COUNT, COUNTER_NEAR};
 use shared::sim::collide::Collider;
 use shared::sim::grid::ColliderSet;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses};
@@ -326,7 +326,11 @@ fn the_collision_pass_matches_the_host_under_a_crowd() {
         let apart: Vec<f32> = host
             .iter()
             .zip(&gpu)
-            .map(|(h, g)| (g.tip() - h.tip()).length().max((g.guide() - h.guide()).length()))
+            .map(|(h, g)| {
+                (g.tip() - h.tip())
+                    .length()
+                    .max((g.guide() - h.guide()).length())
+            })
             .collect();
         let diverging = apart.iter().filter(|&&d| d >= TOUCHED_TOLERANCE).count();
         let worst = apart.iter().fold(0.0f32, |a, &d| a.max(d));

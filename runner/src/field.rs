@@ -24,6 +24,9 @@ use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, REACH_MARGIN};
 use std::sync::Arc;
 
+mod resize;
+use resize::tallest;
+
 /// Stages that read the frame's uniform block (a storage buffer: see
 /// `shared::gpu::layout::BINDING_UNIFORMS`).
 const UNIFORM_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
@@ -575,57 +578,4 @@ impl Field {
             u64::from(MESH_DRAWS) * size,
         ]
     }
-
-    /// Replaces the blades by `blades` (as many as before) at rest, with no collision
-    /// strength left. No frame may be in flight.
-    pub fn replace_blades(
-        &mut self,
-        ctx: &Arc<Context>,
-        pool: &CommandPool,
-        blades: &[Blade],
-    ) -> Result<()> {
-        if blades.len() as u32 != self.blade_count {
-            bail!(
-                "{} blades cannot replace a field of {}",
-                blades.len(),
-                self.blade_count
-            );
-        }
-        use vk::BufferUsageFlags as U;
-        let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
-        self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
-        self.reach = REACH_MARGIN * tallest(blades);
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        self.descriptors
-            .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
-        pool.one_shot(|rec| rec.fill_buffer(self.strengths.buffer, 0))
-    }
-
-    fn pyramid_buffer(ctx: &Arc<Context>, floats: u32) -> Result<Buffer> {
-        use vk::BufferUsageFlags as U;
-        Buffer::new(
-            ctx,
-            "depth pyramid",
-            u64::from(floats.max(1)) * 4,
-            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
-            MemoryLocation::GpuOnly,
-        )
-    }
-
-    /// Replaces the depth pyramid with one of `floats` values. No frame may be in
-    /// flight.
-    pub fn resize_pyramid(&mut self, ctx: &Arc<Context>, floats: u32) -> Result<()> {
-        self.pyramid = Self::pyramid_buffer(ctx, floats)?;
-        self.descriptors.write_buffer(
-            layout::BINDING_PYRAMID,
-            vk::DescriptorType::STORAGE_BUFFER,
-            self.pyramid.buffer,
-        );
-        Ok(())
-    }
-}
-
-/// The tallest of `blades` (at least a hundredth).
-fn tallest(blades: &[Blade]) -> f32 {
-    blades.iter().map(Blade::height).fold(0.01, f32::max)
 }

@@ -74,6 +74,7 @@
 //! use ash::vk;
 //! use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 //! use runner::embed::{self, FieldDesc, Frame, GrassField, Ground, Targets};
+//! use shared::sim::collide::Collider;
 //! use std::sync::{Arc, Mutex};
 //!
 //! # fn your_renderer(
@@ -128,7 +129,8 @@
 //!     targets: Targets { color, depth, extent },
 //!     camera: embed::viewpoint(view, proj, extent.height),
 //!     seconds: 1.0 / 60.0,
-//!     colliders: &[glam::Vec4::new(0.0, 1.0, 0.0, 1.5)], // a ball: centre, radius
+//!     // A ball: centre, radius (capsules and boxes too).
+//!     colliders: &[Collider::sphere(glam::Vec3::new(0.0, 1.0, 0.0), 1.5)],
 //! })?;
 //! # Ok(())
 //! # }

@@ -591,6 +591,7 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("collider-radius", Some("0.5"), "ball"),
     ("collider-speed", Some("1"), "ball"),
     ("no-ball", None, "ball"),
+    ("walkers", Some("3"), "walkers"),
     ("trample-decay", Some("0.75"), "Settings"),
     ("stiffness", Some("2"), "Settings"),
     ("gravity", Some("5"), "Settings"),
@@ -653,8 +654,8 @@ fn settings_of(args: &[&str]) -> [shared::settings::Settings; 2] {
 /// refused, naming itself and why, before any device is looked for; so are the field's
 /// (`--full-distance` on a stored field, `--density` on a tiled one), and the camera's
 /// options beside `--flight`, which sets the camera. What acts on the
-/// scene and the ball is checked by the tests of each (painted maps on both fields,
-/// the tiled field, the ball's trail).
+/// scene, the ball and the walkers is checked by the tests of each (painted maps on
+/// both fields, the tiled field, the ball's trail, `walkers_through_the_command_line`).
 #[test]
 fn every_command_s_options_act_or_are_refused() {
     let settable: Vec<String> = runner::config::settable()

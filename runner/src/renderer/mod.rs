@@ -4,6 +4,7 @@
 //! renderer records a frame; the frame driver (`app::driver`) owns the slots,
 //! submits and reads each slot's counters and timestamps back.
 
+mod compute;
 pub mod external;
 #[cfg(feature = "test-hooks")]
 mod hooks;
@@ -20,7 +21,7 @@ use crate::passes::occlusion::OcclusionPass;
 use crate::passes::overlay::{OverlayFrame, OverlayPass};
 use crate::passes::shade::ShadePass;
 use crate::passes::shadow::ShadowPass;
-use crate::passes::simulate::{SimulatePass, SimulateVariant};
+use crate::passes::simulate::SimulatePass;
 use crate::passes::temporal::TemporalPass;
 use crate::passes::tiles::TilesPass;
 use crate::passes::tonemap::{ToneMapPass, ToneMapSource};
@@ -33,17 +34,16 @@ use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::Blade;
 use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
-use shared::gpu::counters;
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::{FieldPart, FrameFacts, FramePlan, FrameRequest};
 use shared::settings::SHADOW_SIZES;
 use shared::sim::collide::Collider;
-use shared::sim::grid::GRID_WORDS;
 use shared::world::mesh::SurfaceMesh;
 use std::sync::Arc;
 use targets::{DrawTargets, TargetSpec, draw_images, finish_frame, tone_map};
 use temporal::Temporal;
 
+#[cfg(feature = "app")]
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
@@ -538,63 +538,6 @@ impl Renderer {
                 ..push
             },
         }
-    }
-
-    /// Orders the frame after the previous one, then updates the uniforms and the
-    /// `colliders` (clearing their grid) and clears the counters.
-    fn begin_compute(&self, rec: &Recorder, uniforms: &FrameUniforms, colliders: &[Collider]) {
-        let field = &self.field;
-        // Everything the previous frame read or wrote is done before this one
-        // overwrites the uniforms, the counters, the pyramid and the blades.
-        rec.memory_barrier(
-            (FRAME_STAGES, A::MEMORY_WRITE),
-            (FRAME_STAGES, A::MEMORY_READ | A::MEMORY_WRITE),
-        );
-        rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
-        if !colliders.is_empty() {
-            rec.update_buffer(field.colliders.buffer, bytemuck::cast_slice(colliders));
-            // The slots this frame's grid uses.
-            let words = u64::from(uniforms.collider_grid.slots) * GRID_WORDS as u64;
-            rec.fill_buffer_start(field.collider_grid.buffer, words * 4, 0);
-        }
-        // The counters, not the binned list's layout after them, which the frame
-        // before left for this one.
-        rec.fill_buffer_start(field.counters.buffer, counters::COUNTER_BYTES, 0);
-        rec.memory_barrier(
-            (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
-            (
-                SHADER_STAGES,
-                A::SHADER_READ | A::SHADER_WRITE | A::UNIFORM_READ,
-            ),
-        );
-    }
-
-    /// The colliders' grid where the frame has colliders, then simulate, cull and
-    /// compact (and on the mesh path bin by strip length), with the pipeline made for the frame block's path, wind field, impulses and colliders.
-    fn record_compute(&mut self, rec: &Recorder, push: SimulatePush, natural: bool) -> Result<()> {
-        let variant = SimulateVariant::of(&self.block, natural);
-        let colliders = self.block.forces.colliders;
-        if colliders > 0 {
-            self.simulate.record_grid(rec, &self.field, colliders);
-        }
-        self.simulate.record(rec, &self.field, push, variant)
-    }
-
-    /// Copies the counters for the read-back, once the compute pass and the compute
-    /// rasterizer have written them.
-    fn copy_counters(&self, rec: &Recorder, queries: &FrameQueries) {
-        let field = &self.field;
-        rec.memory_barrier(
-            (S::COMPUTE_SHADER, A::SHADER_WRITE),
-            (S::COPY, A::TRANSFER_READ),
-        );
-        // The counters, not the binned list's layout after them.
-        rec.copy_buffer(
-            field.counters.buffer,
-            queries.counters.buffer,
-            counters::COUNTER_BYTES,
-        );
-        rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
     }
 }
 

@@ -1,0 +1,68 @@
+//! The field's buffers made again while it lives: its blades replaced, its depth
+//! pyramid resized for a new target.
+
+use super::Field;
+use crate::vulkan::commands::CommandPool;
+use crate::vulkan::{Buffer, Context};
+use anyhow::{Result, bail};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use shared::Blade;
+use shared::gpu::layout;
+use shared::sim::grid::REACH_MARGIN;
+use std::sync::Arc;
+
+impl Field {
+    /// Replaces the blades by `blades` (as many as before) at rest, with no collision
+    /// strength left. No frame may be in flight.
+    pub fn replace_blades(
+        &mut self,
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        blades: &[Blade],
+    ) -> Result<()> {
+        if blades.len() as u32 != self.blade_count {
+            bail!(
+                "{} blades cannot replace a field of {}",
+                blades.len(),
+                self.blade_count
+            );
+        }
+        use vk::BufferUsageFlags as U;
+        let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
+        self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
+        self.reach = REACH_MARGIN * tallest(blades);
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        self.descriptors
+            .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
+        pool.one_shot(|rec| rec.fill_buffer(self.strengths.buffer, 0))
+    }
+
+    pub(super) fn pyramid_buffer(ctx: &Arc<Context>, floats: u32) -> Result<Buffer> {
+        use vk::BufferUsageFlags as U;
+        Buffer::new(
+            ctx,
+            "depth pyramid",
+            u64::from(floats.max(1)) * 4,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )
+    }
+
+    /// Replaces the depth pyramid with one of `floats` values. No frame may be in
+    /// flight.
+    pub fn resize_pyramid(&mut self, ctx: &Arc<Context>, floats: u32) -> Result<()> {
+        self.pyramid = Self::pyramid_buffer(ctx, floats)?;
+        self.descriptors.write_buffer(
+            layout::BINDING_PYRAMID,
+            vk::DescriptorType::STORAGE_BUFFER,
+            self.pyramid.buffer,
+        );
+        Ok(())
+    }
+}
+
+/// The tallest of `blades` (at least a hundredth).
+pub(super) fn tallest(blades: &[Blade]) -> f32 {
+    blades.iter().map(Blade::height).fold(0.01, f32::max)
+}

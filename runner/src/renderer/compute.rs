@@ -1,0 +1,85 @@
+//! The compute part of a frame: the frame block, the colliders and the counters
+//! uploaded and reset, the colliders' grid and the simulate-and-cull pass (with its
+//! collision pass), the counters copied for the read-back.
+
+use super::{FRAME_STAGES, FrameQueries, Renderer, SHADER_STAGES};
+use crate::passes::simulate::SimulateVariant;
+use crate::vulkan::Recorder;
+use anyhow::Result;
+use ash::vk;
+use shared::gpu::counters;
+use shared::gpu::layout::{FrameUniforms, SimulatePush};
+use shared::sim::collide::Collider;
+use shared::sim::grid::GRID_WORDS;
+
+use vk::AccessFlags2 as A;
+use vk::PipelineStageFlags2 as S;
+
+impl Renderer {
+    /// Orders the frame after the previous one, then updates the uniforms and the
+    /// `colliders` (clearing their grid) and clears the counters.
+    pub(super) fn begin_compute(
+        &self,
+        rec: &Recorder,
+        uniforms: &FrameUniforms,
+        colliders: &[Collider],
+    ) {
+        let field = &self.field;
+        // Everything the previous frame read or wrote is done before this one
+        // overwrites the uniforms, the counters, the pyramid and the blades.
+        rec.memory_barrier(
+            (FRAME_STAGES, A::MEMORY_WRITE),
+            (FRAME_STAGES, A::MEMORY_READ | A::MEMORY_WRITE),
+        );
+        rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
+        if !colliders.is_empty() {
+            rec.update_buffer(field.colliders.buffer, bytemuck::cast_slice(colliders));
+            // The slots this frame's grid uses.
+            let words = u64::from(uniforms.collider_grid.slots) * GRID_WORDS as u64;
+            rec.fill_buffer_start(field.collider_grid.buffer, words * 4, 0);
+        }
+        // The counters, not the binned list's layout after them, which the frame
+        // before left for this one.
+        rec.fill_buffer_start(field.counters.buffer, counters::COUNTER_BYTES, 0);
+        rec.memory_barrier(
+            (S::CLEAR | S::COPY, A::TRANSFER_WRITE),
+            (
+                SHADER_STAGES,
+                A::SHADER_READ | A::SHADER_WRITE | A::UNIFORM_READ,
+            ),
+        );
+    }
+
+    /// The colliders' grid where the frame has colliders, then simulate, cull and
+    /// compact (and on the mesh path bin by strip length), with the pipeline made for the frame block's path, wind field, impulses and colliders.
+    pub(super) fn record_compute(
+        &mut self,
+        rec: &Recorder,
+        push: SimulatePush,
+        natural: bool,
+    ) -> Result<()> {
+        let variant = SimulateVariant::of(&self.block, natural);
+        let colliders = self.block.forces.colliders;
+        if colliders > 0 {
+            self.simulate.record_grid(rec, &self.field, colliders);
+        }
+        self.simulate.record(rec, &self.field, push, variant)
+    }
+
+    /// Copies the counters for the read-back, once the compute pass and the compute
+    /// rasterizer have written them.
+    pub(super) fn copy_counters(&self, rec: &Recorder, queries: &FrameQueries) {
+        let field = &self.field;
+        rec.memory_barrier(
+            (S::COMPUTE_SHADER, A::SHADER_WRITE),
+            (S::COPY, A::TRANSFER_READ),
+        );
+        // The counters, not the binned list's layout after them.
+        rec.copy_buffer(
+            field.counters.buffer,
+            queries.counters.buffer,
+            counters::COUNTER_BYTES,
+        );
+        rec.memory_barrier((S::COPY, A::TRANSFER_WRITE), (S::HOST, A::HOST_READ));
+    }
+}

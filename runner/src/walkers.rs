@@ -5,6 +5,7 @@
 
 use crate::scene::{Scene, SceneKind};
 use glam::{Vec2, Vec3};
+use shared::noise::{hash_u32, hash_unit};
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::world::terrain::{path_centre, valley_height};
 
@@ -64,7 +65,7 @@ impl Walkers {
     /// speed and heading, turned back at the square's edges (a triangle wave on each
     /// axis), with a sway of a metre across it.
     pub fn place(&self, i: u32, time: f32) -> Vec2 {
-        let r = |k: u32| unit(hash(self.seed ^ hash(i * 8 + k)));
+        let r = |k: u32| hash_unit(self.seed ^ hash_u32(i * 8 + k));
         let heading = r(0) * std::f32::consts::TAU;
         let speed = SPEED.0 + (SPEED.1 - SPEED.0) * r(1);
         let dir = Vec2::new(heading.cos(), heading.sin());
@@ -106,20 +107,6 @@ impl Walkers {
             })
             .collect()
     }
-}
-
-/// A 32-bit integer hash (Wellons' lowbias32).
-fn hash(mut x: u32) -> u32 {
-    x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
-    x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
-    x ^ (x >> 16)
-}
-
-/// `h` as a number in [0, 1).
-fn unit(h: u32) -> f32 {
-    (h >> 8) as f32 / (1u32 << 24) as f32
 }
 
 #[cfg(test)]

@@ -409,36 +409,39 @@ fn wind_impulses_through_the_command_line() {
     let (ok, stderr) = render_scene("plane", &["--impulse", "downwash,1e5,0,0"]);
     assert!(!ok && stderr.contains("no ground there"), "{stderr}");
     let dir = scratch("impulses");
-    let picture = |name: &str, impulse: &[&str]| {
-        let out = dir.join(name);
-        let out = out.to_str().expect("utf-8 path").to_owned();
-        let mut args = vec![
-            "render",
-            "--wind",
-            "calm",
-            "--blades",
-            "1024",
-            "--frames",
-            "30",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--look",
-            "paper",
-            "--no-ball",
-            "--out",
-            &out,
-        ];
-        args.extend_from_slice(impulse);
-        let o = grass(&args);
-        assert!(o.status.success(), "{}", stderr_of(&args, &o));
-        std::fs::read(&out).expect("the picture")
-    };
+    let picture = |name: &str, impulse: &[&str]| calm_picture(&dir.join(name), impulse);
     let calm = picture("calm.png", &[]);
     assert_eq!(calm, picture("calm-again.png", &[]), "two calm runs differ");
     let blown = picture("blast.png", &["--impulse", "blast,0,0,0.2,80,10,3"]);
     assert_ne!(calm, blown, "the blast moved no blade");
+}
+
+/// The last frame of a 64x64 `render` of 1,024 blades in the paper look, calm, with
+/// no ball, and `extra` options, written to `out` and read back.
+fn calm_picture(out: &std::path::Path, extra: &[&str]) -> Vec<u8> {
+    let path = out.to_str().expect("utf-8 path");
+    let mut args = vec![
+        "render",
+        "--wind",
+        "calm",
+        "--blades",
+        "1024",
+        "--frames",
+        "30",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--look",
+        "paper",
+        "--no-ball",
+        "--out",
+        path,
+    ];
+    args.extend_from_slice(extra);
+    let o = grass(&args);
+    assert!(o.status.success(), "{}", stderr_of(&args, &o));
+    std::fs::read(out).expect("the picture")
 }
 
 /// `--walkers`: out of range refused by the parser; walkers change the picture, the
@@ -452,33 +455,8 @@ fn walkers_through_the_command_line() {
     let said = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(!o.status.success() && said.contains("--walkers"), "{said}");
     let dir = scratch("walkers");
-    let picture = |name: &str, walkers: &str| {
-        let out = dir.join(name);
-        let out = out.to_str().expect("utf-8 path").to_owned();
-        let args = [
-            "render",
-            "--wind",
-            "calm",
-            "--blades",
-            "1024",
-            "--frames",
-            "30",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--look",
-            "paper",
-            "--no-ball",
-            "--walkers",
-            walkers,
-            "--out",
-            &out,
-        ];
-        let o = grass(&args);
-        assert!(o.status.success(), "{}", stderr_of(&args, &o));
-        std::fs::read(&out).expect("the picture")
-    };
+    let picture =
+        |name: &str, walkers: &str| calm_picture(&dir.join(name), &["--walkers", walkers]);
     let crowd = picture("crowd.png", "40");
     assert_eq!(
         crowd,
@@ -715,6 +693,12 @@ fn every_command_s_options_act_or_are_refused() {
     let tiled = "a tiled field's blades come from its tiles";
     refused("render", "density", &["--field", "tiles"], tiled);
     refused("bench", "blades", &["--scene", "valley"], tiled);
+    refused(
+        "bench",
+        "trample-decay",
+        &[],
+        "bench runs without a ball; with --walkers it acts",
+    );
     let turbulent = "the gust speed acts on the turbulent wind only";
     refused("render", "gust-speed", &[], turbulent);
     refused("record", "gust-speed", &["--wind", "gusts"], turbulent);

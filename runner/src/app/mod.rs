@@ -72,13 +72,19 @@ pub const NOT_ACTING: &[(&str, &[&str], &str)] = &[
     ),
     (
         "bench",
+        &["collider-path", "collider-radius", "collider-speed"],
+        "bench runs without a ball",
+    ),
+    (
+        "quality",
         &[
             "collider-path",
             "collider-radius",
             "collider-speed",
             "trample-decay",
+            "walkers",
         ],
-        "bench runs without a ball",
+        "quality measures a still field, without a ball or walkers",
     ),
 ];
 
@@ -89,6 +95,12 @@ fn check_options(command: &str, common: &Common) -> Result<()> {
     let given = &common.given;
     for (_, options, why) in NOT_ACTING.iter().filter(|(c, _, _)| *c == command) {
         given.refuse(options, why)?;
+    }
+    if command == "bench" && common.walkers == 0 {
+        given.refuse(
+            &["trample-decay"],
+            "bench runs without a ball; with --walkers it acts",
+        )?;
     }
     if command == "config" {
         let every: Vec<String> = crate::config::settable()

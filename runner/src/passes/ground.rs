@@ -10,6 +10,7 @@ use crate::vulkan::{Buffer, Context, Recorder};
 use anyhow::Result;
 use ash::vk;
 use glam::{Mat4, Vec4};
+use shared::cull::tile::box_in_view;
 use shared::gpu::layout::{GROUND_GRID, GROUND_MESH, SurfacePush, SurfaceVertex};
 use shared::sim::collide::{COLLIDER_BOX, COLLIDER_CAPSULE, COLLIDER_SPHERE, Collider};
 use shared::world::mesh::SurfaceMesh;
@@ -204,7 +205,10 @@ impl GroundPass {
     /// Records the ground and each of the `colliders` in the camera's view
     /// ([`collider_model`]) inside the frame's rendering scope.
     pub fn record(&self, rec: &Recorder, field: &Field, colliders: &[Collider]) {
-        let seen = |c: &Collider| in_view(self.view_proj, c);
+        let seen = |c: &Collider| {
+            let (lo, hi) = c.bounds();
+            box_in_view(lo, hi, self.view_proj)
+        };
         self.record_with(self.pipeline.current(), rec, field, (colliders, &seen));
     }
 
@@ -278,20 +282,4 @@ pub fn collider_model(c: &Collider) -> Mat4 {
         }
         _ => Mat4::from_translation(a) * Mat4::from_scale(glam::Vec3::splat(r)),
     }
-}
-
-/// Whether collider `c`'s bounding sphere reaches into the view of `view_proj`
-/// (its clip-space planes, Gribb and Hartmann 2001).
-pub fn in_view(view_proj: Mat4, c: &Collider) -> bool {
-    let (lo, hi) = c.bounds();
-    let centre = ((lo + hi) * 0.5).extend(1.0);
-    let radius = (hi - lo).length() * 0.5;
-    let m = view_proj.transpose();
-    let (x, y, z, w) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
-    // Left, right, bottom, top, and depth 0 (the near plane, or the far one of a
-    // reversed depth); no far plane, as an infinite projection has none.
-    [w + x, w - x, w + y, w - y, z].iter().all(|plane| {
-        let length = plane.truncate().length().max(1e-12);
-        plane.dot(centre) / length >= -radius
-    })
 }

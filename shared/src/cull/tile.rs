@@ -85,16 +85,24 @@ pub fn tile_in_view(
     if (nearest - camera).length() > reach {
         return false;
     }
-    // Outside a plane: every corner beyond it (x < −w, x > w, y < −w, y > w, z < 0,
-    // z > w). One bit per plane, cleared by a corner inside it (rust-gpu cannot fill a
-    // bool array).
+    let low = Vec3::new(lo.x, bottom, lo.y);
+    let high = Vec3::new(hi.x, top, hi.y);
+    box_in_view(low, high, view_proj)
+}
+
+/// Whether the box from `lo` to `hi` is not wholly outside one plane of the view
+/// volume of `view_proj`: outside a plane when every one of its eight corners is
+/// beyond it (x < −w, x > w, y < −w, y > w, z < 0, z > w in clip space).
+pub fn box_in_view(lo: Vec3, hi: Vec3, view_proj: Mat4) -> bool {
+    // One bit per plane, cleared by a corner inside it (rust-gpu cannot fill a bool
+    // array).
     let mut outside = 0b11_1111u32;
     let mut corner = 0;
     while corner < 8 {
         let p = Vec3::new(
             if corner & 1 == 0 { lo.x } else { hi.x },
-            if corner & 2 == 0 { bottom } else { top },
-            if corner & 4 == 0 { lo.y } else { hi.y },
+            if corner & 2 == 0 { lo.y } else { hi.y },
+            if corner & 4 == 0 { lo.z } else { hi.z },
         );
         let c = view_proj * p.extend(1.0);
         let beyond = [

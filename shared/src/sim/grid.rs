@@ -413,7 +413,10 @@ mod tests {
     /// The grid against every collider tested: the same pushes, bit for bit, for
     /// every blade of a field under a crowd of 1,024, dense (one collider to 3.5
     /// square units) and sparse (one to 120, where most blades are left out of the
-    /// collision pass).
+    /// collision pass). Measured: 49.5 colliders looked at per blade in the dense
+    /// crowd (cubes four times larger: 194, and this failed); none of its blades
+    /// left out, 0.71 of the sparse crowd's (every blade handed over: 0, and this
+    /// failed; `Nearby::reaches` without the reach failed the pushes' check).
     #[test]
     fn the_grid_pushes_every_blade_as_testing_every_collider_does() {
         let (dense, dense_left) = grid_against_every(60.0);

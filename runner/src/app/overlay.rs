@@ -299,19 +299,8 @@ fn performance(ui: &mut egui::Ui, r: &Readings, device: &str, frame_ms: &[f32]) 
     match r.times {
         Some(t) => {
             egui::Grid::new("passes").num_columns(2).show(ui, |ui| {
-                let rows = [
-                    ("uploads + depth pyramid", t.depth_pyramid),
-                    ("simulate + cull", t.simulate_cull),
-                    ("shadow map", t.shadow),
-                    ("ground", t.ground),
-                    ("grass", t.grass),
-                    ("compute raster", t.raster),
-                    ("far resolve + MSAA resolve", t.resolve),
-                    ("shading (natural)", t.shade),
-                    ("TAA + sky + tone map", t.tone_map),
-                    ("overlay", t.overlay),
-                    ("GPU total", t.total),
-                ];
+                let total = [("GPU total", t.total)];
+                let rows = t.named().into_iter().chain(total);
                 for (name, ms) in rows {
                     ui.label(name);
                     ui.label(format!("{ms:.3} ms"));

@@ -53,6 +53,17 @@ pub struct SoakReport {
     pub seconds: f64,
     /// Validation was on.
     pub validation: bool,
+    /// The slowest frame the GPU's timestamps measured, where the device has them.
+    pub slowest: Option<SlowFrame>,
+}
+
+/// A frame's GPU time and its longest pass.
+#[derive(Copy, Clone, Debug)]
+pub struct SlowFrame {
+    /// The whole frame, milliseconds.
+    pub total: f64,
+    /// Its longest pass's name and milliseconds (`PassTimes::longest`).
+    pub pass: (&'static str, f64),
 }
 
 impl SoakReport {
@@ -102,10 +113,14 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     let changes = report.device_changes();
     let mib = |b: f64| b / (1024.0 * 1024.0);
     println!(
-        "soak: {} frames in {:.0} s; host memory {:+.1} MiB (lowest of the last third of \
+        "soak: {} frames in {:.0} s{}; host memory {:+.1} MiB (lowest of the last third of \
          the readings against the highest of the first third); device memory {}; {}",
         args.frames,
         report.seconds,
+        report.slowest.map_or(String::new(), |s| format!(
+            ", the slowest on the GPU {:.1} ms ({} {:.1} ms)",
+            s.total, s.pass.0, s.pass.1
+        )),
         mib(growth as f64),
         if changes.is_empty() {
             "the same at every reading of the same size".to_string()
@@ -205,11 +220,12 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     // One frame of `settings` at `size` seen by `camera`, `dt` seconds on, with the ball
     // circling the camera's target and the walkers (`--walkers`) wandering.
     let walkers = crate::walkers::Walkers::new(&scene, common.walkers);
-    let draw = |driver: &mut FrameDriver,
-                offscreen: &mut Offscreen,
-                settings: &Settings,
-                camera: &crate::camera::OrbitCamera,
-                dt: f64| {
+    let mut slowest = None;
+    let mut draw = |driver: &mut FrameDriver,
+                    offscreen: &mut Offscreen,
+                    settings: &Settings,
+                    camera: &crate::camera::OrbitCamera,
+                    dt: f64| {
         let size = offscreen.size();
         let request = |f: &Frame| {
             let angle = f.time * 0.7;
@@ -223,7 +239,17 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
                 .request(&camera.viewpoint(size), &balls)
                 .with_colliders(&walkers.colliders(&scene, f.time))
         };
-        driver.run(offscreen, dt, request, false)
+        driver.run(offscreen, dt, request, false)?;
+        // The newest frame read back (a slot's older frame, with no wait).
+        if let Some(t) = driver.readback.times
+            && slowest.is_none_or(|s: SlowFrame| t.total > s.total)
+        {
+            slowest = Some(SlowFrame {
+                total: t.total,
+                pass: t.longest(),
+            });
+        }
+        Ok::<(), anyhow::Error>(())
     };
     // Warm-up, before the first frame counted: at each size, one frame of every phase
     // the run will meet, and the same with every blade drawn at the most segments (no
@@ -294,6 +320,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
         readings,
         seconds: progress.seconds(),
         validation,
+        slowest,
     })
 }
 

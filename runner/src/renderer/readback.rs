@@ -52,6 +52,8 @@ pub struct CullCounts {
     pub casters: u32,
     /// Of those, the ones drawn into the near cascade too.
     pub near_casters: u32,
+    /// Blades within reach of a collider, handed to the collision pass.
+    pub collided: u32,
 }
 
 impl CullCounts {
@@ -73,6 +75,7 @@ impl CullCounts {
             tiles_hidden: c[counters::COUNTER_TILES_HIDDEN],
             casters: c[counters::COUNTER_CASTERS],
             near_casters: c[counters::COUNTER_NEAR_CASTERS],
+            collided: c[counters::COUNTER_NEAR],
         }
     }
     /// Blades removed by any test.
@@ -121,6 +124,30 @@ pub struct PassTimes {
 }
 
 impl PassTimes {
+    /// Each pass's time with its name, in the frame's order (the total apart).
+    pub fn named(&self) -> [(&'static str, f64); 10] {
+        [
+            ("uploads + depth pyramid", self.depth_pyramid),
+            ("simulate + cull", self.simulate_cull),
+            ("shadow map", self.shadow),
+            ("ground", self.ground),
+            ("grass", self.grass),
+            ("compute raster", self.raster),
+            ("far resolve + MSAA resolve", self.resolve),
+            ("shading (natural)", self.shade),
+            ("TAA + sky + tone map", self.tone_map),
+            ("overlay", self.overlay),
+        ]
+    }
+
+    /// The pass that took longest, with its time.
+    pub fn longest(&self) -> (&'static str, f64) {
+        self.named().into_iter().fold(
+            ("", f64::NEG_INFINITY),
+            |a, b| if b.1 > a.1 { b } else { a },
+        )
+    }
+
     /// From the milliseconds since [`Mark::Start`] at each later mark.
     fn from_marks(m: &[f64]) -> Self {
         let at = |mark: Mark| m[mark as usize - 1];

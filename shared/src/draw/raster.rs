@@ -150,10 +150,12 @@ fn curve_on_screen(
     on_screen(c, v, view_proj, params)
 }
 
-/// World point `p` (at `v` along its blade) on screen; `None` behind the camera.
+/// World point `p` (at `v` along its blade) on screen; `None` behind the camera or
+/// nearer than its near plane (a depth below 0, never drawn), where the projection
+/// would throw the point arbitrarily far off the target.
 fn on_screen(p: Vec3, v: f32, view_proj: Mat4, params: &RasterParams) -> Option<ScreenPoint> {
     let clip = view_proj * p.extend(1.0);
-    if clip.w <= 1e-6 {
+    if clip.w <= 1e-6 || clip.z < 0.0 {
         return None;
     }
     let ndc = clip.xyz() / clip.w;
@@ -163,6 +165,65 @@ fn on_screen(p: Vec3, v: f32, view_proj: Mat4, params: &RasterParams) -> Option<
         depth: ndc.z,
         v,
     })
+}
+
+/// Most samples one straight segment of a far blade is stepped in
+/// ([`segment_samples`]): far more than a target's diagonal.
+pub const MAX_SEGMENT_STEPS: f32 = 65_536.0;
+
+/// Samples segment `from` → `to` is stepped in: one a pixel along its longer axis
+/// (sample i at t = i / samples), at least 1, at most [`MAX_SEGMENT_STEPS`].
+fn segment_samples(from: ScreenPoint, to: ScreenPoint) -> u32 {
+    let (dx, dy) = ((to.x - from.x).abs(), (to.y - from.y).abs());
+    dx.max(dy).ceil().clamp(1.0, MAX_SEGMENT_STEPS) as u32
+}
+
+/// The samples of segment `from` → `to` ([`segment_samples`]: `samples` of them)
+/// that may lie on the target and within the depth range, as (first, last); `None`
+/// where none does. The segment is clipped against x in [0, width], y in
+/// [0, height] and depth in [0, 1] by Liang and Barsky's parametric test (*A new
+/// concept and method for line clipping*, ACM TOG 1984), so a segment reaching far off
+/// the target costs its pixels on it, not its length. A sample either side is kept
+/// for the rounding; the per-sample test keeps those off the target out.
+fn samples_on_target(
+    from: ScreenPoint,
+    to: ScreenPoint,
+    samples: u32,
+    params: &RasterParams,
+) -> Option<(u32, u32)> {
+    let (dx, dy, dz) = (to.x - from.x, to.y - from.y, to.depth - from.depth);
+    let (w, h) = (params.width as f32, params.height as f32);
+    // Each side keeps the t where t·p ≤ q.
+    let mut range = (0.0f32, 1.0f32);
+    let inside = clip_side(-dx, from.x, &mut range)
+        && clip_side(dx, w - from.x, &mut range)
+        && clip_side(-dy, from.y, &mut range)
+        && clip_side(dy, h - from.y, &mut range)
+        && clip_side(-dz, from.depth, &mut range)
+        && clip_side(dz, 1.0 - from.depth, &mut range);
+    if !inside || range.0 > range.1 {
+        return None;
+    }
+    let n = samples as f32;
+    let first = (range.0 * n).floor().max(0.0) as u32;
+    let last = ((range.1 * n).ceil() as u32).min(samples);
+    Some((first, last))
+}
+
+/// One side of Liang and Barsky's test ([`samples_on_target`]): narrows `range` to
+/// the t where t·p ≤ q; false where no t is (parallel to the side and outside it).
+fn clip_side(p: f32, q: f32, range: &mut (f32, f32)) -> bool {
+    if p == 0.0 {
+        q >= 0.0
+    } else {
+        let r = q / p;
+        if p < 0.0 {
+            range.0 = range.0.max(r);
+        } else {
+            range.1 = range.1.min(r);
+        }
+        true
+    }
 }
 
 /// Twice the signed area of the triangle (a, b, p): which side of a→b the point p is.
@@ -367,32 +428,34 @@ pub fn raster_line(
         let Some(to) = curve_on_screen(blade, s as f32 / segments as f32, view_proj, params) else {
             return plotted;
         };
-        // One step a pixel along the longer axis; the first segment takes its start.
-        let steps = (to.x - from.x)
-            .abs()
-            .max((to.y - from.y).abs())
-            .ceil()
-            .max(1.0) as u32;
-        let mut i = if s == 1 { 0 } else { 1 };
-        while i <= steps {
-            let t = i as f32 / steps as f32;
-            let x = from.x + t * (to.x - from.x);
-            let y = from.y + t * (to.y - from.y);
-            let depth = from.depth + t * (to.depth - from.depth);
-            let inside = x >= 0.0
-                && y >= 0.0
-                && x < params.width as f32
-                && y < params.height as f32
-                && depth >= 0.0
-                && depth <= 1.0;
-            let v = from.v + t * (to.v - from.v);
-            if inside && coverage.draws(v, step) {
-                plot(x as u32, y as u32, pack(depth, slot, v));
-                plotted += 1;
+        // One step a pixel along the longer axis, only over the part on the target;
+        // the first segment takes its start. `step` counts every sample, on the
+        // target or not, so where the target's edge cuts a blade does not change
+        // which of its samples the coverage's hash draws.
+        let start = if s == 1 { 0 } else { 1 };
+        let steps = segment_samples(from, to);
+        if let Some((first, last)) = samples_on_target(from, to, steps, params) {
+            let mut i = first.max(start);
+            while i <= last {
+                let t = i as f32 / steps as f32;
+                let x = from.x + t * (to.x - from.x);
+                let y = from.y + t * (to.y - from.y);
+                let depth = from.depth + t * (to.depth - from.depth);
+                let inside = x >= 0.0
+                    && y >= 0.0
+                    && x < params.width as f32
+                    && y < params.height as f32
+                    && depth >= 0.0
+                    && depth <= 1.0;
+                let v = from.v + t * (to.v - from.v);
+                if inside && coverage.draws(v, step + i - start) {
+                    plot(x as u32, y as u32, pack(depth, slot, v));
+                    plotted += 1;
+                }
+                i += 1;
             }
-            step += 1;
-            i += 1;
         }
+        step += steps + 1 - start;
         from = to;
         s += 1;
     }

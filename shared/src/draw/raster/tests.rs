@@ -285,3 +285,74 @@ fn far_means_shorter_on_screen_than_the_threshold() {
         "0 turns it off"
     );
 }
+
+/// A segment from far off the target onto it: only the samples that may be on it are
+/// stepped (at most its width and two more, against the 5,040 of its length), and
+/// they plot the pixels stepping every sample plots. Planted fault: every sample
+/// kept (`samples_on_target` giving 0 to `samples`) fails the count.
+#[test]
+fn a_segment_far_off_the_target_costs_its_pixels_on_it() {
+    let params = RasterParams {
+        width: 64,
+        height: 64,
+        below: 16.0,
+        segments: 1,
+    };
+    let point = |x: f32, y: f32, depth: f32, v: f32| ScreenPoint { x, y, depth, v };
+    let inside = |p: &ScreenPoint| {
+        p.x >= 0.0 && p.y >= 0.0 && p.x < 64.0 && p.y < 64.0 && p.depth >= 0.0 && p.depth <= 1.0
+    };
+    let along = |from: ScreenPoint, to: ScreenPoint, i: u32, n: u32| {
+        let t = i as f32 / n as f32;
+        point(
+            from.x + t * (to.x - from.x),
+            from.y + t * (to.y - from.y),
+            from.depth + t * (to.depth - from.depth),
+            0.0,
+        )
+    };
+    let cases = [
+        // From far left onto the middle.
+        (point(-5000.0, 32.0, 0.5, 0.0), point(40.0, 20.0, 0.5, 1.0)),
+        // Across the whole target and out, the depth leaving 0..1 on the way.
+        (
+            point(-900.0, -300.0, -0.4, 0.0),
+            point(900.0, 400.0, 1.3, 1.0),
+        ),
+        // On the target throughout.
+        (point(3.0, 60.0, 0.2, 0.0), point(50.0, 1.0, 0.9, 1.0)),
+    ];
+    for (from, to) in cases {
+        let n = segment_samples(from, to);
+        let (first, last) = samples_on_target(from, to, n, &params).expect("on the target");
+        assert!(last - first <= 64 + 2, "{first}..={last} of {n}");
+        let every: Vec<u32> = (0..=n)
+            .filter(|&i| inside(&along(from, to, i, n)))
+            .collect();
+        let kept: Vec<u32> = (first..=last)
+            .filter(|&i| inside(&along(from, to, i, n)))
+            .collect();
+        assert_eq!(kept, every);
+    }
+    // Wholly off the target (right of it), or wholly beyond the far plane: none.
+    let right = (point(70.0, 3.0, 0.5, 0.0), point(9000.0, 40.0, 0.5, 1.0));
+    let beyond = (point(10.0, 10.0, 1.2, 0.0), point(30.0, 40.0, 1.5, 1.0));
+    for (from, to) in [right, beyond] {
+        let n = segment_samples(from, to);
+        assert_eq!(samples_on_target(from, to, n, &params), None);
+    }
+}
+
+/// A point nearer than the near plane is not on screen: a blade beside the camera,
+/// just in front of it, would project far off the target and be stepped across all
+/// of it. Planted fault: only points behind the camera refused: this one is then on
+/// screen at x ≈ 1.8·10⁵ on a target 64 pixels wide.
+#[test]
+fn a_point_nearer_than_the_near_plane_is_not_on_screen() {
+    let (params, _, view_proj, _) = looking_at_the_origin(64, 16.0, 2);
+    // The camera stands at z = 10 looking down -z, its near plane at 0.1.
+    let beside = Vec3::new(3.0, 1.0, 10.0 - 1e-3);
+    assert_eq!(on_screen(beside, 0.0, view_proj, &params), None);
+    let ahead = Vec3::new(0.0, 1.0, 10.0 - 0.2);
+    assert!(on_screen(ahead, 0.0, view_proj, &params).is_some());
+}

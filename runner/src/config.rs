@@ -192,6 +192,10 @@ pub struct ViewerState {
     pub ball: bool,
     /// Walkers wandering the ground (`--walkers`).
     pub walkers: u32,
+    /// Mowers cutting the grass (`--mowers`).
+    pub mowers: u32,
+    /// The ball cuts (C; `--ball-cuts`).
+    pub ball_cuts: bool,
 }
 
 /// The running `settings` and `viewer` state (as the overlay and the keys leave them)
@@ -247,6 +251,7 @@ pub fn current(
         ("shape", Some(word(s.shape.to_possible_value()))),
         ("tip-start", number(s.tip_start)),
         ("trample-decay", number(s.trample_decay)),
+        ("regrow", number(s.regrow)),
         ("stiffness", number(s.stiffness)),
         ("collider-radius", number(common.collider_radius)),
         ("collider-speed", number(common.collider_speed)),
@@ -259,6 +264,8 @@ pub fn current(
         ),
         ("no-ball", switch(!viewer.ball)),
         ("walkers", Some(viewer.walkers.to_string())),
+        ("mowers", Some(viewer.mowers.to_string())),
+        ("ball-cuts", switch(viewer.ball_cuts)),
         ("look", Some(word(look.style.to_possible_value()))),
         ("no-shadows", switch(!look.shadows)),
         ("shadows", switch(look.shadows)),

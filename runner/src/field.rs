@@ -20,7 +20,9 @@ use shared::gpu::layout::{
     ThroughputPush,
 };
 use shared::gpu::layout::{SelectPush, TilePush};
+use shared::sim;
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
+use shared::sim::cut::{CUT_SLOTS, CUT_WORDS};
 use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, REACH_MARGIN};
 use std::sync::Arc;
 
@@ -54,7 +56,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 28] = [
+pub const BINDINGS: [BindingSpec; 29] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -139,6 +141,8 @@ pub const BINDINGS: [BindingSpec; 28] = [
     storage(layout::BINDING_COLLIDER_GRID),
     // The blades handed to the compute pass's collision pass, and its dispatch.
     storage(layout::BINDING_NEAR),
+    // The cut table (`shared::sim::cut`), kept for the field's life.
+    storage(layout::BINDING_CUTS),
 ];
 
 /// The fragment stages and the compute stage (the natural look shaded after the
@@ -282,6 +286,8 @@ pub struct Field {
     /// The blades handed to the compute pass's collision pass, after its indirect
     /// dispatch (`layout::BINDING_NEAR`).
     pub near: Buffer,
+    /// The cut table (`shared::sim::cut`: `CUT_SLOTS` slots, 4 MiB), empty at first.
+    pub cuts: Buffer,
     /// How far a blade reaches from its root (`sim::grid::ColliderGrid::reach`): the
     /// tallest blade times `sim::grid::REACH_MARGIN`; a tiled field's tallest is the
     /// tallest a tile grows, twice that under a painted height map (which doubles at
@@ -490,11 +496,19 @@ impl Field {
             u64::from(GRID_SLOTS) * GRID_WORDS as u64 * 4,
             U::STORAGE_BUFFER | U::TRANSFER_DST,
         )?;
+        let cuts = device_buffer(
+            "cut table",
+            u64::from(CUT_SLOTS) * CUT_WORDS as u64 * 4,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
+        )?;
 
         // A placeholder until a frame sizes it: no occlusion test without a target.
         let pyramid = Self::pyramid_buffer(ctx, 1)?;
 
-        pool.one_shot(|rec| rec.fill_buffer(strengths.buffer, 0))?;
+        pool.one_shot(|rec| {
+            rec.fill_buffer(strengths.buffer, 0);
+            rec.fill_buffer(cuts.buffer, sim::cut::NO_CELL);
+        })?;
 
         let descriptors = DescriptorSet::new(ctx, &BINDINGS)?;
         // In the order of BINDINGS.
@@ -521,6 +535,7 @@ impl Field {
         let grid = collider_grid.buffer;
         descriptors.write_buffer(layout::BINDING_COLLIDER_GRID, storage, grid);
         descriptors.write_buffer(layout::BINDING_NEAR, storage, near.buffer);
+        descriptors.write_buffer(layout::BINDING_CUTS, storage, cuts.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_RASTER_ARGS, storage, raster_args.buffer);
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
@@ -561,6 +576,7 @@ impl Field {
             colliders,
             collider_grid,
             near,
+            cuts,
             reach,
             pyramid,
             descriptors,

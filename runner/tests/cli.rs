@@ -470,6 +470,56 @@ fn walkers_through_the_command_line() {
     );
 }
 
+/// `--mowers` and `--ball-cuts`: out of range refused; mowers change the picture
+/// (they cut), the same mowers the same picture; the ball that cuts leaves another
+/// picture than the ball that presses.
+#[test]
+fn cutting_through_the_command_line() {
+    if !runs_here("cutting_through_the_command_line", &[]) {
+        return;
+    }
+    let o = grass(&["render", "--mowers", "65"]);
+    let said = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(!o.status.success() && said.contains("--mowers"), "{said}");
+    let dir = scratch("cutting");
+    let picture = |name: &str, args: &[&str]| calm_picture(&dir.join(name), args);
+    let mown = picture("mown.png", &["--mowers", "6"]);
+    assert_eq!(
+        mown,
+        picture("mown-again.png", &["--mowers", "6"]),
+        "the same mowers differ"
+    );
+    assert_ne!(mown, picture("none.png", &[]), "the mowers changed nothing");
+    // Only with a ball: refused without one.
+    for no_ball in [&["--no-ball"][..], &[]] {
+        let mut args = vec!["render", "--ball-cuts"];
+        args.extend_from_slice(no_ball);
+        let o = grass(&args);
+        let said = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(
+            !o.status.success() && said.contains("--ball-cuts: there is no ball"),
+            "{said}"
+        );
+    }
+    let ball = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let path = out.to_str().expect("utf-8 path");
+        let mut args = vec!["render", "--wind", "calm", "--blades", "1024"];
+        args.extend_from_slice(&["--frames", "30", "--collider-path", "-2,0;2,0"]);
+        args.extend_from_slice(&["--width", "64", "--height", "64", "--look", "paper"]);
+        args.extend_from_slice(&["--out", path]);
+        args.extend_from_slice(extra);
+        let o = grass(&args);
+        assert!(o.status.success(), "{}", stderr_of(&args, &o));
+        std::fs::read(out).expect("the picture")
+    };
+    assert_ne!(
+        ball("cut.png", &["--ball-cuts"]),
+        ball("pressed.png", &[]),
+        "the ball cut nothing"
+    );
+}
+
 #[test]
 fn a_recorded_gif_has_its_frames_and_the_ball_moves_in_them() {
     if !runs_here(
@@ -570,6 +620,9 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("collider-speed", Some("1"), "ball"),
     ("no-ball", None, "ball"),
     ("walkers", Some("3"), "walkers"),
+    ("mowers", Some("2"), "walkers"),
+    ("ball-cuts", None, "ball"),
+    ("regrow", Some("5"), "Settings"),
     ("trample-decay", Some("0.75"), "Settings"),
     ("stiffness", Some("2"), "Settings"),
     ("gravity", Some("5"), "Settings"),

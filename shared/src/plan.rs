@@ -65,6 +65,18 @@ impl FrameRequest {
         self
     }
 
+    /// This frame with the colliders so far (the balls, before any added with
+    /// [`FrameRequest::with_colliders`]) cutting the grass instead of pushing it, where
+    /// `cuts` (`sim::cut`).
+    pub fn with_balls_cutting(mut self, cuts: bool) -> Self {
+        if cuts {
+            for c in &mut self.colliders {
+                *c = c.cutting();
+            }
+        }
+        self
+    }
+
     /// The colliders.
     pub fn colliders(&self) -> &[Collider] {
         &self.colliders
@@ -111,6 +123,10 @@ pub struct FrameFacts {
     /// How far the field's tallest blade reaches from its root (the colliders'
     /// grid's reach, `sim::grid::ColliderGrid::reach`).
     pub reach: f32,
+    /// Simulated time of the newest cut before this frame (`f32::NEG_INFINITY`:
+    /// none): the blades read the cut table while it may still be growing back
+    /// (`Environment::cutting`).
+    pub last_cut: f32,
     /// Frames drawn before this one (the jitter's place in its sequence).
     pub frame: u32,
     /// The previous frame's unjittered view-projection, where the temporal history
@@ -279,6 +295,10 @@ impl Settings {
             forces: Environment {
                 time: facts.time,
                 impulses: impulses.live(),
+                cutting: u32::from(
+                    colliders[..used].iter().any(Collider::cuts)
+                        || facts.time - facts.last_cut < self.regrow,
+                ),
                 ..self.environment(used as u32)
             },
             collider_grid,
@@ -455,6 +475,7 @@ mod tests {
             },
             time: 0.0,
             reach: 2.5,
+            last_cut: f32::NEG_INFINITY,
             frame: 0,
             previous: None,
         };

@@ -415,6 +415,8 @@ pub struct Settings {
     pub wind: Wind,
     /// Collision strength lost per second (strength 1 holds a blade down fully).
     pub trample_decay: f32,
+    /// Seconds a cut blade takes to grow back (`sim::cut::regrown`).
+    pub regrow: f32,
     /// Factor on every blade's stiffness.
     pub stiffness: f32,
     /// The sun.
@@ -479,6 +481,7 @@ impl Default for Settings {
                 gust_speed: crate::sim::simulate::DEFAULT_GUST_SPEED,
             },
             trample_decay: 0.25,
+            regrow: crate::sim::simulate::DEFAULT_REGROW,
             stiffness: 1.0,
             light: Light {
                 direction: Vec3::new(0.4, 0.8, 0.3).normalize(),
@@ -560,7 +563,9 @@ impl Settings {
             far_sway: u32::from(self.far_sway),
             gust_speed: self.wind.gust_speed,
             impulses: 0,
-            pad: [0; 3],
+            regrow: self.regrow,
+            cutting: 0,
+            pad: 0,
         }
     }
 

@@ -288,7 +288,9 @@ fn environment() -> impl Strategy<Value = Environment> {
                     far_sway: 1,
                     gust_speed: 6.0,
                     impulses,
-                    pad: [0; 3],
+                    regrow: shared::sim::simulate::DEFAULT_REGROW,
+                    cutting: 0,
+                    pad: 0,
                 }
             },
         )
@@ -604,7 +606,9 @@ fn corners() -> Vec<(Environment, BladeState)> {
                             far_sway: 1,
                             gust_speed: 6.0,
                             impulses: MAX_IMPULSES as u32,
-                            pad: [0; 3],
+                            regrow: shared::sim::simulate::DEFAULT_REGROW,
+                            cutting: 0,
+                            pad: 0,
                         };
                         out.extend(blades.iter().map(|b| (env, (*b, 0.0))));
                     }

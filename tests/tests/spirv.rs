@@ -511,6 +511,8 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(Environment, far_sway),
                 offset_of!(Environment, gust_speed),
                 offset_of!(Environment, impulses),
+                offset_of!(Environment, regrow),
+                offset_of!(Environment, cutting),
                 offset_of!(Environment, pad),
             ],
         ),

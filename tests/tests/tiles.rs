@@ -1150,3 +1150,128 @@ fn a_simulated_tile_stands_as_the_far_pose_and_returns_to_it() {
         assert!(left < 1e-4, "{left}");
     });
 }
+
+/// A ball that cuts rolls over a tile by the camera for a sixth of a second; then the
+/// camera flies 200 units off, on to eight places for eight seconds (the tile, no
+/// longer held for a trail, leaves the pool as it turns over), looks at the tile from 10 units (a far tile,
+/// generated), and comes back (the tile regenerated in the pool). The far blades and
+/// the pool's blades of every cut cell stand at the regrowth formula's height for the
+/// GPU's cut table, the others at their own: the cut survives the pool turning over
+/// and reaches the far blades. Measured on lavapipe: 48 of the tile's 256 pool blades
+/// cut, 10 of its 65 far blades drawn. (A planted fault in the far generation was tried but not seen through: the
+/// changed shader's first compile on lavapipe outlasted the frame's one-minute wait.)
+#[test]
+fn a_cut_survives_the_pool_turning_over_and_reaches_the_far_blades() {
+    use runner::app::driver::FrameDriver;
+    use runner::app::headless::Offscreen;
+    use shared::glam::Vec4;
+    use shared::sim::collide::Collider;
+    use shared::sim::cut::{CUT_SLOTS, CUT_WORDS, cell_key, find, regrown};
+    tests::with_device("a_cut_survives_the_pool_turning_over", |ctx| {
+        let (scene, spec) = small_world(16, 1000.0);
+        let per_tile = spec.tile_blades();
+        let mut settings = scene.settings();
+        // A trail held for a few seconds only; a slow regrowth.
+        settings.trample_decay = 100.0;
+        settings.regrow = 1000.0;
+        let ball = Vec4::new(1.0, 0.5, 1.0, 1.0);
+        let cutter = Collider::from_sphere(ball).cutting();
+        let tile = shared::world::tiles::tile_of(Vec2::new(ball.x, ball.z), &spec.params);
+        let mut target = Offscreen::new(&ctx, 96, 64).unwrap();
+        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).unwrap();
+        let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
+        let mut frame = |driver: &mut FrameDriver, at: Vec2, cutting: bool| {
+            let eye = camera_at(at).viewpoint(target.size());
+            let cutters: &[Collider] = if cutting { &[cutter] } else { &[] };
+            let request = settings.request(&eye, &[]).with_colliders(cutters);
+            driver
+                .run(&mut target, 1.0 / 60.0, |_| request.clone(), false)
+                .unwrap();
+        };
+        let (home, away, far) = (
+            Vec2::new(1.0, -1.0),
+            Vec2::new(200.0, 2.0),
+            Vec2::new(1.0, 12.0),
+        );
+        for _ in 0..10 {
+            frame(&mut driver, home, true);
+        }
+        // Eight places far apart: far more new tiles than the pool holds.
+        for step in 0..480 {
+            let spot = away + Vec2::X * (60 * (step / 60)) as f32;
+            frame(&mut driver, spot, false);
+        }
+        driver.finish().unwrap();
+        let tiles = driver.renderer.tiles.as_ref().unwrap();
+        assert_eq!(tiles.slot_of(tile), None, "the cut tile still in the pool");
+        // Each blade of the tile against its own and its cell's cut.
+        let check = |driver: &FrameDriver, pool: bool| {
+            let renderer = &driver.renderer;
+            let now = renderer.block().forces.time;
+            let table: Vec<u32> = renderer
+                .download(&renderer.field.cuts, CUT_SLOTS as usize * CUT_WORDS)
+                .unwrap();
+            let count = renderer.field.blade_count as usize;
+            let blades: Vec<shared::Blade> =
+                renderer.download(&renderer.field.blades, count).unwrap();
+            let ids = renderer.field.ids.as_ref().unwrap();
+            let ids: Vec<u32> = renderer.download(ids, 2 * count).unwrap();
+            let simulated = renderer.field.simulated as usize;
+            let range = if pool { 0..simulated } else { simulated..count };
+            let (mut cut, mut whole) = (0, 0);
+            for k in 0..per_tile {
+                let own = tile_blade(tile, k, Vec3::ZERO, &spec.params, &[]);
+                let id = shared::world::tiles::blade_id(tile, k);
+                let Some(i) = range
+                    .clone()
+                    .find(|&i| ids[2 * i] == id && kept(&blades[i]))
+                else {
+                    continue;
+                };
+                let g = &blades[i];
+                let (v0, v1, v2) = (g.root(), g.guide(), g.tip());
+                // Pool blades keep their own height in the buffer: their length
+                // (the paper's estimate) is the cut's; far blades are written cut.
+                let height = if pool {
+                    (2.0 * (v2 - v0).length() + (v2 - v1).length() + (v1 - v0).length()) / 3.0
+                } else {
+                    g.height()
+                };
+                let expected = match find(&table, cell_key(own.root())) {
+                    Some(c) => regrown(own.height(), c.stub, now - c.time, settings.regrow),
+                    None => own.height(),
+                };
+                assert!(
+                    (height - expected).abs() <= 1e-3 * expected,
+                    "{} blade {k}: {height} against {expected}",
+                    if pool { "pool" } else { "far" }
+                );
+                if expected < 0.5 * own.height() {
+                    cut += 1;
+                } else {
+                    whole += 1;
+                }
+            }
+            println!(
+                "{}: {cut} blades of the tile cut, {whole} whole",
+                if pool { "pool" } else { "far" }
+            );
+            assert!(cut > 3 && whole > 3, "{cut} cut, {whole} whole");
+        };
+        frame(&mut driver, far, false);
+        driver.finish().unwrap();
+        check(&driver, false);
+        frame(&mut driver, home, false);
+        driver.finish().unwrap();
+        assert!(
+            driver
+                .renderer
+                .tiles
+                .as_ref()
+                .unwrap()
+                .slot_of(tile)
+                .is_some()
+        );
+        check(&driver, true);
+    });
+}

@@ -62,6 +62,11 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// Simulated seconds its steps take.
+    pub fn seconds(&self) -> f32 {
+        self.push.steps as f32 * shared::sim::simulate::STEP_SECONDS
+    }
+
     /// The image's size, (width, height) in pixels.
     pub fn extent(&self) -> (u32, u32) {
         let e = self.acquired.target.extent;

@@ -72,7 +72,12 @@ pub const NOT_ACTING: &[(&str, &[&str], &str)] = &[
     ),
     (
         "bench",
-        &["collider-path", "collider-radius", "collider-speed"],
+        &[
+            "collider-path",
+            "collider-radius",
+            "collider-speed",
+            "ball-cuts",
+        ],
         "bench runs without a ball",
     ),
     (
@@ -83,8 +88,11 @@ pub const NOT_ACTING: &[(&str, &[&str], &str)] = &[
             "collider-speed",
             "trample-decay",
             "walkers",
+            "mowers",
+            "ball-cuts",
+            "regrow",
         ],
-        "quality measures a still field, without a ball or walkers",
+        "quality measures a still field, without a ball, walkers or mowers",
     ),
 ];
 
@@ -101,6 +109,17 @@ fn check_options(command: &str, common: &Common) -> Result<()> {
             &["trample-decay"],
             "bench runs without a ball; with --walkers it acts",
         )?;
+    }
+    // The viewer's B key brings a ball back; render and record roll one only along
+    // a path.
+    if common.no_ball && command != "view" {
+        given.refuse(&["ball-cuts"], "there is no ball (--no-ball)")?;
+    }
+    if common.collider_path.is_none() && matches!(command, "render" | "record") {
+        given.refuse(&["ball-cuts"], "there is no ball without --collider-path")?;
+    }
+    if command == "bench" && common.mowers == 0 {
+        given.refuse(&["regrow"], "bench cuts nothing; with --mowers it acts")?;
     }
     if command == "config" {
         let every: Vec<String> = crate::config::settable()
@@ -329,6 +348,7 @@ pub fn settings(common: &Common, scene: &Scene, device: &Capabilities) -> Result
     s.shape = common.shape;
     s.tip_start = common.tip_start;
     s.trample_decay = common.trample_decay;
+    s.regrow = common.regrow;
     s.stiffness = common.stiffness;
     s.gravity.acceleration = common.gravity;
     if let Some(c) = common.gravity_centre {

@@ -173,8 +173,10 @@ pub struct Headless {
     pub ball: Option<BallPath>,
     /// The command line's wind impulses (`--impulse`), centred on the ground.
     pub impulses: Impulses,
-    /// The command line's walkers (`--walkers`).
+    /// The command line's walkers and mowers (`--walkers`, `--mowers`).
     pub walkers: Walkers,
+    /// The ball cuts (`--ball-cuts`).
+    pub ball_cuts: bool,
 }
 
 impl Headless {
@@ -192,7 +194,8 @@ impl Headless {
         let driver = FrameDriver::new(&ctx, Renderer::new(&ctx, &scene.meshes(), FORMAT)?)?;
         let eye_at = Box::new(camera_path(&scene, camera, offscreen.size())?);
         let impulses = on_the_ground(&scene, &events.impulses)?;
-        let walkers = Walkers::new(&scene, common.walkers);
+        let walkers = Walkers::new(&scene, common.walkers).with_mowers(common.mowers);
+        let ball_cuts = common.ball_cuts;
         Ok(Self {
             ctx,
             scene,
@@ -203,6 +206,7 @@ impl Headless {
             ball: BallPath::of(common),
             impulses,
             walkers,
+            ball_cuts,
         })
     }
 
@@ -211,13 +215,15 @@ impl Headless {
     pub fn frame(&mut self, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
         let (ball, impulses, walkers) = (self.ball.as_ref(), &self.impulses, &self.walkers);
+        let ball_cuts = self.ball_cuts;
         let request = |f: &Frame| {
             let balls = ball
                 .map(|b| b.spheres_at(scene, f.time))
                 .unwrap_or_default();
             settings
                 .request(&eye_at(f.time), &balls)
-                .with_colliders(&walkers.colliders(scene, f.time))
+                .with_balls_cutting(ball_cuts)
+                .with_colliders(&walkers.colliders(scene, f.time, f.seconds()))
                 .with_impulses(impulses)
         };
         self.driver

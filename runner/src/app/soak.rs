@@ -219,7 +219,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     let phase_frames = (args.every / PHASES_PER_READING).max(1);
     // One frame of `settings` at `size` seen by `camera`, `dt` seconds on, with the ball
     // circling the camera's target and the walkers (`--walkers`) wandering.
-    let walkers = crate::walkers::Walkers::new(&scene, common.walkers);
+    let walkers = crate::walkers::Walkers::new(&scene, common.walkers).with_mowers(common.mowers);
     let mut slowest = None;
     let mut draw = |driver: &mut FrameDriver,
                     offscreen: &mut Offscreen,
@@ -237,7 +237,8 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
                 .collect();
             settings
                 .request(&camera.viewpoint(size), &balls)
-                .with_colliders(&walkers.colliders(&scene, f.time))
+                .with_balls_cutting(common.ball_cuts)
+                .with_colliders(&walkers.colliders(&scene, f.time, f.seconds()))
         };
         driver.run(offscreen, dt, request, false)?;
         // The newest frame read back (a slot's older frame, with no wait).

@@ -151,6 +151,16 @@ pub struct Common {
     /// units of its path).
     #[arg(long, global = true, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::walkers::MAX_WALKERS)))]
     pub walkers: u32,
+    /// Mowers (0 to 64): boxes 1.2 wide driving over the walkers' ground that cut the
+    /// grass 0.1 above it; it grows back over --regrow seconds.
+    #[arg(long, global = true, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::walkers::MAX_MOWERS)))]
+    pub mowers: u32,
+    /// The ball cuts the grass it rolls over instead of pressing it down.
+    #[arg(long, global = true)]
+    pub ball_cuts: bool,
+    /// Seconds cut grass takes to grow back to its height.
+    #[arg(long, global = true, default_value_t = shared::sim::simulate::DEFAULT_REGROW, value_parser = range(0.1, 3600.0))]
+    pub regrow: f32,
     /// How fast trampled grass gets its stiffness back: collision strength lost per
     /// second (strength 1 holds a blade down fully).
     #[arg(long, global = true, default_value_t = 0.25, value_parser = range(0.0, 100.0))]

@@ -142,6 +142,8 @@ fn loaded(cli: &Cli, scene: &crate::scene::Scene) -> (shared::settings::Settings
         full_distance: cli.common.full_distance,
         ball: !cli.common.no_ball,
         walkers: cli.common.walkers,
+        mowers: cli.common.mowers,
+        ball_cuts: cli.common.ball_cuts,
     };
     (settings, viewer)
 }
@@ -188,6 +190,7 @@ fn every_setting_is_saved_and_read_back() {
     s.wind.direction = -40.25;
     s.wind.gust_speed = 2.75;
     s.trample_decay = 0.5;
+    s.regrow = 12.5;
     s.stiffness = 2.5;
     s.cull.tests = CullTests::NONE;
     s.cull.orientation_threshold = 0.7;
@@ -219,6 +222,8 @@ fn every_setting_is_saved_and_read_back() {
         full_distance: Some(37.5),
         ball: false,
         walkers: 640,
+        mowers: 7,
+        ball_cuts: true,
     };
 
     let unchanged: Vec<String> = leaves(&format!("{defaults:#?}"))
@@ -235,6 +240,8 @@ fn every_setting_is_saved_and_read_back() {
     assert_ne!(viewer.full_distance, default_viewer.full_distance);
     assert_ne!(viewer.ball, default_viewer.ball);
     assert_ne!(viewer.walkers, default_viewer.walkers);
+    assert_ne!(viewer.mowers, default_viewer.mowers);
+    assert_ne!(viewer.ball_cuts, default_viewer.ball_cuts);
 
     let path = file("saved.toml", &current(&first.common, &s, &viewer));
     let again = parse(&path, &[]).unwrap();

@@ -35,7 +35,11 @@ impl Field {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         self.descriptors
             .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
-        pool.one_shot(|rec| rec.fill_buffer(self.strengths.buffer, 0))
+        // New blades: no trail, no cut.
+        pool.one_shot(|rec| {
+            rec.fill_buffer(self.strengths.buffer, 0);
+            rec.fill_buffer(self.cuts.buffer, shared::sim::cut::NO_CELL);
+        })
     }
 
     pub(super) fn pyramid_buffer(ctx: &Arc<Context>, floats: u32) -> Result<Buffer> {

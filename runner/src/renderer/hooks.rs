@@ -28,8 +28,7 @@ impl Renderer {
         let plan = request.plan().within(false, self.draw.raster.supported());
         // No target: no size, and the plan reads no pyramid.
         let facts = self.facts(vk::Extent2D::default(), push);
-        self.block = request.uniforms(&plan, &facts);
-        let uniforms = self.block;
+        let uniforms = self.make_block(request, &plan, &facts);
         let colliders = &request.colliders()[..uniforms.forces.colliders as usize];
         self.begin_compute(rec, &uniforms, colliders);
         // The simulation and the counters alone: nothing is drawn, so nothing dressed.

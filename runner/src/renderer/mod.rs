@@ -164,6 +164,8 @@ pub struct Renderer {
     block: FrameUniforms,
     /// What the temporal anti-aliasing keeps from frame to frame.
     temporal: Temporal,
+    /// Simulated time of the newest frame with a cutter (`FrameFacts::last_cut`).
+    last_cut: f32,
     pool: CommandPool,
     module: ShaderModules,
 }
@@ -245,6 +247,7 @@ impl Renderer {
             clumped: None,
             block: bytemuck::Zeroable::zeroed(),
             temporal: Temporal::default(),
+            last_cut: f32::NEG_INFINITY,
             pool,
             module,
         })
@@ -265,6 +268,7 @@ impl Renderer {
     pub fn replace_blades(&mut self, blades: &[Blade]) -> Result<()> {
         self.ctx.wait_idle()?;
         self.clumped = None;
+        self.last_cut = f32::NEG_INFINITY;
         self.field.replace_blades(&self.ctx, &self.pool, blades)
     }
 
@@ -437,8 +441,23 @@ impl Renderer {
         self.draw
             .ground
             .follow(request.eye.position, request.eye.view_proj);
-        self.block = request.uniforms(plan, &self.facts(extent, push));
-        Ok(self.block)
+        let facts = self.facts(extent, push);
+        Ok(self.make_block(request, plan, &facts))
+    }
+
+    /// The frame's block from `request` drawn as `plan` says with `facts`, kept as
+    /// the newest; a frame with a cutter becomes the newest cut (`last_cut`).
+    fn make_block(
+        &mut self,
+        request: &FrameRequest,
+        plan: &FramePlan,
+        facts: &FrameFacts,
+    ) -> FrameUniforms {
+        self.block = request.uniforms(plan, facts);
+        if request.colliders().iter().any(Collider::cuts) {
+            self.last_cut = facts.time;
+        }
+        self.block
     }
 
     /// What the renderer knows of a frame into a target of `extent` after `push`'s
@@ -450,6 +469,7 @@ impl Renderer {
             field: self.field_part(),
             time: shared::sim::simulate::step_time(push.first_step + push.steps),
             reach: self.field.reach,
+            last_cut: self.last_cut,
             frame: self.temporal.frame,
             previous: self.temporal.previous,
         }

@@ -54,6 +54,10 @@ pub struct CullCounts {
     pub near_casters: u32,
     /// Blades within reach of a collider, handed to the collision pass.
     pub collided: u32,
+    /// Blades a cutter cut (`shared::sim::cut`).
+    pub cut: u32,
+    /// Cuts the cut table had no room for.
+    pub cuts_dropped: u32,
 }
 
 impl CullCounts {
@@ -76,6 +80,8 @@ impl CullCounts {
             casters: c[counters::COUNTER_CASTERS],
             near_casters: c[counters::COUNTER_NEAR_CASTERS],
             collided: c[counters::COUNTER_NEAR],
+            cut: c[counters::COUNTER_CUTS],
+            cuts_dropped: c[counters::COUNTER_CUTS_DROPPED],
         }
     }
     /// Blades removed by any test.

@@ -1,6 +1,7 @@
 //! One thread per blade: this frame's simulation steps, the four culling tests and the
 //! compaction of the survivors into the visible list.
 
+use super::cut::{cut_blade, cut_now};
 use shared::Blade;
 use shared::cull::blade::{KEPT, cull_outcome_as_drawn};
 use shared::cull::lod::blade_level;
@@ -43,6 +44,7 @@ pub struct BladeBuffers<'a> {
     colliders: &'a [Collider],
     grid: &'a [u32],
     near: &'a mut [u32],
+    cuts: &'a mut [u32],
 }
 
 /// One thread per blade: this frame's fixed steps of forces, collisions and validation
@@ -80,6 +82,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] collider_list: &[Collider],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 28)] cuts: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
     #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
@@ -104,6 +107,7 @@ pub fn simulate_cull(
         colliders: collider_list,
         grid,
         near,
+        cuts,
     };
     let mesh = mesh_path != 0;
     let prepare = |_: u32, _: u32, kept: &Blade, before: BladeMotion, _: &[u32], _: Vec2| {
@@ -161,6 +165,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] collider_list: &[Collider],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 28)] cuts: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
     #[spirv(workgroup)] places: &mut [BinPlaces; BUCKETS as usize],
     #[spirv(spec_constant(id = 0, default = 1))] wind_field: u32,
@@ -185,6 +190,7 @@ pub fn simulate_cull_natural(
         colliders: collider_list,
         grid,
         near,
+        cuts,
     };
     let camera = frame.camera.position;
     let half = push.tiles.half_extent;
@@ -301,6 +307,7 @@ fn simulate_and_cull<T: Copy + Default>(
         colliders: collider_list,
         grid,
         near,
+        cuts,
     } = buffers;
     if local < COUNTER_COUNT as u32 {
         tally[local as usize] = 0;
@@ -405,6 +412,8 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
+    // Its own height stays in the buffer, whatever a cut leaves of it.
+    let mut own_height = 0.0;
     if in_field {
         let i = index as usize;
         blade = blades[i];
@@ -412,7 +421,9 @@ fn simulate_and_cull<T: Copy + Default>(
             blade = blade.with_width(pool_width);
             drawn = pool_width > 0.0;
         }
+        own_height = blade.height();
         if simulated {
+            blade = cut_blade(blade, frame, nearby, near_pass, cuts, counters);
             let held = strengths[i];
             let strength;
             (blade, strength) = simulate(
@@ -435,7 +446,7 @@ fn simulate_and_cull<T: Copy + Default>(
                     &forces,
                     &frame.impulses,
                 );
-                blade = fade_to_far(&blade, &far, fade);
+                blade = fade_to_far(&blade, &cut_now(&far, frame, cuts), fade);
             }
             // Unchanged (no collider near, none lingering): nothing to write back.
             if strength != held {
@@ -502,7 +513,7 @@ fn simulate_and_cull<T: Copy + Default>(
     // visible blade's old curve was read again above.
     if in_field && simulated {
         let i = index as usize;
-        blades[i].v1 = blade.v1;
+        blades[i].v1 = blade.guide().extend(own_height);
         blades[i].v2 = blade.v2;
     }
     workgroup_memory_barrier_with_group_sync();

@@ -216,6 +216,7 @@ pub fn generate_far(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 20)] tiles: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 21)] ids: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 22)] paint: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 28)] cuts: &[u32],
     #[spirv(spec_constant(id = 2, default = 0))] impulses: u32,
 ) {
     let forces = blowing(frame, impulses);
@@ -230,6 +231,8 @@ pub fn generate_far(
         write_tile_blade(
             slot, tile, k, camera, frame, &forces, params, paint, blades, ids, clumps,
         );
+        // As the cuts leave it (`shared::sim::cut`), as the pool's blades are.
+        blades[slot] = super::cut::cut_now(&blades[slot], frame, cuts);
         k += GENERATE_WORKGROUP;
     }
 }

@@ -168,7 +168,7 @@ fn on_screen(p: Vec3, v: f32, view_proj: Mat4, params: &RasterParams) -> Option<
 }
 
 /// Most samples one straight segment of a far blade is stepped in
-/// ([`segment_samples`]): far more than a target's diagonal.
+/// (`segment_samples`): far more than a target's diagonal.
 pub const MAX_SEGMENT_STEPS: f32 = 65_536.0;
 
 /// Samples segment `from` → `to` is stepped in: one a pixel along its longer axis

@@ -56,6 +56,10 @@ pub const COUNTER_NEAR_CASTERS: usize = COUNTER_CASTERS + 1;
 /// those whose slot of the colliders' grid holds a collider, listed at
 /// `layout::BINDING_NEAR` and simulated and tested there.
 pub const COUNTER_NEAR: usize = COUNTER_NEAR_CASTERS + 1;
+/// Blades a cutter cut this frame (`sim::cut`), one device atomic each.
+pub const COUNTER_CUTS: usize = COUNTER_NEAR + 1;
+/// Of those, the cuts the cut table had no room for (`sim::cut::place`): dropped.
+pub const COUNTER_CUTS_DROPPED: usize = COUNTER_CUTS + 1;
 /// First of the mesh path's counts of visible blades by bucket (strip length, and
 /// for the longest strips the band of distance: `meshlet::bucket_of`,
 /// [`strip_counter`]), counted by the compute pass as it bins them. They begin a
@@ -67,7 +71,7 @@ pub const COUNTER_STRIPS: usize = 32;
 /// list (`meshlet::BinLayout`): they go to the list's spill part, drawn at the most
 /// segments (`meshlet::SPILL_DRAW`).
 pub const COUNTER_SPILLED: usize = COUNTER_STRIPS + BUCKETS as usize;
-/// Number of `u32` counters (words 5 and 16 to 31 unused). The compute pass tallies each
+/// Number of `u32` counters (words 5 and 18 to 31 unused). The compute pass tallies each
 /// in workgroup memory and adds it with one device atomic, a thread a counter.
 pub const COUNTER_COUNT: usize = COUNTER_SPILLED + 1;
 

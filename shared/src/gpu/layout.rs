@@ -211,6 +211,11 @@ pub const BINDING_COLLIDER_GRID: u32 = 26;
 /// Binding of the blades handed to the collision pass (storage): its indirect
 /// dispatch at [`NEAR_DISPATCH`], then the blades' indices from [`NEAR_LIST`].
 pub const BINDING_NEAR: u32 = 27;
+/// Binding of the cut table (storage, `sim::cut::CUT_SLOTS` slots of
+/// `sim::cut::CUT_WORDS` words): written by the collision pass where a cutter cuts a
+/// blade, read by the compute pass and the far tiles' generation while
+/// `Environment::cutting` is set.
+pub const BINDING_CUTS: u32 = 28;
 /// Word of the collision pass's `VkDispatchIndirectCommand` in [`BINDING_NEAR`].
 pub const NEAR_DISPATCH: usize = 0;
 /// First word of the handed blades' indices in [`BINDING_NEAR`].

@@ -16,6 +16,9 @@ pub const COLLIDER_CAPSULE: u32 = 1;
 /// A box (a vehicle, a crate): centre `a.xyz`, half extents `b.xyz`, turned by the
 /// quaternion `rotation`, its edges rounded by `a.w` (0: sharp).
 pub const COLLIDER_BOX: u32 = 2;
+/// [`Collider::flags`]: the collider cuts the blades it holds (`sim::cut`) and does
+/// not push them.
+pub const COLLIDER_CUTS: u32 = 1;
 
 /// One collider as the collider buffer holds it (`gpu::layout::BINDING_COLLIDERS`):
 /// a sphere, a capsule or a box ([`COLLIDER_SPHERE`], [`COLLIDER_CAPSULE`],
@@ -35,8 +38,11 @@ pub struct Collider {
     pub bound: Vec4,
     /// Which shape: `COLLIDER_*`.
     pub kind: u32,
+    /// [`COLLIDER_CUTS`] where it cuts the blades it holds (`sim::cut`) instead of
+    /// pushing them.
+    pub flags: u32,
     /// Padding to 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 impl Collider {
@@ -69,7 +75,8 @@ impl Collider {
             rotation,
             bound: Vec4::ZERO,
             kind,
-            pad: [0; 3],
+            flags: 0,
+            pad: [0; 2],
         };
         let (lo, hi) = c.bounds();
         let centre = (lo + hi) * 0.5;
@@ -79,6 +86,20 @@ impl Collider {
             _ => a.w,
         });
         c
+    }
+
+    /// The same volume as a cutter: it cuts the blades it holds (`sim::cut`) instead
+    /// of pushing them.
+    pub fn cutting(self) -> Self {
+        Self {
+            flags: self.flags | COLLIDER_CUTS,
+            ..self
+        }
+    }
+
+    /// Whether it cuts rather than pushes.
+    pub fn cuts(&self) -> bool {
+        self.flags & COLLIDER_CUTS != 0
     }
 
     /// Whether `p` may be inside: within the bounding sphere [`Collider::bound`].

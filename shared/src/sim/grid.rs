@@ -181,14 +181,46 @@ pub fn collide_near(
             while bits != 0 {
                 let i = 32 * w + bits.trailing_zeros();
                 bits &= bits - 1;
-                let d = tip_push(tip, fixed, &colliders[i as usize]);
-                tip += d;
-                total += d;
+                let c = &colliders[i as usize];
+                // A cutter cuts (`sim::cut`) and does not push.
+                if !c.cuts() {
+                    let d = tip_push(tip, fixed, c);
+                    tip += d;
+                    total += d;
+                }
             }
         }
         o += 1;
     }
     (blade.with_curve(blade.guide(), tip), total)
+}
+
+/// Calls `visit(i)` for each collider `i` marked in `slot` of `words` (with
+/// `slot.every`, each of the first `count`), in ascending order, until it returns
+/// false: the walk over a slot's bits (the cuts' ([`crate::sim::cut::cut_near`]);
+/// the collisions and the hand-over write it out).
+pub fn each_marked(words: &[u32], slot: &Slot, count: u32, mut visit: impl FnMut(u32) -> bool) {
+    let used = (count as usize).min(MAX_COLLIDERS) as u32;
+    let mut going = true;
+    let mut o = 0;
+    while o < OCCUPANCY_WORDS as u32 && going {
+        let mut occupied = if o == 0 { slot.low } else { slot.high };
+        while occupied != 0 && going {
+            let w = 32 * o + occupied.trailing_zeros();
+            occupied &= occupied - 1;
+            let mut bits = if slot.every {
+                low_bits(used - 32 * w)
+            } else {
+                words[slot.base + OCCUPANCY_WORDS + w as usize]
+            };
+            while bits != 0 && going {
+                let i = 32 * w + bits.trailing_zeros();
+                bits &= bits - 1;
+                going = visit(i);
+            }
+        }
+        o += 1;
+    }
 }
 
 /// `a − b`, or 0 where `b` is the greater (rust-gpu has no `saturating_sub`).

@@ -22,6 +22,9 @@ pub const DEFAULT_GUST_SPEED: f32 = 6.0;
 /// Fixed steps per simulated second.
 pub const STEPS_PER_SECOND: u32 = 120;
 
+/// Seconds a cut blade takes to grow back unless set (`Environment::regrow`).
+pub const DEFAULT_REGROW: f32 = 30.0;
+
 /// Most steps run in one frame (two seconds of simulated time): a frame slower than
 /// that loses the excess time instead of stalling the GPU for ever longer.
 pub const MAX_STEPS_PER_FRAME: u32 = 240;
@@ -58,8 +61,13 @@ pub struct Environment {
     pub gust_speed: f32,
     /// Wind impulses in use (the first of the impulse array).
     pub impulses: u32,
+    /// Seconds a cut blade takes to grow back (`cut::regrown`).
+    pub regrow: f32,
+    /// 1 while the cut table may hold a cut not yet grown back: the blades read it
+    /// (`cut::as_cut`); 0: nobody reads it.
+    pub cutting: u32,
     /// Padding to the block's 16-byte alignment.
-    pub pad: [u32; 3],
+    pub pad: u32,
 }
 
 impl Default for Environment {
@@ -78,7 +86,9 @@ impl Default for Environment {
             far_sway: 1,
             gust_speed: DEFAULT_GUST_SPEED,
             impulses: 0,
-            pad: [0; 3],
+            regrow: DEFAULT_REGROW,
+            cutting: 0,
+            pad: 0,
         }
     }
 }

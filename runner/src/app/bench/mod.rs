@@ -141,11 +141,11 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
     ) {
         anyhow::bail!("--compute-raster: {why} (64-bit atomics for its visibility buffer)");
     }
-    // With walkers, each point runs without them first, then with them.
-    let crowds = if common.walkers > 0 {
-        vec![0, common.walkers]
+    // With walkers or mowers, each point runs without them first, then with them.
+    let crowds = if common.walkers > 0 || common.mowers > 0 {
+        vec![false, true]
     } else {
-        vec![0]
+        vec![false]
     };
     let total =
         counts.len() * configs.len() * looks.len() * pipelines.len() * rasters.len() * crowds.len();
@@ -171,6 +171,13 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
         last_count = n;
         let base = super::device_settings(common, &scene, &ctx)?;
         let walkers = crate::walkers::Walkers::new(&scene, common.walkers);
+        // The point with the crowd: the walkers and the mowers; without: none.
+        let crowd_of = |crowd: bool| {
+            let (w, m) = (common.walkers, common.mowers);
+            walkers
+                .with_count(if crowd { w } else { 0 })
+                .with_mowers(if crowd { m } else { 0 })
+        };
         let size = offscreen.size();
         let still_camera = camera(&scene, args.camera);
         let preset = args.camera;
@@ -209,7 +216,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 configure(&mut settings, config);
                 // The measured frames step 1/60 s each from a clock started anew.
                 let time = frame as f32 / 60.0;
-                let walkers = walkers.with_count(crowd).colliders(&scene, time);
+                let walkers = crowd_of(crowd).colliders(&scene, time, 1.0 / 60.0);
                 settings.request(&eye(frame), &[]).with_colliders(&walkers)
             };
             let first = points.len();
@@ -220,7 +227,12 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                         .flat_map(|r| crowds.iter().map(move |c| (r, c)))
                     {
                         let what = format!(
-                            "{config:?}, {look:?} look, {pipeline:?}, at {n} blades, {crowd} walkers"
+                            "{config:?}, {look:?} look, {pipeline:?}, at {n} blades{}",
+                            if crowd {
+                                ", with walkers and mowers"
+                            } else {
+                                ""
+                            }
                         );
                         progress.show(points.len(), &what);
                         let frames = (&mut driver, &mut offscreen);
@@ -230,7 +242,8 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                         point.pipeline = pipeline;
                         point.samples = ctx.supported_samples(msaa);
                         point.aa = aa;
-                        point.walkers = crowd;
+                        point.walkers = crowd_of(crowd).count();
+                        point.mowers = crowd_of(crowd).mowers();
                         points.push(point);
                     }
                 }
@@ -240,7 +253,7 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
             let unculled_by: Vec<_> = pipelines
                 .iter()
                 .map(|&p| {
-                    let frame = request((BenchConfig::None, p), Some(0.0), 0, 0);
+                    let frame = request((BenchConfig::None, p), Some(0.0), false, 0);
                     still(&mut driver, &mut offscreen, frame)
                 })
                 .collect::<Result<_>>()?;
@@ -250,7 +263,12 @@ pub fn run(common: &Common, args: &BenchArgs) -> Result<Vec<Point>> {
                 view = still(
                     &mut driver,
                     &mut offscreen,
-                    request((point.config, point.pipeline), raster, point.walkers, 0),
+                    request(
+                        (point.config, point.pipeline),
+                        raster,
+                        point.walkers + point.mowers > 0,
+                        0,
+                    ),
                 )?;
                 let at = pipelines.iter().position(|&p| p == point.pipeline);
                 let unculled = &unculled_by[at.unwrap_or(0)];
@@ -379,6 +397,7 @@ fn measure(
         raster_written: Spread::of(&written).median,
         config,
         walkers: 0,
+        mowers: 0,
         blades,
         drawn: Spread::of(&drawn).median,
         cpu: Spread::of(&cpu),

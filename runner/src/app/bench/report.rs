@@ -170,17 +170,19 @@ pub fn print_raster(points: &[Point]) {
     }
 }
 
-/// Each point with walkers against the same point without them (`--walkers`): the
+/// Each point with walkers or mowers against the same point without them
+/// (`--walkers`, `--mowers`): the
 /// whole frame and the compute pass, GPU medians.
 pub fn print_walkers(points: &[Point]) {
     let pairs: Vec<(&Point, &Point)> = points
         .iter()
-        .filter(|p| p.walkers > 0)
+        .filter(|p| p.walkers > 0 || p.mowers > 0)
         .filter_map(|crowd| {
             points
                 .iter()
                 .find(|p| {
                     p.walkers == 0
+                        && p.mowers == 0
                         && p.look == crowd.look
                         && p.config == crowd.config
                         && p.blades == crowd.blades
@@ -199,7 +201,7 @@ pub fn print_walkers(points: &[Point]) {
     );
     for (none, crowd) in pairs {
         println!(
-            "{:<20} {:>8} {:>9} {:>8.3} {:>8.3} {:>7.3} | {:>9.3} {:>9.3}   ({} walkers)",
+            "{:<20} {:>8} {:>9} {:>8.3} {:>8.3} {:>7.3} | {:>9.3} {:>9.3}   ({} walkers, {} mowers)",
             format!("{:?}", none.config),
             format!("{:?}", none.look),
             none.blades,
@@ -208,7 +210,8 @@ pub fn print_walkers(points: &[Point]) {
             crowd.gpu.median / none.gpu.median.max(1e-9),
             none.simulate_cull.median,
             crowd.simulate_cull.median,
-            crowd.walkers
+            crowd.walkers,
+            crowd.mowers
         );
     }
 }
@@ -289,7 +292,7 @@ pub fn write_csv(
          raster_ms_median,raster_pixels_covered,raster_pixels_written,\
          raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written,\
          gpu_ms_p99,potential_blades,far_tiles,far_blades,aa,shade_ms_median,render_scale,shadow_casters,\
-         walkers\n",
+         walkers,mowers\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -300,7 +303,7 @@ pub fn write_csv(
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         let costs = raster_costs(p);
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0},{}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0},{},{}\n",
             common.scene,
             args.camera,
             args.width,
@@ -348,6 +351,7 @@ pub fn write_csv(
             p.render_scale,
             p.casters,
             p.walkers,
+            p.mowers,
         );
     }
     crate::files::write(path, out.as_bytes())?;

@@ -65,6 +65,8 @@ pub struct Point {
     pub config: BenchConfig,
     /// Walkers wandering the field (`--walkers`).
     pub walkers: u32,
+    /// Mowers cutting it (`--mowers`).
+    pub mowers: u32,
     /// Blades in the field (a tiled field's room for them).
     pub blades: u32,
     /// A tiled field's blades in the world at full density; 0 for a stored field.

@@ -14,6 +14,22 @@ pub struct Actors {
     pub ball: bool,
     /// Walkers wandering the ground (`--walkers`).
     pub walkers: u32,
+    /// Mowers cutting the grass (`--mowers`).
+    pub mowers: u32,
+    /// The ball cuts the grass (C; `--ball-cuts`).
+    pub ball_cuts: bool,
+}
+
+impl Actors {
+    /// As the command line asks.
+    pub fn of(common: &crate::cli::Common) -> Self {
+        Self {
+            ball: !common.no_ball,
+            walkers: common.walkers,
+            mowers: common.mowers,
+            ball_cuts: common.ball_cuts,
+        }
+    }
 }
 
 /// The culling tests, LOD, view, wind, forces, shape, ball and walkers.
@@ -219,4 +235,15 @@ fn forces(ui: &mut egui::Ui, s: &mut Settings, actors: &mut Actors, blow: &mut O
     let most = crate::walkers::MAX_WALKERS;
     ui.add(egui::Slider::new(&mut actors.walkers, 0..=most).text("walkers"))
         .on_hover_text("capsules the size of people wandering the ground (--walkers)");
+    ui.checkbox(&mut actors.ball_cuts, "ball cuts (C)")
+        .on_hover_text("the ball cuts the grass it rolls over (--ball-cuts)");
+    let mowers = crate::walkers::MAX_MOWERS;
+    ui.add(egui::Slider::new(&mut actors.mowers, 0..=mowers).text("mowers"))
+        .on_hover_text("boxes driving the walkers' ground, cutting the grass (--mowers)");
+    ui.add(
+        egui::Slider::new(&mut s.regrow, 0.1..=600.0)
+            .logarithmic(true)
+            .text("regrow s"),
+    )
+    .on_hover_text("seconds cut grass takes to grow back (--regrow)");
 }

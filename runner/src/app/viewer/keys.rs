@@ -55,6 +55,15 @@ impl Running {
                     self.actors.ball = !self.actors.ball;
                     log::info!("ball {}", if self.actors.ball { "on" } else { "off" });
                 }
+                "c" | "C" => {
+                    self.actors.ball_cuts = !self.actors.ball_cuts;
+                    let cuts = if self.actors.ball_cuts {
+                        "cuts"
+                    } else {
+                        "presses"
+                    };
+                    log::info!("the ball {cuts} the grass");
+                }
                 "w" | "W" => {
                     s.wind.field = s.wind.field.next();
                     log::info!("wind: {:?}", s.wind.field);

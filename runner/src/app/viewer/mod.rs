@@ -85,7 +85,7 @@ struct Mouse {
 
 /// The controls, printed at start.
 pub const CONTROLS: &str = "drag: rotate, right-drag or shift-drag: pan, wheel: zoom, \
-arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, X: blast at the ball, R: rotor downwash at the ball, W: next wind, [ ]: wind weaker/stronger, \
+arrows: roll the ball (or fly), F: fly the camera with the arrows, + -: flying speed, B: ball on/off, C: the ball cuts, X: blast at the ball, R: rotor downwash at the ball, W: next wind, [ ]: wind weaker/stronger, \
 , .: turn the wind, S: next blade shape, 1 2 3 4: orientation, frustum, distance, \
 occlusion culling on/off, L: LOD on/off, V: next view (shaded, LOD colours, wireframe), \
 N: look (paper, natural), H: shadows on/off, M: anti-aliasing (none, TAA, MSAA 2/4/8), P: pipeline (tessellation, mesh), K: screenshot, O: overlay on/off, Esc: quit";
@@ -220,11 +220,8 @@ impl Running {
             common: common.clone(),
             camera: scene.camera(),
             ball,
-            actors: Actors {
-                ball: !common.no_ball,
-                walkers: common.walkers,
-            },
-            walkers: Walkers::new(&scene, common.walkers),
+            actors: Actors::of(common),
+            walkers: Walkers::new(&scene, common.walkers).with_mowers(common.mowers),
             impulses: Impulses::default(),
             blow: None,
             arrows: Arrows::default(),
@@ -332,15 +329,18 @@ impl Running {
             &mut self.settings,
             (&mut self.actors, &mut self.fly, &mut self.full_distance),
         );
-        if self.actors.walkers != self.walkers.count() {
-            self.walkers = self.walkers.with_count(self.actors.walkers);
-        }
+        let Actors {
+            walkers, mowers, ..
+        } = self.actors;
+        self.walkers = self.walkers.with_count(walkers).with_mowers(mowers);
         if std::mem::take(&mut self.overlay.save_settings) {
             let path = self.screenshot_dir.join("grass-settings.toml");
             let viewer = crate::config::ViewerState {
                 full_distance: self.full_distance,
                 ball: self.actors.ball,
                 walkers: self.walkers.count(),
+                mowers: self.walkers.mowers(),
+                ball_cuts: self.actors.ball_cuts,
             };
             let text = crate::config::current(&self.common, &self.settings, &viewer);
             let written = crate::files::write(&path, text.as_bytes());
@@ -366,7 +366,12 @@ impl Running {
             request: self
                 .settings
                 .request(&eye, &balls)
-                .with_colliders(&self.walkers.colliders(&self.scene, frame.time))
+                .with_balls_cutting(self.actors.ball_cuts)
+                .with_colliders(
+                    &self
+                        .walkers
+                        .colliders(&self.scene, frame.time, frame.seconds()),
+                )
                 .with_impulses(&self.impulses),
             overlay: painted.as_ref().map(|p| OverlayFrame {
                 changed: p.changed,

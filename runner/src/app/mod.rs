@@ -118,6 +118,12 @@ fn check_options(command: &str, common: &Common) -> Result<()> {
     if common.collider_path.is_none() && matches!(command, "render" | "record") {
         given.refuse(&["ball-cuts"], "there is no ball without --collider-path")?;
     }
+    if matches!(command, "render" | "record" | "soak") && common.mowers == 0 && !common.ball_cuts {
+        given.refuse(
+            &["regrow"],
+            "nothing cuts; with --mowers or --ball-cuts it acts",
+        )?;
+    }
     if command == "bench" && common.mowers == 0 {
         given.refuse(&["regrow"], "bench cuts nothing; with --mowers it acts")?;
     }

@@ -227,8 +227,8 @@ pub fn advice(error: &anyhow::Error) -> Option<&'static str> {
              blades (--blades, --density)"
         }
         R::TIMEOUT => {
-            "the GPU did not finish a frame within a minute: it is hung or far too \
-             slow for this field; ask for fewer blades (--blades)"
+            "the GPU did not finish a frame within a minute (ten on a software device): \
+             it is hung or far too slow for this field; ask for fewer blades (--blades)"
         }
         R::ERROR_SURFACE_LOST_KHR => "the window's surface was lost (the window system went away)",
         _ => return None,

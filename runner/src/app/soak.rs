@@ -147,10 +147,16 @@ pub fn run(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     }
     // After the device's check: a software device's memory is host memory too.
     if mib(growth as f64) > f64::from(args.host_slack_mib) {
+        let readings: Vec<String> = report
+            .readings
+            .iter()
+            .filter_map(|r| r.host.map(|h| format!("{}: {:.1}", r.frame, mib(h as f64))))
+            .collect();
         bail!(
-            "host memory grew by {:.1} MiB, more than --host-slack-mib {}",
+            "host memory grew by {:.1} MiB, more than --host-slack-mib {} (MiB by frame: {})",
             mib(growth as f64),
-            args.host_slack_mib
+            args.host_slack_mib,
+            readings.join(", ")
         );
     }
     Ok(report)
@@ -192,6 +198,12 @@ pub fn phase_settings(base: &Settings, phase: u32) -> Settings {
 /// Units a second the soak's camera flies over the valley (at least a sixtieth of a
 /// second a frame: frames of no time still move it).
 pub const SOAK_FLIGHT_SPEED: f32 = 30.0;
+
+/// Where along the valley's path the soak's camera is after a frame of `dt` seconds
+/// from `travelled`: back to the start before the path leaves the world.
+fn fly(travelled: f32, dt: f64) -> f32 {
+    (travelled + SOAK_FLIGHT_SPEED * (dt as f32).max(1.0 / 60.0)) % 900.0
+}
 
 fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     if args.no_validation && (common.validation || common.validation_checks.is_some()) {
@@ -292,8 +304,7 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
         }
         let dt = FRAME_TIMES[phase as usize % FRAME_TIMES.len()];
         if flying {
-            // Back to the start before the path leaves the world.
-            travelled = (travelled + SOAK_FLIGHT_SPEED * (dt as f32).max(1.0 / 60.0)) % 900.0;
+            travelled = fly(travelled, dt);
             camera = crate::scene::valley_camera(travelled);
         } else {
             camera.yaw += 0.003;

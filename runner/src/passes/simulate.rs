@@ -10,7 +10,8 @@ use ash::vk;
 use shared::gpu::layout::{
     CHUNK_WORKGROUP, COLLIDERS_HAND_OVER, COLLIDERS_NEAR, COLLIDERS_NONE, CULL_WORKGROUP,
     ChunkPush, FrameUniforms, NEAR_DISPATCH, PIPELINE_MESH, SIMULATE_WORKGROUP, SPEC_COLLIDERS,
-    SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_TILED, SPEC_WIND_FIELD, SimulatePush,
+    SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_TILED, SPEC_WIND_FIELD,
+    SPEC_WORKGROUP_TALLY, SimulatePush, WIND_FROM_FRAME,
 };
 use shared::settings::WindField;
 use shared::sim::grid::{GRID_CORNERS, GRID_WORKGROUP};
@@ -126,6 +127,15 @@ impl SimulatePass {
         if !WindField::ALL.iter().any(|&w| w as u32 == variant.wind) {
             anyhow::bail!("no wind field {}", variant.wind);
         }
+        // A software device compiles one pipeline for every field (`WIND_FROM_FRAME`).
+        let variant = if self.ctx.is_software() {
+            SimulateVariant {
+                wind: WIND_FROM_FRAME,
+                ..variant
+            }
+        } else {
+            variant
+        };
         if let Some(made) = self.simulate.get(&variant) {
             return Ok(made.pipeline);
         }
@@ -141,6 +151,7 @@ impl SimulatePass {
             (SPEC_COLLIDERS, variant.colliders),
             (SPEC_GRAVITY_CENTRE, u32::from(variant.centre)),
             (SPEC_TILED, u32::from(variant.tiled)),
+            (SPEC_WORKGROUP_TALLY, u32::from(!self.ctx.is_software())),
         ];
         let pipeline = Pipeline::compute_specialised(
             &self.ctx,

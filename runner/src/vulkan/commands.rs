@@ -120,6 +120,12 @@ pub struct Fence {
 /// Longest wait for the GPU before giving up with an error instead of hanging.
 const GPU_TIMEOUT_NS: u64 = 60_000_000_000;
 
+/// The same on a software device, whose first frames also compile every pipeline
+/// they use (lavapipe compiles a compute pipeline at its first dispatch, 10 to 30 s
+/// for the simulate pass; one warm-up frame of the valley soak took 59 s with an
+/// empty shader cache).
+const SOFTWARE_TIMEOUT_NS: u64 = 600_000_000_000;
+
 impl Fence {
     /// A fence, signalled already if `signaled`.
     pub fn new(ctx: &Arc<Context>, signaled: bool) -> Result<Self> {
@@ -139,12 +145,18 @@ impl Fence {
         })
     }
 
-    /// Waits for the fence (a minute at most: a longer wait is a lost device).
+    /// Waits for the fence (a minute at most, ten on a software device: a longer
+    /// wait is a lost device).
     pub fn wait(&self) -> Result<()> {
+        let timeout = if self.ctx.is_software() {
+            SOFTWARE_TIMEOUT_NS
+        } else {
+            GPU_TIMEOUT_NS
+        };
         unsafe {
             self.ctx
                 .device
-                .wait_for_fences(&[self.fence], true, GPU_TIMEOUT_NS)
+                .wait_for_fences(&[self.fence], true, timeout)
         }
         .context("wait for the GPU")
     }

@@ -130,6 +130,7 @@ impl Pipeline {
         entry: &str,
         constants: &[(u32, u32)],
     ) -> Result<Self> {
+        log::debug!("compute pipeline {entry} {constants:?}");
         let name = CString::new(entry)?;
         let size = std::mem::size_of::<u32>();
         let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len())

@@ -13,5 +13,6 @@ pub mod reference;
 pub mod shade;
 pub mod shadow;
 pub mod simulate;
+pub mod tally;
 pub mod temporal;
 pub mod tiles;

@@ -2,6 +2,7 @@
 //! compaction of the survivors into the visible list.
 
 use super::cut::{cut_blade, cut_now};
+use super::tally::Tally;
 use shared::Blade;
 use shared::cull::blade::{KEPT, cull_outcome_as_drawn};
 use shared::cull::lod::blade_level;
@@ -13,19 +14,18 @@ use shared::draw::raster::is_far;
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::{
     COUNTER_CASTERS, COUNTER_COUNT, COUNTER_FAR, COUNTER_NEAR, COUNTER_NEAR_CASTERS,
-    COUNTER_SPILLED, COUNTER_STRIPS, COUNTER_TILE_BLADES, COUNTER_VISIBLE, bin_part, far_slot,
-    strip_counter,
+    COUNTER_TILE_BLADES, COUNTER_VISIBLE, far_slot, strip_counter,
 };
-use shared::gpu::layout::{COLLIDERS_HAND_OVER, COLLIDERS_NEAR, IDS_WORDS, NEAR_LIST};
+use shared::gpu::layout::{
+    COLLIDERS_HAND_OVER, COLLIDERS_NEAR, IDS_WORDS, NEAR_LIST, WIND_FROM_FRAME,
+};
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
 use shared::sim::grid::Nearby;
 use shared::sim::simulate::{ForcesHeld, simulate};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
-use spirv_std::arch::{atomic_i_add, atomic_i_increment, workgroup_memory_barrier_with_group_sync};
 use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
-use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
 /// The per-blade buffers the simulate-and-cull pass reads and writes.
@@ -51,7 +51,9 @@ pub struct BladeBuffers<'a> {
 /// (the blade and its collision strength η are read and written back), then the cull
 /// tests. Outcomes are tallied in workgroup memory, so each workgroup adds to each
 /// device counter once; a visible blade's index (4 bytes, not its 64) lands at the
-/// workgroup's base (one device atomic) plus its place within the workgroup. On the
+/// workgroup's base (one device atomic) plus its place within the workgroup (or each
+/// blade takes its place from the device counter, where `workgroup_tally` is 0:
+/// `layout::SPEC_WORKGROUP_TALLY`, [`Tally`]). On the
 /// mesh path each visible blade is binned by strip length the same way, into its
 /// bucket's part of the binned list as the frame before laid it out
 /// (`shared::draw::meshlet::BinLayout`), or past it into the spill half. The paper look's
@@ -91,6 +93,7 @@ pub fn simulate_cull(
     #[spirv(spec_constant(id = 3, default = 0))] colliders: u32,
     #[spirv(spec_constant(id = 4, default = 0))] centre: u32,
     #[spirv(spec_constant(id = 5, default = 0))] tiled: u32,
+    #[spirv(spec_constant(id = 6, default = 1))] workgroup_tally: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -126,7 +129,11 @@ pub fn simulate_cull(
         frame,
         push,
         buffers,
-        (tally, places),
+        Tally {
+            grouped: workgroup_tally != 0,
+            counts: tally,
+            places,
+        },
         prepare,
         |_, _| {},
         |_| (false, false),
@@ -174,6 +181,7 @@ pub fn simulate_cull_natural(
     #[spirv(spec_constant(id = 3, default = 0))] colliders: u32,
     #[spirv(spec_constant(id = 4, default = 0))] centre: u32,
     #[spirv(spec_constant(id = 5, default = 0))] tiled: u32,
+    #[spirv(spec_constant(id = 6, default = 1))] workgroup_tally: u32,
 ) {
     let buffers = BladeBuffers {
         blades,
@@ -244,7 +252,11 @@ pub fn simulate_cull_natural(
         frame,
         push,
         buffers,
-        (tally, places),
+        Tally {
+            grouped: workgroup_tally != 0,
+            counts: tally,
+            places,
+        },
         prepare,
         store,
         casts,
@@ -280,10 +292,7 @@ fn simulate_and_cull<T: Copy + Default>(
     frame: &FrameUniforms,
     push: &SimulatePush,
     buffers: BladeBuffers,
-    (tally, places): (
-        &mut [u32; COUNTER_COUNT],
-        &mut [BinPlaces; BUCKETS as usize],
-    ),
+    mut tally: Tally,
     mut prepare: impl FnMut(u32, u32, &Blade, BladeMotion, &[u32], Vec2) -> (T, BladeMotion, f32),
     mut store: impl FnMut(usize, T),
     casts: impl Fn(&Blade) -> (bool, bool),
@@ -309,10 +318,7 @@ fn simulate_and_cull<T: Copy + Default>(
         near,
         cuts,
     } = buffers;
-    if local < COUNTER_COUNT as u32 {
-        tally[local as usize] = 0;
-    }
-    workgroup_memory_barrier_with_group_sync();
+    tally.clear(local);
 
     // What this pipeline does with the colliders (`layout::SPEC_COLLIDERS`): the
     // collision pass takes the blade its thread stands for from the handed list.
@@ -336,7 +342,12 @@ fn simulate_and_cull<T: Copy + Default>(
         colliders: near_pass,
         centre: centre != 0,
     };
-    let forces = frame.forces.specialised(wind_field, held);
+    let kind = if wind_field == WIND_FROM_FRAME {
+        frame.forces.wind_kind
+    } else {
+        wind_field
+    };
+    let forces = frame.forces.specialised(kind, held);
     let nearby = Nearby {
         colliders: collider_list,
         words: grid,
@@ -404,11 +415,7 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     let mut near_place = 0;
     if handed {
-        near_place = unsafe {
-            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                &mut tally[COUNTER_NEAR],
-            )
-        };
+        near_place = tally.claim(counters, COUNTER_NEAR);
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
@@ -458,18 +465,10 @@ fn simulate_and_cull<T: Copy + Default>(
         (caster, near_caster) = casts(&blade);
     }
     if caster {
-        caster_place = unsafe {
-            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                &mut tally[COUNTER_CASTERS],
-            )
-        };
+        caster_place = tally.claim(counters, COUNTER_CASTERS);
     }
     if near_caster {
-        near_caster_place = unsafe {
-            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                &mut tally[COUNTER_NEAR_CASTERS],
-            )
-        };
+        near_caster_place = tally.claim(counters, COUNTER_NEAR_CASTERS);
     }
     if drawn {
         outcome = cull_outcome_as_drawn(
@@ -487,11 +486,7 @@ fn simulate_and_cull<T: Copy + Default>(
         far =
             outcome == KEPT && is_far(&blade, camera.position, camera.focal_pixels, &frame.raster);
         let counter = if far { COUNTER_FAR } else { outcome as usize };
-        place = unsafe {
-            atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                &mut tally[counter],
-            )
-        };
+        place = tally.claim(counters, counter);
         if outcome == KEPT {
             // Its control points before this frame's steps, read again rather than
             // held in registers through the steps and the tests.
@@ -501,11 +496,7 @@ fn simulate_and_cull<T: Copy + Default>(
                 // Its bucket: its strip length, and near the camera its band.
                 let camera = frame.camera.position;
                 bucket = visible_bucket(level, &blade, camera, frame.lod.most);
-                strip_place = unsafe {
-                    atomic_i_increment::<u32, { Scope::Workgroup as u32 }, { Semantics::NONE.bits() }>(
-                        &mut tally[strip_counter(bucket)],
-                    )
-                };
+                strip_place = tally.claim(counters, strip_counter(bucket));
             }
         }
     }
@@ -516,65 +507,13 @@ fn simulate_and_cull<T: Copy + Default>(
         blades[i].v1 = blade.guide().extend(own_height);
         blades[i].v2 = blade.v2;
     }
-    workgroup_memory_barrier_with_group_sync();
-
-    // Thread k adds tally k to the device counter k; the visible, far and casters'
-    // keep the base of the workgroup's slots in the tally for the others, the
-    // buckets' their places in `places`.
-    if local < COUNTER_COUNT as u32 {
-        let k = local as usize;
-        let count = tally[k];
-        if count > 0 {
-            // A bucket's part of the binned list, read before the atomic, so that the
-            // two wait together.
-            let strips = mesh && (COUNTER_STRIPS..COUNTER_SPILLED).contains(&k);
-            let b = if strips {
-                (k - COUNTER_STRIPS) as u32
-            } else {
-                0
-            };
-            let (mut start, mut room) = (0, 0);
-            if strips {
-                (start, room) = bin_part(counters, b, grass.blades);
-            }
-            let base = unsafe {
-                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                    &mut counters[k],
-                    count,
-                )
-            };
-            if k == COUNTER_VISIBLE
-                || k == COUNTER_FAR
-                || k == COUNTER_CASTERS
-                || k == COUNTER_NEAR_CASTERS
-                || k == COUNTER_NEAR
-            {
-                tally[k] = base;
-            } else if strips {
-                // A bucket's blades: those its part has room for, the rest to the
-                // spill half.
-                let fit = BinPlaces::fitting(count, base, room);
-                let spilled = if count > fit {
-                    unsafe {
-                        atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                            &mut counters[COUNTER_SPILLED],
-                            count - fit,
-                        )
-                    }
-                } else {
-                    0
-                };
-                places[b as usize] = BinPlaces::new(fit, (start, base), (grass.blades, spilled));
-            }
-        }
-    }
-    workgroup_memory_barrier_with_group_sync();
+    tally.settle(local, counters, mesh, grass.blades);
 
     if drawn && outcome == KEPT {
         let slot = if far {
-            far_slot(tally[COUNTER_FAR] + place, frame.grass.blades)
+            far_slot(tally.slot(COUNTER_FAR, place), frame.grass.blades)
         } else {
-            tally[COUNTER_VISIBLE] + place
+            tally.slot(COUNTER_VISIBLE, place)
         } as usize;
         visible[slot] = index;
         store(slot, prepared);
@@ -582,18 +521,19 @@ fn simulate_and_cull<T: Copy + Default>(
             motion[if by_index { index as usize } else { slot }] = moved;
         }
         if bucket < BUCKETS {
-            let at = places[bucket as usize].slot(strip_place);
+            let at = tally.strip_slot(counters, bucket, strip_place, grass.blades);
             let source = if by_index { index } else { slot as u32 };
             binned[at as usize] = StripBlade { source, level };
         }
     }
     if caster {
-        casters[(tally[COUNTER_CASTERS] + caster_place) as usize] = index;
+        casters[tally.slot(COUNTER_CASTERS, caster_place) as usize] = index;
     }
     if near_caster {
-        casters[(grass.blades + tally[COUNTER_NEAR_CASTERS] + near_caster_place) as usize] = index;
+        casters[(grass.blades + tally.slot(COUNTER_NEAR_CASTERS, near_caster_place)) as usize] =
+            index;
     }
     if handed {
-        near[NEAR_LIST + (tally[COUNTER_NEAR] + near_place) as usize] = index;
+        near[NEAR_LIST + tally.slot(COUNTER_NEAR, near_place) as usize] = index;
     }
 }

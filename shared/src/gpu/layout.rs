@@ -47,6 +47,10 @@ pub fn flat_index(global_id: UVec3, workgroups: UVec3, workgroup_size: u32) -> u
 /// frame never takes still costs the pass its registers (the turbulent field's noise
 /// made every field's pass 0.018 ms slower at 4 M blades on the NVIDIA H100).
 pub const SPEC_WIND_FIELD: u32 = 0;
+/// [`SPEC_WIND_FIELD`]: the frame's field (`Environment::wind_kind`), every field's
+/// code in one pipeline. Software devices take it: there a pipeline's first compile
+/// costs 10 to 30 s (lavapipe, LLVM 15), five times over for one field each.
+pub const WIND_FROM_FRAME: u32 = u32::MAX;
 /// Specialisation constant of the simulate-and-cull pass: 1 on the mesh path, whose
 /// pass also bins the visible blades by strip length (`draw::meshlet`), 0 on the
 /// tessellation path, whose pipeline then holds none of that code (the binning's
@@ -86,6 +90,14 @@ pub const SPEC_GRAVITY_CENTRE: u32 = 4;
 /// tiled field's code (0.014 ms of the paper look's pass on the mesh path at 4 M
 /// blades on the NVIDIA H100, 0.032 of the natural look's).
 pub const SPEC_TILED: u32 = 5;
+/// Specialisation constant of the simulate-and-cull pass: 1 where its blades take
+/// their places in the lists through a workgroup's tally (one device atomic a counter
+/// a workgroup, between workgroup barriers), 0 where each takes its place from the
+/// device counter and the pass has no barrier. 0 on software devices only: lavapipe
+/// runs a workgroup's invocations as coroutines that switch at every barrier, which
+/// made the pass three times slower there (docs/culling.md, "Counters"). GPUs keep
+/// the tally: one device atomic a counter a workgroup rather than one a blade.
+pub const SPEC_WORKGROUP_TALLY: u32 = 6;
 
 /// Descriptor set of every pipeline (each pipeline has exactly one).
 pub const SET: u32 = 0;

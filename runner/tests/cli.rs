@@ -419,25 +419,17 @@ fn wind_impulses_through_the_command_line() {
 /// The last frame of a 64x64 `render` of 1,024 blades in the paper look, calm, with
 /// no ball, and `extra` options, written to `out` and read back.
 fn calm_picture(out: &std::path::Path, extra: &[&str]) -> Vec<u8> {
+    calm_picture_with(out, &["--no-ball"], extra)
+}
+
+/// [`calm_picture`] with `ball` for the ball's arguments.
+fn calm_picture_with(out: &std::path::Path, ball: &[&str], extra: &[&str]) -> Vec<u8> {
     let path = out.to_str().expect("utf-8 path");
     let mut args = vec![
-        "render",
-        "--wind",
-        "calm",
-        "--blades",
-        "1024",
-        "--frames",
-        "30",
-        "--width",
-        "64",
-        "--height",
-        "64",
-        "--look",
-        "paper",
-        "--no-ball",
-        "--out",
-        path,
+        "render", "--wind", "calm", "--blades", "1024", "--frames", "30", "--width", "64",
+        "--height", "64", "--look", "paper", "--out", path,
     ];
+    args.extend_from_slice(ball);
     args.extend_from_slice(extra);
     let o = grass(&args);
     assert!(o.status.success(), "{}", stderr_of(&args, &o));
@@ -501,18 +493,8 @@ fn cutting_through_the_command_line() {
             "{said}"
         );
     }
-    let ball = |name: &str, extra: &[&str]| {
-        let out = dir.join(name);
-        let path = out.to_str().expect("utf-8 path");
-        let mut args = vec!["render", "--wind", "calm", "--blades", "1024"];
-        args.extend_from_slice(&["--frames", "30", "--collider-path", "-2,0;2,0"]);
-        args.extend_from_slice(&["--width", "64", "--height", "64", "--look", "paper"]);
-        args.extend_from_slice(&["--out", path]);
-        args.extend_from_slice(extra);
-        let o = grass(&args);
-        assert!(o.status.success(), "{}", stderr_of(&args, &o));
-        std::fs::read(out).expect("the picture")
-    };
+    let path = ["--collider-path", "-2,0;2,0"];
+    let ball = |name: &str, extra: &[&str]| calm_picture_with(&dir.join(name), &path, extra);
     assert_ne!(
         ball("cut.png", &["--ball-cuts"]),
         ball("pressed.png", &[]),

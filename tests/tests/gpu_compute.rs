@@ -19,6 +19,7 @@ use shared::sim::cut::{CUT_SLOTS, CUT_WORDS, as_cut, cell_key, cut_near, cut_to,
 use shared::sim::grid::ColliderSet;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses};
 use shared::sim::simulate::simulate;
+use shared::sim::validate::paper_length;
 use std::collections::HashSet;
 use tests::with_device;
 
@@ -595,9 +596,7 @@ fn cut_blades_grow_back_as_the_host_computes() {
             let since = frame as f32 * STEPS_PER_FRAME as f32 / 120.0;
             for &(i, stub) in &cut_blades {
                 let g = &gpu[i];
-                let (v0, v1, v2) = (g.root(), g.guide(), g.tip());
-                let length =
-                    (2.0 * (v2 - v0).length() + (v2 - v1).length() + (v1 - v0).length()) / 3.0;
+                let length = paper_length(g.root(), g.guide(), g.tip());
                 let expected = regrown(own[i], stub, since, REGROW);
                 assert!(
                     (length - expected).abs() <= 1e-3 * expected,

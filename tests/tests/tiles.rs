@@ -1167,6 +1167,7 @@ fn a_cut_survives_the_pool_turning_over_and_reaches_the_far_blades() {
     use shared::glam::Vec4;
     use shared::sim::collide::Collider;
     use shared::sim::cut::{CUT_SLOTS, CUT_WORDS, cell_key, find, regrown};
+    use shared::sim::validate::paper_length;
     tests::with_device("a_cut_survives_the_pool_turning_over", |ctx| {
         let (scene, spec) = small_world(16, 1000.0);
         let per_tile = spec.tile_blades();
@@ -1229,11 +1230,10 @@ fn a_cut_survives_the_pool_turning_over_and_reaches_the_far_blades() {
                     continue;
                 };
                 let g = &blades[i];
-                let (v0, v1, v2) = (g.root(), g.guide(), g.tip());
                 // Pool blades keep their own height in the buffer: their length
                 // (the paper's estimate) is the cut's; far blades are written cut.
                 let height = if pool {
-                    (2.0 * (v2 - v0).length() + (v2 - v1).length() + (v1 - v0).length()) / 3.0
+                    paper_length(g.root(), g.guide(), g.tip())
                 } else {
                     g.height()
                 };

@@ -21,14 +21,19 @@ pub fn guide_from_tip(v0: Vec3, up: Vec3, height: f32, v2: Vec3) -> Vec3 {
     v0 + up * height * (1.0 - ratio).max(0.05 * ratio.max(1.0))
 }
 
-/// Step 3, length: the Bezier length is estimated as L = (2·L0 + (n − 1)·L1)/(n + 1)
-/// with degree n = 2, i.e. (2·L0 + L1)/3, L0 = |v2 − v0|, L1 = |v2 − v1| + |v1 − v0|;
-/// both segments are then scaled by r = h/L. Returns the corrected (v1, v2).
-pub fn restore_length(v0: Vec3, v1: Vec3, v2: Vec3, height: f32) -> (Vec3, Vec3) {
+/// The paper's estimate of a Bezier curve's length, L = (2·L0 + (n − 1)·L1)/(n + 1)
+/// with degree n = 2, i.e. (2·L0 + L1)/3, L0 = |v2 − v0| (the chord), L1 = |v2 − v1| +
+/// |v1 − v0| (the control polygon).
+pub fn paper_length(v0: Vec3, v1: Vec3, v2: Vec3) -> f32 {
     let l0 = (v2 - v0).length();
     let l1 = (v2 - v1).length() + (v1 - v0).length();
-    let length = (2.0 * l0 + l1) / 3.0;
-    let r = height / length;
+    (2.0 * l0 + l1) / 3.0
+}
+
+/// Step 3, length: the curve's length estimated by [`paper_length`], both segments
+/// are scaled by r = h/L. Returns the corrected (v1, v2).
+pub fn restore_length(v0: Vec3, v1: Vec3, v2: Vec3, height: f32) -> (Vec3, Vec3) {
+    let r = height / paper_length(v0, v1, v2);
     let v1_new = v0 + r * (v1 - v0);
     let v2_new = v1_new + r * (v2 - v1);
     (v1_new, v2_new)

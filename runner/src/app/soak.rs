@@ -302,42 +302,34 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
     } else {
         0
     };
-    let start = camera;
-    for frame in 0..rehearsal {
+    // Frame `frame` of the run: its phase's switches, its frame time and image size.
+    let at = |frame: u32| {
         let phase = frame / phase_frames;
         let dt = FRAME_TIMES[phase as usize % FRAME_TIMES.len()];
         let size = sizes[(frame / args.every) as usize % 2];
+        (phase_settings(&base, phase), dt, size)
+    };
+    let start = camera;
+    for frame in 0..rehearsal {
+        let (settings, dt, size) = at(frame);
         if offscreen.size() != size {
             driver.finish()?;
             offscreen = Offscreen::new(&ctx, size.0, size.1)?;
         }
         travelled = fly(travelled, dt);
         camera = crate::scene::valley_camera(travelled);
-        draw(
-            &mut driver,
-            &mut offscreen,
-            &phase_settings(&base, phase),
-            &camera,
-            dt,
-        )?;
+        draw(&mut driver, &mut offscreen, &settings, &camera, dt)?;
     }
     if rehearsal > 0 {
         progress.show(0, "flown once");
     }
     (travelled, camera) = (0.0, start);
-    let mut settings = base;
     for frame in 0..args.frames {
-        let block = frame / args.every;
-        let size = sizes[block as usize % 2];
+        let (settings, dt, size) = at(frame);
         if offscreen.size() != size {
             driver.finish()?;
             offscreen = Offscreen::new(&ctx, size.0, size.1)?;
         }
-        let phase = frame / phase_frames;
-        if frame % phase_frames == 0 {
-            settings = phase_settings(&base, phase);
-        }
-        let dt = FRAME_TIMES[phase as usize % FRAME_TIMES.len()];
         if flying {
             travelled = fly(travelled, dt);
             camera = crate::scene::valley_camera(travelled);

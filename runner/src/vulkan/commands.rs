@@ -121,7 +121,7 @@ pub struct Fence {
 const GPU_TIMEOUT_NS: u64 = 60_000_000_000;
 
 /// The same on a software device, whose first frames also compile every pipeline
-/// they use (lavapipe compiles a compute pipeline at its first dispatch, 10 to 30 s
+/// they use (lavapipe compiles a compute pipeline at its first dispatch, 8 to 24 s
 /// for the simulate pass; one warm-up frame of the valley soak took 59 s with an
 /// empty shader cache).
 const SOFTWARE_TIMEOUT_NS: u64 = 600_000_000_000;

@@ -49,7 +49,7 @@ pub fn flat_index(global_id: UVec3, workgroups: UVec3, workgroup_size: u32) -> u
 pub const SPEC_WIND_FIELD: u32 = 0;
 /// [`SPEC_WIND_FIELD`]: the frame's field (`Environment::wind_kind`), every field's
 /// code in one pipeline. Software devices take it: there a pipeline's first compile
-/// costs 10 to 30 s (lavapipe, LLVM 15), five times over for one field each.
+/// costs 8 to 24 s (lavapipe, LLVM 15), five times over for one field each.
 pub const WIND_FROM_FRAME: u32 = u32::MAX;
 /// Specialisation constant of the simulate-and-cull pass: 1 on the mesh path, whose
 /// pass also bins the visible blades by strip length (`draw::meshlet`), 0 on the

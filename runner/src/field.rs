@@ -71,8 +71,14 @@ pub const BINDINGS: [BindingSpec; 29] = [
             vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
         ),
     ),
-    // The mesh stages read how many blades have strips of each length.
-    storage_in(layout::BINDING_COUNTERS, vk::ShaderStageFlags::MESH_EXT),
+    // The mesh stages read how many blades have strips of each length, the
+    // tessellation path's vertex stage how many are visible.
+    storage_in(
+        layout::BINDING_COUNTERS,
+        vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::MESH_EXT.as_raw() | vk::ShaderStageFlags::VERTEX.as_raw(),
+        ),
+    ),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),

@@ -12,7 +12,7 @@
 
 use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
-use shared::cull::lod::{blade_level, tess_levels, tess_levels_if};
+use shared::cull::lod::{blade_level, dealt_slot, tess_levels, tess_levels_if};
 use shared::draw::look::clump::{Clump, DressedBlade, blade_albedo, caster_blade};
 use shared::draw::look::coverage::unpack_coverage;
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
@@ -21,18 +21,21 @@ use shared::draw::look::visibility;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
 use shared::draw::shape::surface_point;
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
+use shared::gpu::counters::COUNTER_VISIBLE;
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
-/// The index of the visible blade this vertex stands for.
+/// The index of the visible blade this vertex stands for: the visible list dealt out
+/// (`shared::cull::lod::dealt_slot`).
 #[spirv(vertex)]
 pub fn grass_vs(
     #[spirv(vertex_index)] vertex: u32,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] visible: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
     out_blade: &mut u32,
 ) {
-    *out_blade = visible[vertex as usize];
+    *out_blade = visible[dealt_slot(vertex, counters[COUNTER_VISIBLE]) as usize];
 }
 
 /// Level of detail: a continuous tessellation level along the blade from its height
@@ -160,10 +163,14 @@ pub fn grass_lod_fs(
 }
 
 /// The natural look: the slot of the visible list this vertex stands for (the
-/// dressed buffer's slot).
+/// dressed buffer's slot), the list dealt out (`shared::cull::lod::dealt_slot`).
 #[spirv(vertex)]
-pub fn natural_vs(#[spirv(vertex_index)] vertex: u32, out_slot: &mut u32) {
-    *out_slot = vertex;
+pub fn natural_vs(
+    #[spirv(vertex_index)] vertex: u32,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
+    out_slot: &mut u32,
+) {
+    *out_slot = dealt_slot(vertex, counters[COUNTER_VISIBLE]);
 }
 
 /// The natural look's level of detail, from the blade as drawn; thin blades their

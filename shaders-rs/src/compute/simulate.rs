@@ -21,7 +21,7 @@ use shared::gpu::layout::{
 };
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
-use shared::sim::grid::Nearby;
+use shared::sim::grid::{Nearby, REACH_MARGIN};
 use shared::sim::simulate::{ForcesHeld, simulate};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
@@ -410,7 +410,7 @@ fn simulate_and_cull<T: Copy + Default>(
         let b = &blades[index as usize];
         let count = frame.forces.colliders;
         let slot = nearby.around(b.root(), b.height(), count);
-        handed = nearby.reaches(b.root(), &slot, count);
+        handed = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
         in_field = !handed;
     }
     let mut near_place = 0;

@@ -151,6 +151,30 @@ pub fn chunk_range(visible: u32, chunk: u32, chunk_size: u32) -> (u32, u32) {
     (first, count)
 }
 
+/// Ways the tessellation path deals the visible list out in ([`dealt_slot`]).
+pub const DRAW_WAYS: u32 = 256;
+
+/// The slot of the visible list (of `visible` blades) that the tessellation path's
+/// vertex `vertex` draws: the list read as [`DRAW_WAYS`] columns, row by row, and
+/// drawn column by column (the columns of the last, short row one longer), a
+/// bijection of 0..`visible`. The blades lie in Z order of their roots
+/// (`world::mesh::spatial_order`), so the visible list's neighbours stand together on
+/// screen; drawn in that order, a burst of patches falls on one screen tile and the one
+/// raster unit that owns it. Dealt out, consecutive patches are a column's
+/// `visible / DRAW_WAYS` slots apart, over the whole view.
+pub fn dealt_slot(vertex: u32, visible: u32) -> u32 {
+    let (rows, short) = (visible / DRAW_WAYS, visible % DRAW_WAYS);
+    // The first `short` columns hold rows + 1 slots, the rest `rows`.
+    let long = short * (rows + 1);
+    let (column, row) = if vertex < long {
+        (vertex / (rows + 1), vertex % (rows + 1))
+    } else {
+        let v = vertex - long;
+        (short + v / rows.max(1), v % rows.max(1))
+    };
+    row * DRAW_WAYS + column
+}
+
 /// The fewest segments along a leaf of `shape` whatever its size on screen: the
 /// dandelion's lobes need every segment there is ([`MAX_LEVEL`]); other
 /// shapes 1.
@@ -236,5 +260,24 @@ mod tests {
         let n = blades_per_chunk();
         assert!(n * vertices_per_blade(MAX_SEGMENTS) * 2 <= MAX_VERTICES_PER_DRAW);
         assert!(n > 1000);
+    }
+    #[test]
+    fn the_dealt_slots_are_each_slot_once_and_neighbours_far_apart() {
+        for visible in [0, 1, 5, 255, 256, 257, 1000, 4096, 70_001] {
+            let mut seen = vec![false; visible as usize];
+            for v in 0..visible {
+                let slot = dealt_slot(v, visible);
+                assert!(slot < visible, "{v} of {visible} to {slot}");
+                assert!(!seen[slot as usize], "{slot} twice of {visible}");
+                seen[slot as usize] = true;
+            }
+        }
+        // Hand-worked: 1,000 slots are 3 rows of 256 and 232 over; vertex 0 is slot 0,
+        // vertex 1 the next row's (256), vertex 4 column 1's first (1); past the 232
+        // long columns (928 vertices) the short ones, three each: 928 → slot 232.
+        assert_eq!(dealt_slot(1, 1000), 256);
+        assert_eq!(dealt_slot(4, 1000), 1);
+        assert_eq!(dealt_slot(928, 1000), 232);
+        assert_eq!(dealt_slot(931, 1000), 233);
     }
 }

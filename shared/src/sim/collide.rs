@@ -123,6 +123,26 @@ impl Collider {
         }
     }
 
+    /// The distance from `p` to the collider's surface, negative inside: a point
+    /// nearer `p` than this is outside, and [`Collider::penetration`] leaves it. The
+    /// sphere's, the capsule's (from its segment's nearest point) and the rounded
+    /// box's (from its inner box's nearest point, in the box's frame) signed
+    /// distances (Quílez, *Distance functions*: `sdSphere`, `sdCapsule`,
+    /// `sdRoundBox`); inside a box, at most its rounding's negative.
+    pub fn gap(&self, p: Vec3) -> f32 {
+        let nearest = if self.kind == COLLIDER_CAPSULE {
+            closest_on_segment(p, self.a.xyz(), self.b.xyz())
+        } else if self.kind == COLLIDER_BOX {
+            let q = Quat::from_vec4(self.rotation);
+            let local = q.conjugate() * (p - self.a.xyz());
+            let half = self.b.xyz();
+            q * local.clamp(-half, half) + self.a.xyz()
+        } else {
+            self.a.xyz()
+        };
+        (p - nearest).length() - self.a.w
+    }
+
     /// The collider's axis-aligned bounds (least and greatest corner).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let r = Vec3::splat(self.a.w);

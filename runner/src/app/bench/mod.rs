@@ -333,6 +333,7 @@ fn measure(
     let (mut compute_drawn, mut covered, mut written) = (Vec::new(), Vec::new(), Vec::new());
     let (mut far_tiles, mut far_blades) = (Vec::new(), Vec::new());
     let (mut triangles, mut spilled, mut casters) = (Vec::new(), Vec::new(), Vec::new());
+    let mut collided = Vec::new();
     let mut last = Instant::now();
     let slots = FRAMES_IN_FLIGHT as u32;
     // Each slot's read-back is of its previous frame: skip those of the warm-up.
@@ -355,6 +356,7 @@ fn measure(
             triangles.extend(r.triangles.map(|t| t as f64));
             spilled.extend(r.counts.map(|c| c.spilled).filter(|&s| s > 0));
             casters.extend(r.counts.map(|c| f64::from(c.casters)));
+            collided.extend(r.counts.map(|c| f64::from(c.collided)));
         }
         last = now;
         let measured = frame.saturating_sub(args.warmup);
@@ -386,6 +388,7 @@ fn measure(
         far_tiles: Spread::of(&far_tiles).median,
         far_blades: Spread::of(&far_blades).median,
         casters: Spread::of(&casters).median,
+        collided: Spread::of(&collided).median,
         look: shared::settings::Look::default(),
         pipeline: Default::default(),
         samples: 1,

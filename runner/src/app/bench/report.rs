@@ -196,12 +196,12 @@ pub fn print_walkers(points: &[Point]) {
         return;
     }
     println!(
-        "walkers against none (GPU ms, medians): {:<20} {:>8} {:>9} {:>8} {:>8} {:>7} | {:>9} {:>9}",
-        "config", "look", "blades", "none", "walkers", "ratio", "sim none", "sim with"
+        "walkers against none (GPU ms, medians): {:<20} {:>8} {:>9} {:>8} {:>8} {:>7} | {:>9} {:>9} {:>9}",
+        "config", "look", "blades", "none", "walkers", "ratio", "sim none", "sim with", "collided"
     );
     for (none, crowd) in pairs {
         println!(
-            "{:<20} {:>8} {:>9} {:>8.3} {:>8.3} {:>7.3} | {:>9.3} {:>9.3}   ({} walkers, {} mowers)",
+            "{:<20} {:>8} {:>9} {:>8.3} {:>8.3} {:>7.3} | {:>9.3} {:>9.3} {:>9.0}   ({} walkers, {} mowers)",
             format!("{:?}", none.config),
             format!("{:?}", none.look),
             none.blades,
@@ -210,6 +210,7 @@ pub fn print_walkers(points: &[Point]) {
             crowd.gpu.median / none.gpu.median.max(1e-9),
             none.simulate_cull.median,
             crowd.simulate_cull.median,
+            crowd.collided,
             crowd.walkers,
             crowd.mowers
         );
@@ -292,7 +293,7 @@ pub fn write_csv(
          raster_ms_median,raster_pixels_covered,raster_pixels_written,\
          raster_ns_per_blade,raster_ns_per_pixel_covered,raster_ns_per_pixel_written,\
          gpu_ms_p99,potential_blades,far_tiles,far_blades,aa,shade_ms_median,render_scale,shadow_casters,\
-         walkers,mowers\n",
+         walkers,mowers,collided\n",
     );
     let optional =
         |v: Option<f64>, digits: usize| v.map_or(String::new(), |v| format!("{v:.digits$}"));
@@ -303,7 +304,7 @@ pub fn write_csv(
             .map(|(triangles, t)| t.grass_ms(p.drawn, triangles));
         let costs = raster_costs(p);
         out += &format!(
-            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0},{},{}\n",
+            "\"{device}\",{},{:?},{},{},{},{:?},{},{:.0},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.3},{:.0},{},{},{:?},{},{:.4},{:.4},{:.4},{},{},{},{:.0},{:.4},{:.0},{:.0},{},{},{},{:.4},{:.0},{:.0},{:.0},{},{:.4},{},{:.0},{},{},{:.0}\n",
             common.scene,
             args.camera,
             args.width,
@@ -352,6 +353,7 @@ pub fn write_csv(
             p.casters,
             p.walkers,
             p.mowers,
+            p.collided,
         );
     }
     crate::files::write(path, out.as_bytes())?;

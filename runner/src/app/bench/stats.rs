@@ -77,6 +77,8 @@ pub struct Point {
     pub far_blades: f64,
     /// Median blades drawn into the sun's shadow map (every cascade's casters).
     pub casters: f64,
+    /// Median blades handed to the collision pass (within reach of a collider).
+    pub collided: f64,
     /// Blades drawn (median).
     pub drawn: f64,
     /// CPU time between frames.

@@ -28,6 +28,7 @@ use std::sync::Arc;
 
 mod resize;
 use resize::tallest;
+use vk::ShaderStageFlags as Stage;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
 /// `shared::gpu::layout::BINDING_UNIFORMS`).
@@ -65,20 +66,10 @@ pub const BINDINGS: [BindingSpec; 29] = [
     // The paper look's tessellation and mesh stages read the blades through their
     // index, and so does the compute rasterizer's resolve (a fragment stage).
     storage_in(layout::BINDING_BLADES, GEOMETRY_OR_RESOLVE),
-    storage_in(
-        layout::BINDING_VISIBLE,
-        vk::ShaderStageFlags::from_raw(
-            vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
-        ),
-    ),
+    storage_in(layout::BINDING_VISIBLE, VERTEX_FRAGMENT),
     // The mesh stages read how many blades have strips of each length, the
     // tessellation path's vertex stage how many are visible.
-    storage_in(
-        layout::BINDING_COUNTERS,
-        vk::ShaderStageFlags::from_raw(
-            vk::ShaderStageFlags::MESH_EXT.as_raw() | vk::ShaderStageFlags::VERTEX.as_raw(),
-        ),
-    ),
+    storage_in(layout::BINDING_COUNTERS, MESH_VERTEX),
     storage(layout::BINDING_DRAWS),
     storage(layout::BINDING_STRENGTH),
     storage(layout::BINDING_PYRAMID),
@@ -156,6 +147,14 @@ pub const BINDINGS: [BindingSpec; 29] = [
 const FRAGMENT_OR_SHADE: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::FRAGMENT.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
 );
+
+/// Stages `a` and `b`.
+const fn either(a: Stage, b: Stage) -> Stage {
+    Stage::from_raw(a.as_raw() | b.as_raw())
+}
+/// The vertex and fragment stages; the mesh and vertex stages.
+const VERTEX_FRAGMENT: Stage = either(Stage::VERTEX, Stage::FRAGMENT);
+const MESH_VERTEX: Stage = either(Stage::MESH_EXT, Stage::VERTEX);
 
 /// Both tessellation stages, the mesh stage, and the fragment stage (the compute
 /// rasterizer's resolve).
@@ -371,8 +370,8 @@ impl Field {
         let chunk_count = count.div_ceil(chunk_size);
 
         use vk::BufferUsageFlags as U;
-        let gpu = MemoryLocation::GpuOnly;
-        let device_buffer = |name, size, usage| Buffer::new(ctx, name, size, usage, gpu);
+        let device_buffer =
+            |name, size, usage| Buffer::new(ctx, name, size, usage, MemoryLocation::GpuOnly);
         let blade_usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
         let no_map = [0u32; shared::world::paint::HEADER_WORDS];
         let paint_words = match source {
@@ -492,11 +491,9 @@ impl Field {
             (MAX_COLLIDERS * size_of::<Collider>()) as u64,
             U::STORAGE_BUFFER | U::TRANSFER_DST,
         )?;
-        let near = device_buffer(
-            "blades near colliders",
-            (layout::NEAR_LIST as u64 + u64::from(simulated)) * 4,
-            U::STORAGE_BUFFER | U::INDIRECT_BUFFER,
-        )?;
+        let near_size = (layout::NEAR_LIST as u64 + u64::from(simulated)) * 4;
+        let near_usage = U::STORAGE_BUFFER | U::INDIRECT_BUFFER;
+        let near = device_buffer("blades near colliders", near_size, near_usage)?;
         let collider_grid = device_buffer(
             "collider grid",
             u64::from(GRID_SLOTS) * GRID_WORDS as u64 * 4,

@@ -21,8 +21,8 @@ use shared::gpu::layout::{
 };
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
-use shared::sim::grid::{Nearby, REACH_MARGIN};
-use shared::sim::simulate::{ForcesHeld, simulate};
+use shared::sim::grid::{Nearby, REACH_MARGIN, Slot};
+use shared::sim::simulate::{ForcesHeld, simulate, simulate_watched};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
@@ -403,19 +403,23 @@ fn simulate_and_cull<T: Copy + Default>(
         // A stored blade reads the maps at its root, over the map square.
         map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
-    // A simulated blade with a collider in its slot of the grid goes to the
-    // collision pass, which simulates and tests it instead.
+    // A simulated blade within reach of a collider of its slot of the grid has its
+    // steps watched; one a collider's bounding sphere may have touched goes to the
+    // collision pass, which simulates and tests it instead, and so does one a cutter
+    // reaches.
     let mut handed = false;
+    let mut slot = Slot::default();
+    let count = frame.forces.colliders;
     if hand_over && in_field && simulated {
         let b = &blades[index as usize];
-        let count = frame.forces.colliders;
-        let slot = nearby.around(b.root(), b.height(), count);
-        handed = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
+        let around = nearby.around(b.root(), b.height(), count);
+        let (reaching, cutter) =
+            nearby.reaches(b.root(), b.height() * REACH_MARGIN, &around, count);
+        handed = cutter;
         in_field = !handed;
-    }
-    let mut near_place = 0;
-    if handed {
-        near_place = tally.claim(counters, COUNTER_NEAR);
+        if reaching {
+            slot = around;
+        }
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
@@ -433,15 +437,32 @@ fn simulate_and_cull<T: Copy + Default>(
             blade = cut_blade(blade, frame, nearby, near_pass, cuts, counters);
             let held = strengths[i];
             let strength;
-            (blade, strength) = simulate(
-                (blade, held),
-                &forces,
-                nearby,
-                &frame.impulses,
-                push.first_step,
-                push.steps,
-            );
-            if fade > 0.0 {
+            if hand_over {
+                let touched;
+                ((blade, strength), touched) = simulate_watched(
+                    (blade, held),
+                    &forces,
+                    (nearby, slot, count),
+                    &frame.impulses,
+                    push.first_step,
+                    push.steps,
+                );
+                handed = touched;
+            } else {
+                (blade, strength) = simulate(
+                    (blade, held),
+                    &forces,
+                    nearby,
+                    &frame.impulses,
+                    push.first_step,
+                    push.steps,
+                );
+            }
+            if handed {
+                in_field = false;
+                drawn = false;
+            }
+            if fade > 0.0 && !handed {
                 let k = index % (push.tiles.per_side * push.tiles.per_side);
                 let params = &push.tiles;
                 let far = far_blade(
@@ -456,10 +477,14 @@ fn simulate_and_cull<T: Copy + Default>(
                 blade = fade_to_far(&blade, &cut_now(&far, frame, cuts), fade);
             }
             // Unchanged (no collider near, none lingering): nothing to write back.
-            if strength != held {
+            if strength != held && !handed {
                 strengths[i] = strength;
             }
         }
+    }
+    let mut near_place = 0;
+    if handed {
+        near_place = tally.claim(counters, COUNTER_NEAR);
     }
     if drawn {
         (caster, near_caster) = casts(&blade);

@@ -160,17 +160,28 @@ pub struct StepConstants {
 impl StepConstants {
     /// The constants of `blade`'s steps under `env` among the colliders `near`.
     pub fn of(blade: &Blade, env: &Environment, near: &Nearby) -> Self {
-        let gravity = if env.centre_blend == 0.0 {
-            forces::gravity_from(blade, forces::environment_gravity(env.gravity))
-        } else {
-            Vec3::ZERO
-        };
         let slot = if env.colliders == 0 {
             Slot::default()
         } else {
             near.around(blade.root(), blade.height(), env.colliders)
         };
-        Self { gravity, slot }
+        Self {
+            slot,
+            ..Self::free(blade, env)
+        }
+    }
+
+    /// The constants of `blade`'s steps under `env` with no colliders.
+    pub fn free(blade: &Blade, env: &Environment) -> Self {
+        let gravity = if env.centre_blend == 0.0 {
+            forces::gravity_from(blade, forces::environment_gravity(env.gravity))
+        } else {
+            Vec3::ZERO
+        };
+        Self {
+            gravity,
+            slot: Slot::default(),
+        }
     }
 }
 
@@ -200,6 +211,30 @@ pub fn step_with(
     time: f32,
     dt: f32,
 ) -> BladeState {
+    let moved = forced(constants, (blade, strength), env, impulses, time, dt);
+    // With no collider nothing pushes and η only decays: the displacement's length
+    // is not taken (the whole dispatch takes the same branch).
+    let (pushed, displacement) = if env.colliders == 0 {
+        (moved, Vec3::ZERO)
+    } else {
+        let found = (near.colliders, near.words);
+        collide_near(&moved, found, &constants.slot, env.colliders)
+    };
+    let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
+    (validate::validate(&pushed), strength)
+}
+
+/// The forces' part of a step ([`step`]): the blade with its tip moved by gravity and
+/// wind explicitly and by the recovery (weakened by η) semi-implicitly, before the
+/// collisions and the validation.
+pub fn forced(
+    constants: &StepConstants,
+    (blade, strength): BladeState,
+    env: &Environment,
+    impulses: &[Impulse; MAX_IMPULSES],
+    time: f32,
+    dt: f32,
+) -> Blade {
     // The whole dispatch takes the same branch: `centre_blend` is the frame's.
     let gravity = if env.centre_blend == 0.0 {
         constants.gravity
@@ -216,17 +251,7 @@ pub fn step_with(
     let pushed = (gravity + forces::wind_force(&blade, wi)) * dt;
     let k = forces::recovery_rate(&blade, strength) * env.stiffness_scale * dt;
     let tip = semi_implicit_tip(blade.tip(), forces::rest_tip(&blade), pushed, k);
-    let moved = blade.with_curve(blade.guide(), tip);
-    // With no collider nothing pushes and η only decays: the displacement's length
-    // is not taken (the whole dispatch takes the same branch).
-    let (pushed, displacement) = if env.colliders == 0 {
-        (moved, Vec3::ZERO)
-    } else {
-        let found = (near.colliders, near.words);
-        collide_near(&moved, found, &constants.slot, env.colliders)
-    };
-    let strength = collide::update_strength(strength, displacement, env.strength_decay, dt);
-    (validate::validate(&pushed), strength)
+    blade.with_curve(blade.guide(), tip)
 }
 
 /// The wind w_i at a blade's `root` at `time` (paper eq. 9's field) with the first
@@ -279,6 +304,44 @@ pub fn simulate(
         i += 1;
     }
     s
+}
+
+/// [`simulate`] with no collider pushing (`env.colliders` is not read), watching the
+/// colliders of `slot` in `near` (of the first `count`) that push: whether a step's
+/// tip or midpoint, moved by the forces, came inside one's bounding sphere
+/// (`Nearby::may_touch`), the test [`collide_near`] makes before any push. Where none
+/// did, every push of [`simulate`] with those colliders would have been zero, so the
+/// blade and its strength η are what it gives, to the bit; where one did, the frame's
+/// steps are to be run again with the colliders (the compute pass's collision pass).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_watched(
+    state: BladeState,
+    env: &Environment,
+    (near, slot, count): (Nearby, Slot, u32),
+    impulses: &[Impulse; MAX_IMPULSES],
+    first_step: u32,
+    steps: u32,
+) -> (BladeState, bool) {
+    let constants = StepConstants::free(&state.0, env);
+    let mut s = state;
+    let mut touched = false;
+    let mut i = 0;
+    while i < steps {
+        let moved = forced(
+            &constants,
+            s,
+            env,
+            impulses,
+            step_time(first_step + i),
+            STEP_SECONDS,
+        );
+        let mid = collide::fixed_midpoint(&moved) + 0.25 * moved.tip();
+        touched = touched || near.may_touch(moved.tip(), mid, &slot, count);
+        let strength = collide::update_strength(s.1, Vec3::ZERO, env.strength_decay, STEP_SECONDS);
+        s = (validate::validate(&moved), strength);
+        i += 1;
+    }
+    (s, touched)
 }
 
 /// The host side of fixed steps: turns frame times into a whole number of steps and
@@ -343,6 +406,53 @@ mod tests {
             b = simulate((b, 0.0), &env(), NOTHING_NEAR, &NO_IMPULSES, t, n).0;
         }
         b
+    }
+
+    /// The steps watched, without the colliders' pushes, against the steps with them,
+    /// under a crowd of walkers (a walker to 9 square units): a blade whose watch saw
+    /// no collider's bounding sphere ends the same to the bit, and few of the blades
+    /// within reach of one are touched. Measured: 3,977 of 4,096 blades within reach,
+    /// 767 touched. The watch without the midpoints failed.
+    #[test]
+    fn a_blade_whose_watch_saw_no_collider_steps_as_with_the_colliders() {
+        use crate::sim::collide::Collider;
+        use crate::sim::grid::{REACH_MARGIN, fitted};
+        let blades = crate::world::generate::square_field(4096, 30.0, 3);
+        let walkers: Vec<Collider> = (0..100)
+            .map(|i| {
+                let jitter = 0.37 * (i * 7 % 5) as f32;
+                let x = (i % 10) as f32 * 3.0 - 13.5 + jitter;
+                let at = Vec3::new(x, 0.0, (i / 10) as f32 * 3.0 - 13.0 - jitter);
+                Collider::capsule(at + Vec3::Y * 0.3, at + Vec3::Y * 1.5, 0.3)
+            })
+            .collect();
+        let mut e = env();
+        e.colliders = walkers.len() as u32;
+        let reach = crate::blade::HEIGHT.1 * REACH_MARGIN;
+        let set = ColliderSet::new(&walkers, fitted(&walkers, reach, 4096));
+        let near = set.nearby();
+        let (mut reaching, mut touched) = (0, 0);
+        for b in &blades {
+            // Trodden a little: η 0.3, a frame of four steps.
+            let state = (*b, 0.3);
+            let slot = near.around(b.root(), b.height(), e.colliders);
+            let (within, cutter) = near.reaches(b.root(), b.height() * REACH_MARGIN, &slot, 100);
+            assert!(!cutter);
+            let watched = if within { slot } else { Slot::default() };
+            let with = simulate(state, &e, near, &NO_IMPULSES, 10, 4);
+            let (free, hit) =
+                simulate_watched(state, &e, (near, watched, 100), &NO_IMPULSES, 10, 4);
+            if !hit {
+                assert_eq!(free, with, "{b:?}");
+            }
+            reaching += usize::from(within);
+            touched += usize::from(hit);
+        }
+        assert!(touched > 100, "{touched} touched");
+        assert!(
+            3 * touched < reaching,
+            "{touched} of {reaching} within reach touched"
+        );
     }
 
     #[test]

@@ -19,6 +19,7 @@ pub mod gpu;
 pub mod noise;
 #[cfg(not(target_arch = "spirv"))]
 pub mod plan;
+pub mod query;
 #[cfg(not(target_arch = "spirv"))]
 pub mod settings;
 pub mod sim;

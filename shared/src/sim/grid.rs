@@ -166,39 +166,23 @@ pub fn collide_near(
     let fixed = fixed_midpoint(blade);
     let mut tip = blade.tip();
     let mut total = Vec3::ZERO;
-    let used = (count as usize).min(MAX_COLLIDERS) as u32;
-    let mut o = 0;
-    while o < OCCUPANCY_WORDS as u32 {
-        let mut occupied = if o == 0 { slot.low } else { slot.high };
-        while occupied != 0 {
-            let w = 32 * o + occupied.trailing_zeros();
-            occupied &= occupied - 1;
-            let mut bits = if slot.every {
-                low_bits(used - 32 * w)
-            } else {
-                words[slot.base + OCCUPANCY_WORDS + w as usize]
-            };
-            while bits != 0 {
-                let i = 32 * w + bits.trailing_zeros();
-                bits &= bits - 1;
-                let c = &colliders[i as usize];
-                // A cutter cuts (`sim::cut`) and does not push.
-                if !c.cuts() {
-                    let d = tip_push(tip, fixed, c);
-                    tip += d;
-                    total += d;
-                }
-            }
+    each_marked(words, slot, count, |i| {
+        let c = &colliders[i as usize];
+        // A cutter cuts (`sim::cut`) and does not push.
+        if !c.cuts() {
+            let d = tip_push(tip, fixed, c);
+            tip += d;
+            total += d;
         }
-        o += 1;
-    }
+        true
+    });
     (blade.with_curve(blade.guide(), tip), total)
 }
 
 /// Calls `visit(i)` for each collider `i` marked in `slot` of `words` (with
 /// `slot.every`, each of the first `count`), in ascending order, until it returns
 /// false: the walk over a slot's bits (the cuts' ([`crate::sim::cut::cut_near`]);
-/// the collisions and the hand-over write it out).
+/// the collisions' ([`collide_near`]) and the hand-over's).
 pub fn each_marked(words: &[u32], slot: &Slot, count: u32, mut visit: impl FnMut(u32) -> bool) {
     let used = (count as usize).min(MAX_COLLIDERS) as u32;
     let mut going = true;

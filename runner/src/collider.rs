@@ -2,6 +2,7 @@
 //! or along a scripted path (`--collider-path`) in both viewer and headless render.
 
 use glam::{Vec2, Vec3, Vec4};
+use shared::query::{Around, Question, Sight};
 use shared::world::mesh::SurfacePoint;
 use shared::world::mesh::bvh::IndexedMesh;
 
@@ -27,6 +28,23 @@ impl Ball {
     /// The sphere collider: centre (xyz) and radius (w).
     pub fn sphere(&self) -> Vec4 {
         (self.contact.position + self.contact.normal * self.radius * SINK).extend(self.radius)
+    }
+
+    /// What the viewer asks of the grass about the ball (`shared::query`): the blades
+    /// around where it touches the ground, within its radius, and how hidden its
+    /// centre is from `eye` (a sight as wide as a tenth of the ball).
+    pub fn questions(&self, eye: Vec3) -> [Question; 2] {
+        [
+            Question::around(Around {
+                centre: self.contact.position,
+                radius: self.radius,
+            }),
+            Question::sight(Sight {
+                from: eye,
+                to: self.sphere().truncate(),
+                radius: 0.1 * self.radius,
+            }),
+        ]
     }
 
     /// Slides the ball by `delta` along the surface: moves in the tangent plane, then

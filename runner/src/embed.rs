@@ -39,12 +39,21 @@
 //! (`settings.look.aa`, `msaa`, `render_scale`): the field draws into your targets at
 //! their size.
 //!
+//! A game can ask questions of the grass ([`GrassField::ask`], `shared::query`): how
+//! many blades stand around a point, how tall and how bent; how much of a line of
+//! sight they hide. The next recorded frame answers them on the GPU over the blades as
+//! it leaves them; read the answers ([`GrassField::answers`]) once that frame is done,
+//! a frame later, as with [`GrassField::counts`]. Once [`GrassField::grass_events`]
+//! is called, each frame also marks the colliders touching blades, which it turns into
+//! a collider entering or leaving the grass (footsteps, rustling).
+//!
 //! `runner/examples/embed/` is a whole program: its own spinning cube and this grass
 //! in one frame, in a window or headless (`--out frame.png`).
 
 #[cfg(feature = "wgpu")]
 pub mod wgpu;
 
+use crate::answers::Contacts;
 use crate::renderer::external::ExternalFrame;
 use crate::renderer::{FrameQueries, Meshes, Renderer};
 use crate::scene::{BladeCount, Scene, SceneFile, SceneKind};
@@ -53,6 +62,7 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result, bail};
 use ash::vk;
 use glam::{Mat4, Vec3};
+use shared::query::{MAX_QUESTIONS, Question};
 use shared::settings::{GrassPipeline, Look};
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::sim::impulse::{Impulse, Impulses, MAX_IMPULSES};
@@ -61,6 +71,7 @@ use shared::world::mesh::SurfaceMesh;
 use shared::world::mesh::bvh::IndexedMesh;
 use std::sync::Arc;
 
+pub use crate::answers::{Answers, GrassEvent};
 pub use crate::passes::DEPTH_FORMAT;
 pub use crate::renderer::external::ExternalTargets as Targets;
 pub use crate::renderer::{CullCounts, PassTimes};
@@ -170,6 +181,12 @@ pub struct GrassField {
     blades: u32,
     draw_ground: bool,
     reverse_z: bool,
+    /// The questions the next frame asks.
+    questions: Vec<Question>,
+    /// The contacts as [`GrassField::grass_events`] last read them.
+    contacts: Contacts,
+    /// Frames mark the contacts: [`GrassField::grass_events`] was called.
+    watch_contacts: bool,
     ctx: Arc<Context>,
 }
 
@@ -224,6 +241,9 @@ impl GrassField {
             solid: scene.solid,
             draw_ground: desc.draw_ground,
             reverse_z: desc.reverse_z,
+            questions: Vec::new(),
+            contacts: Contacts::default(),
+            watch_contacts: false,
             ctx,
         })
     }
@@ -249,7 +269,9 @@ impl GrassField {
             .settings
             .request(&frame.camera, &[])
             .with_colliders(frame.colliders)
-            .with_impulses(&self.impulses);
+            .with_impulses(&self.impulses)
+            .with_questions(&std::mem::take(&mut self.questions))
+            .with_contacts(self.watch_contacts);
         let push = shared::gpu::layout::SimulatePush {
             first_step,
             steps,
@@ -280,6 +302,41 @@ impl GrassField {
     /// whole (`total`; the passes the field does not run read 0).
     pub fn times(&self) -> Result<Option<PassTimes>> {
         Ok(self.queries.read()?.times)
+    }
+
+    /// Asks `questions` (`shared::query::Question::around`, `sight`) of the next
+    /// frame [`GrassField::record`] records, after any asked before it; refused past
+    /// `MAX_QUESTIONS` a frame.
+    pub fn ask(&mut self, questions: &[Question]) -> Result<()> {
+        if self.questions.len() + questions.len() > MAX_QUESTIONS {
+            bail!(
+                "{} questions for one frame, the field answers at most {MAX_QUESTIONS}",
+                self.questions.len() + questions.len()
+            );
+        }
+        self.questions.extend_from_slice(questions);
+        Ok(())
+    }
+
+    /// The answers of the newest frame that finished (wait for it first): each
+    /// question it asked with its tally (`shared::query::Tally`: the blades counted,
+    /// their mean height and bend, the concealment of a sight), and the colliders it
+    /// found touching blades.
+    pub fn answers(&self) -> Result<Answers> {
+        Ok(self.queries.read()?.answers)
+    }
+
+    /// The colliders that entered or left the grass between the newest frame that
+    /// finished and the one this was last called after (by their index in
+    /// [`Frame::colliders`]). The frames recorded after the first call mark the
+    /// colliders touching blades (a pass after the collision pass); the frames before
+    /// it do not, and cost nothing for it.
+    pub fn grass_events(&mut self) -> Result<Vec<GrassEvent>> {
+        self.watch_contacts = true;
+        let now = self.answers()?.contacts;
+        let events = now.events_since(&self.contacts);
+        self.contacts = now;
+        Ok(events)
     }
 
     /// The blades of the field.

@@ -5,7 +5,7 @@ use crate::vulkan::commands::CommandPool;
 use crate::vulkan::descriptors::{BindingSpec, DescriptorSet};
 use crate::vulkan::pipeline::PipelineLayout;
 use crate::vulkan::{Buffer, Context};
-use anyhow::{Result, bail};
+use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use shared::Blade;
@@ -26,7 +26,9 @@ use shared::sim::cut::{CUT_SLOTS, CUT_WORDS};
 use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, REACH_MARGIN};
 use std::sync::Arc;
 
+mod limits;
 mod resize;
+pub use limits::DEVICE_BYTES_PER_BLADE;
 use resize::tallest;
 use vk::ShaderStageFlags as Stage;
 
@@ -57,7 +59,7 @@ const fn storage_in(binding: u32, graphics: vk::ShaderStageFlags) -> BindingSpec
 }
 
 /// The one descriptor set layout of every pipeline (but the overlay's).
-pub const BINDINGS: [BindingSpec; 29] = [
+pub const BINDINGS: [BindingSpec; 30] = [
     BindingSpec {
         binding: layout::BINDING_UNIFORMS,
         ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -140,6 +142,8 @@ pub const BINDINGS: [BindingSpec; 29] = [
     storage(layout::BINDING_NEAR),
     // The cut table (`shared::sim::cut`), kept for the field's life.
     storage(layout::BINDING_CUTS),
+    // The frame's questions, answers and contacts (`shared::query`).
+    storage(layout::BINDING_QUERIES),
 ];
 
 /// The fragment stages and the compute stage (the natural look shaded after the
@@ -293,6 +297,9 @@ pub struct Field {
     pub near: Buffer,
     /// The cut table (`shared::sim::cut`: `CUT_SLOTS` slots, 4 MiB), empty at first.
     pub cuts: Buffer,
+    /// The frame's questions, answers and contacts (`shared::query::QUERY_WORDS`),
+    /// uploaded at each frame's start.
+    pub queries: Buffer,
     /// How far a blade reaches from its root (`sim::grid::ColliderGrid::reach`): the
     /// tallest blade times `sim::grid::REACH_MARGIN`; a tiled field's tallest is the
     /// tallest a tile grows, twice that under a painted height map (which doubles at
@@ -306,61 +313,7 @@ pub struct Field {
     pub layout: PipelineLayout,
 }
 
-/// Device memory per blade: the blade, its collision strength, its index in the
-/// visible and the casters' two lists, its slot in the dressed buffer, its clump, the
-/// mesh path's level and binned slot, and its previous control points.
-pub const DEVICE_BYTES_PER_BLADE: u64 = size_of::<Blade>() as u64
-    + 4
-    + 4
-    + 8
-    + size_of::<DressedBlade>() as u64
-    + 16
-    + 4
-    + size_of::<StripBlade>() as u64
-    + size_of::<BladeMotion>() as u64;
-
 impl Field {
-    /// Fails with a message naming the limit when `count` blades cannot fit this
-    /// device's buffers; checked before any blade is generated.
-    pub fn check_limits(ctx: &Context, count: u64) -> Result<()> {
-        // The largest buffer: the dressed blades, one per blade at most.
-        let per_blade = size_of::<DressedBlade>() as u64;
-        let bytes = count * per_blade;
-        let limits = &ctx.properties.limits;
-        if count == 0 {
-            bail!("the field needs at least one blade");
-        }
-        if bytes > u64::from(limits.max_storage_buffer_range) {
-            bail!(
-                "{count} blades need {bytes} bytes, more than this device's \
-                 maxStorageBufferRange ({} bytes, {} blades); ask for fewer with --blades or --density",
-                limits.max_storage_buffer_range,
-                limits.max_storage_buffer_range / per_blade as u32
-            );
-        }
-        // The blades, their strengths and their indices on the device; the host keeps
-        // a copy of the blades while uploading them.
-        let device_bytes = count * DEVICE_BYTES_PER_BLADE;
-        let heap = ctx.largest_device_heap();
-        if device_bytes > heap / 2 {
-            bail!(
-                "{count} blades need {} MiB of device memory, more than half of this device's \
-                 largest device-local heap ({} MiB); ask for fewer with --blades or --density",
-                device_bytes >> 20,
-                heap >> 20
-            );
-        }
-        let chunk_count = count.div_ceil(u64::from(blades_per_chunk()));
-        if chunk_count > u64::from(limits.max_draw_indirect_count) {
-            bail!(
-                "{count} blades need {chunk_count} draws, more than this device's \
-                 maxDrawIndirectCount ({}); ask for fewer with --blades or --density",
-                limits.max_draw_indirect_count
-            );
-        }
-        Ok(())
-    }
-
     /// Uploads the blades (or makes room for a tiled field's) and creates the rest,
     /// checking the device's limits first.
     pub fn new(ctx: &Arc<Context>, pool: &CommandPool, source: FieldBlades) -> Result<Self> {
@@ -505,6 +458,11 @@ impl Field {
             U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
         )?;
 
+        let queries = device_buffer(
+            "queries",
+            (shared::query::QUERY_WORDS * 4) as u64,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
+        )?;
         // A placeholder until a frame sizes it: no occlusion test without a target.
         let pyramid = Self::pyramid_buffer(ctx, 1)?;
 
@@ -539,6 +497,7 @@ impl Field {
         descriptors.write_buffer(layout::BINDING_COLLIDER_GRID, storage, grid);
         descriptors.write_buffer(layout::BINDING_NEAR, storage, near.buffer);
         descriptors.write_buffer(layout::BINDING_CUTS, storage, cuts.buffer);
+        descriptors.write_buffer(layout::BINDING_QUERIES, storage, queries.buffer);
         descriptors.write_buffer(layout::BINDING_MESH_DRAW, storage, mesh_draw.buffer);
         descriptors.write_buffer(layout::BINDING_RASTER_ARGS, storage, raster_args.buffer);
         descriptors.write_buffer(layout::BINDING_BINNED, storage, binned.buffer);
@@ -580,6 +539,7 @@ impl Field {
             collider_grid,
             near,
             cuts,
+            queries,
             reach,
             pyramid,
             descriptors,

@@ -138,6 +138,7 @@
 
 #![warn(missing_docs)]
 
+pub mod answers;
 #[cfg(feature = "app")]
 pub mod app;
 #[cfg(feature = "bevy")]

@@ -40,6 +40,12 @@ pub const SHADE_NATURAL: &str = "compute::shade::shade_natural";
 pub const BUILD_COLLIDER_GRID: &str = "compute::grid::build_collider_grid";
 /// Compute: the collision pass's indirect dispatch, from the blades handed to it.
 pub const NEAR_DISPATCH: &str = "compute::grid::near_dispatch";
+/// Compute: the frame's questions answered over every simulated blade
+/// (`shared::query`).
+pub const ANSWER_QUESTIONS: &str = "compute::query::answer_questions";
+/// Compute: the colliders touching the collision pass's blades, marked after it
+/// (`shared::query::CONTACTS`).
+pub const MARK_CONTACTS: &str = "compute::query::mark_contacts";
 /// Compute: each blade's clump, when the field or the clumps' settings change.
 pub const CLUMP_BLADES: &str = "compute::clumps::clump_blades";
 /// Compute: the compute rasterizer of far blades (paper look).

@@ -1,5 +1,5 @@
 //! The frame planned once. A caller asks for a frame ([`FrameRequest`]: the settings,
-//! the viewpoint, the colliders); the renderer plans it ([`FramePlan`]: the look, the
+//! the viewpoint, the colliders, the questions); the renderer plans it ([`FramePlan`]: the look, the
 //! view, the pipeline, the samples, the shadow map, the occlusion test, the far blades,
 //! the clumps) from the settings and what it has, and builds the frame's GPU block in
 //! one call from the request, the plan and what it knows of the frame
@@ -16,6 +16,7 @@ use crate::draw::look::shadow::{near_sphere, sun_view_proj};
 use crate::draw::raster::RasterParams;
 use crate::draw::temporal::{TemporalParams, jitter, jittered};
 use crate::gpu::layout::{FrameUniforms, GrassParams};
+use crate::query::{MAX_QUESTIONS, Question};
 use crate::settings::{
     Antialiasing, GrassPipeline, Look, MIN_RENDER_SCALE, NATURAL_EDGE_ON_SHARE, RASTER_SEGMENTS,
     Settings, View, Viewpoint, shadow_sphere,
@@ -27,7 +28,8 @@ use crate::sim::simulate::Environment;
 use spirv_std::glam::{Mat4, Vec4};
 
 /// What a caller asks of one frame: the settings, where it is seen from, the
-/// colliders (the first [`MAX_COLLIDERS`]) and the live wind impulses.
+/// colliders (the first [`MAX_COLLIDERS`]), the live wind impulses and the questions
+/// asked of the grass (the first [`MAX_QUESTIONS`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameRequest {
     /// The settings the frame is drawn with.
@@ -36,6 +38,8 @@ pub struct FrameRequest {
     pub eye: Viewpoint,
     colliders: Vec<Collider>,
     impulses: Impulses,
+    questions: Vec<Question>,
+    contacts: bool,
 }
 
 impl FrameRequest {
@@ -47,6 +51,8 @@ impl FrameRequest {
             eye: *eye,
             colliders: Vec::new(),
             impulses: Impulses::default(),
+            questions: Vec::new(),
+            contacts: false,
         }
         .with_colliders(
             &balls
@@ -93,6 +99,34 @@ impl FrameRequest {
     /// The wind impulses.
     pub fn impulses(&self) -> &Impulses {
         &self.impulses
+    }
+
+    /// This frame with the questions `asked` after those it has (up to
+    /// [`MAX_QUESTIONS`] in all), answered over the blades as this frame leaves them.
+    pub fn with_questions(mut self, asked: &[Question]) -> Self {
+        let room = MAX_QUESTIONS - self.questions.len();
+        self.questions
+            .extend_from_slice(&asked[..asked.len().min(room)]);
+        self
+    }
+
+    /// The questions.
+    pub fn questions(&self) -> &[Question] {
+        &self.questions
+    }
+
+    /// This frame marking the colliders touching blades where `on` (`query::CONTACTS`:
+    /// a pass after the collision pass, in frames with colliders).
+    pub fn with_contacts(self, on: bool) -> Self {
+        Self {
+            contacts: on,
+            ..self
+        }
+    }
+
+    /// Whether the frame marks the colliders touching blades.
+    pub fn contacts(&self) -> bool {
+        self.contacts
     }
 
     /// The frame the settings ask for, before the renderer's means narrow it.

@@ -6,9 +6,16 @@
 //! [`BEND_UNITS`], [`COVER_UNITS`]), so a sum over any set of blades, on the host or
 //! by atomic adds on the GPU, is the same whole numbers in any order; [`Tally`]
 //! holds the sums and turns them into an answer.
+//!
+//! On the GPU a frame asks up to [`MAX_QUESTIONS`] [`Question`]s through the query
+//! buffer (`gpu::layout::BINDING_QUERIES`, laid out by [`ASKED`], [`CONTACTS`],
+//! [`ANSWERS`] and [`QUESTIONS`]); after the collision pass, each collider touching
+//! one of its blades (`sim::grid::Nearby::first_touching`) is marked there too, which the
+//! host turns into events as a collider enters or leaves the grass.
 
 use crate::Blade;
-use spirv_std::glam::Vec3;
+use crate::sim::collide::MAX_COLLIDERS;
+use spirv_std::glam::{Vec3, Vec4, Vec4Swizzles};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -102,6 +109,130 @@ pub fn ray_part(blade: &Blade, sight: &Sight) -> Tally {
         blades: 1,
         cover: fixed(share, COVER_UNITS),
         ..Tally::default()
+    }
+}
+
+/// Most questions one frame answers on the GPU.
+pub const MAX_QUESTIONS: usize = 16;
+/// [`Question`] kind: the grass [`Around`] a point.
+pub const ASK_AROUND: u32 = 0;
+/// [`Question`] kind: what the blades hide of a [`Sight`].
+pub const ASK_SIGHT: u32 = 1;
+
+/// One question as the query buffer holds it: an [`Around`] (centre `a.xyz`, radius
+/// `a.w`) or a [`Sight`] (from `a.xyz`, radius `a.w`, to `b.xyz`), its kind in
+/// `b.w` ([`ASK_AROUND`], [`ASK_SIGHT`]).
+#[repr(C)]
+#[derive(Copy, Clone, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Question {
+    /// The centre or the eye, and the radius.
+    pub a: Vec4,
+    /// The target (a sight's), and the kind.
+    pub b: Vec4,
+}
+
+impl Question {
+    /// The question about the grass around a point.
+    pub fn around(around: Around) -> Self {
+        Self {
+            a: around.centre.extend(around.radius),
+            b: Vec4::new(0.0, 0.0, 0.0, ASK_AROUND as f32),
+        }
+    }
+
+    /// The question about what the blades hide of a sight.
+    pub fn sight(sight: Sight) -> Self {
+        Self {
+            a: sight.from.extend(sight.radius),
+            b: sight.to.extend(ASK_SIGHT as f32),
+        }
+    }
+
+    /// Whether it asks about a sight (else about a point).
+    pub fn is_sight(&self) -> bool {
+        self.b.w == ASK_SIGHT as f32
+    }
+
+    /// `blade`'s part in its answer ([`point_part`] or [`ray_part`]).
+    pub fn part(&self, blade: &Blade) -> Tally {
+        if self.is_sight() {
+            let sight = Sight {
+                from: self.a.xyz(),
+                to: self.b.xyz(),
+                radius: self.a.w,
+            };
+            ray_part(blade, &sight)
+        } else {
+            let around = Around {
+                centre: self.a.xyz(),
+                radius: self.a.w,
+            };
+            point_part(blade, &around)
+        }
+    }
+
+    /// Question `q` of the query buffer's `words`.
+    pub fn read(words: &[u32], q: usize) -> Self {
+        let at = QUESTIONS + QUESTION_WORDS * q;
+        let f = |k: usize| f32::from_bits(words[at + k]);
+        Self {
+            a: Vec4::new(f(0), f(1), f(2), f(3)),
+            b: Vec4::new(f(4), f(5), f(6), f(7)),
+        }
+    }
+
+    /// The answer over `blades` (the host's, from the same parts the GPU adds).
+    #[cfg(not(target_arch = "spirv"))]
+    pub fn tally(&self, blades: &[Blade]) -> Tally {
+        blades
+            .iter()
+            .fold(Tally::default(), |t, b| t + self.part(b))
+    }
+}
+
+/// Words of a [`Question`] in the query buffer.
+pub const QUESTION_WORDS: usize = 8;
+/// Words of a [`Tally`] in the query buffer.
+pub const TALLY_WORDS: usize = 4;
+/// Query buffer word: how many of its questions the frame asks (at most
+/// [`MAX_QUESTIONS`]).
+pub const ASKED: usize = 0;
+/// First query buffer word of the colliders touching blades this frame, one bit a
+/// collider (bit `i % 32` of word `CONTACTS + i / 32`), set by the collision pass.
+pub const CONTACTS: usize = 4;
+/// Words of the contact bits.
+pub const CONTACT_WORDS: usize = MAX_COLLIDERS / 32;
+/// First query buffer word of the answers, a [`Tally`] a question (blades, height,
+/// bend, cover), added to by the query pass.
+pub const ANSWERS: usize = CONTACTS + CONTACT_WORDS;
+/// First query buffer word of the questions, [`QUESTION_WORDS`] each.
+pub const QUESTIONS: usize = ANSWERS + TALLY_WORDS * MAX_QUESTIONS;
+/// Words of the query buffer: what the host uploads at a frame's start (the asked
+/// count and the questions, the contacts and the answers cleared) and reads back.
+pub const QUERY_WORDS: usize = QUESTIONS + QUESTION_WORDS * MAX_QUESTIONS;
+
+/// The query buffer a frame starts with: `questions` (at most [`MAX_QUESTIONS`]
+/// taken), no contacts and empty answers.
+#[cfg(not(target_arch = "spirv"))]
+pub fn query_words(questions: &[Question]) -> Vec<u32> {
+    let asked = questions.len().min(MAX_QUESTIONS);
+    let mut words = vec![0; QUERY_WORDS];
+    words[ASKED] = asked as u32;
+    let bytes: &[u32] = bytemuck::cast_slice(&questions[..asked]);
+    words[QUESTIONS..QUESTIONS + bytes.len()].copy_from_slice(bytes);
+    words
+}
+
+impl Tally {
+    /// The answer to question `q` in the query buffer's `words`.
+    pub fn read(words: &[u32], q: usize) -> Self {
+        let at = ANSWERS + TALLY_WORDS * q;
+        Self {
+            blades: words[at],
+            height: words[at + 1],
+            bend: words[at + 2],
+            cover: words[at + 3],
+        }
     }
 }
 
@@ -254,6 +385,33 @@ mod tests {
         };
         assert_eq!(tally_sight(&row, &higher).blades, 10);
         assert_eq!(tally_sight(&bent, &higher).blades, 0);
+    }
+
+    #[test]
+    fn questions_go_through_the_query_buffer_unchanged() {
+        let around = Around {
+            centre: Vec3::new(1.0, 0.5, -2.0),
+            radius: 1.5,
+        };
+        let sight = Sight {
+            from: Vec3::new(0.0, 1.0, 0.0),
+            to: Vec3::new(6.0, 1.0, 0.0),
+            radius: 0.25,
+        };
+        let asked = [Question::around(around), Question::sight(sight)];
+        let words = query_words(&asked);
+        assert_eq!(words[ASKED], 2);
+        assert_eq!(Question::read(&words, 0), asked[0]);
+        assert_eq!(Question::read(&words, 1), asked[1]);
+        assert!(!asked[0].is_sight() && asked[1].is_sight());
+        assert_eq!(Tally::read(&words, 1), Tally::default());
+        // The kinds answer as the host's tallies do.
+        let blades = crate::world::generate::square_field(500, 4.0, 9);
+        assert_eq!(asked[0].tally(&blades), tally_around(&blades, &around));
+        assert_eq!(asked[1].tally(&blades), tally_sight(&blades, &sight));
+        // More than the buffer holds: the first MAX_QUESTIONS asked.
+        let many = vec![asked[0]; MAX_QUESTIONS + 3];
+        assert_eq!(query_words(&many)[ASKED], MAX_QUESTIONS as u32);
     }
 
     #[test]

@@ -1,10 +1,12 @@
 //! The compute pass on a Vulkan device against the host running the same shared
 //! functions: every blade and its collision strength after a few hundred steps, with
-//! colliders, each wind field and wind impulses on, and the visible set.
+//! colliders, each wind field and wind impulses on, the visible set, and the
+//! answers to a game's questions.
 
 use glam::{Quat, Vec3, Vec4};
 use runner::app::driver::FrameDriver;
 use runner::app::headless::FORMAT;
+use runner::app::query::agree;
 use runner::camera::OrbitCamera;
 use runner::renderer::Renderer;
 use runner::scene::Scene;
@@ -13,6 +15,7 @@ use shared::cull::blade as cull;
 use shared::gpu::counters::{COUNTER_COUNT, COUNTER_CUTS, COUNTER_CUTS_DROPPED, COUNTER_NEAR};
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::FrameRequest;
+use shared::query::{Around, Question, Sight, Tally};
 use shared::settings::WindField;
 use shared::sim::collide::Collider;
 use shared::sim::cut::{CUT_SLOTS, CUT_WORDS, as_cut, cell_key, cut_near, cut_to, find, regrown};
@@ -607,5 +610,79 @@ fn cut_blades_grow_back_as_the_host_computes() {
                 println!("frame {frame}: largest GPU/host difference {worst:e}");
             }
         }
+    });
+}
+
+/// The questions a game asks, answered by the query pass over the blades as the
+/// frame leaves them, against the host's answers (`shared::query`) over the same
+/// blades read back; and the contacts the collision pass marks: the two balls
+/// pressing into the field touch the grass, a ball high over it and one off the
+/// field do not. GPU and host agreed exactly on lavapipe. Planted fault: the query
+/// pass dispatched over half the blades failed (56 blades around the centre against
+/// the host's 109).
+#[test]
+fn the_gpu_answers_questions_as_the_host_does() {
+    with_device("the_gpu_answers_questions_as_the_host_does", |ctx| {
+        let (scene, request) = setup(WindField::Breeze, 0.0);
+        let side = 2.0 * scene.bounds.1 / std::f32::consts::SQRT_2;
+        let (above, off) = (
+            Collider::sphere(Vec3::new(0.0, 5.0, 0.0), 0.5),
+            Collider::sphere(Vec3::new(3.0 * side, 0.5, 0.0), 0.5),
+        );
+        let across = |height: f32| {
+            Question::sight(Sight {
+                from: Vec3::new(-0.5 * side, height, 0.3),
+                to: Vec3::new(0.5 * side, height, 0.3),
+                radius: 0.25,
+            })
+        };
+        let around = |x: f32, z: f32, radius: f32| {
+            Question::around(Around {
+                centre: Vec3::new(x, 0.0, z),
+                radius,
+            })
+        };
+        let questions = [
+            around(0.0, 0.0, 1.0),
+            around(0.5, -0.8, 0.8),
+            around(3.0 * side, 0.0, 1.0),
+            across(0.5),
+            across(1.2),
+            across(4.0),
+        ];
+        let asked = request
+            .with_colliders(&[above, off])
+            .with_questions(&questions)
+            .with_contacts(true);
+        let renderer = Renderer::new(&ctx, &scene.meshes(), FORMAT).expect("renderer");
+        let mut driver = FrameDriver::new(&ctx, renderer).expect("frame driver");
+        for frame in 0..10 {
+            let push = SimulatePush {
+                first_step: frame * STEPS_PER_FRAME,
+                steps: STEPS_PER_FRAME,
+                ..Default::default()
+            };
+            driver.compute_frame(&asked, push).expect("compute frame");
+        }
+        let answers = driver.readback.answers.clone();
+        let host = driver.renderer.host_answers(&questions).expect("host");
+        assert_eq!(answers.answers.len(), questions.len());
+        for (i, ((q, gpu), host)) in answers.answers.iter().zip(&host).enumerate() {
+            println!("question {i}: GPU {gpu:?}, host {host:?}");
+            assert_eq!(*q, questions[i]);
+            assert!(agree(gpu, host), "question {i}: GPU {gpu:?} host {host:?}");
+        }
+        let t: Vec<Tally> = answers.answers.iter().map(|(_, t)| *t).collect();
+        // Not a comparison of nothing: blades around the centre, less standing under
+        // the first ball, none off the field; the sight through the blades hidden,
+        // the one over them not.
+        assert!(t[0].blades > 50, "{:?}", t[0]);
+        assert!(t[1].mean_bend() > t[0].mean_bend(), "{:?} {:?}", t[1], t[0]);
+        assert_eq!(t[2], Tally::default());
+        assert!(t[3].concealment() > 0.5, "{}", t[3].concealment());
+        assert!(t[4].concealment() < t[3].concealment());
+        assert_eq!(t[5].blades, 0);
+        let touching: Vec<u32> = answers.contacts.iter().collect();
+        assert_eq!(touching, vec![0, 1]);
     });
 }

@@ -9,6 +9,7 @@ pub mod overlay;
 pub mod presenter;
 pub mod progress;
 pub mod quality;
+pub mod query;
 pub mod record;
 pub mod render;
 pub mod soak;
@@ -93,6 +94,29 @@ pub const NOT_ACTING: &[(&str, &[&str], &str)] = &[
             "regrow",
         ],
         "quality measures a still field, without a ball, walkers or mowers",
+    ),
+    (
+        "query",
+        &[
+            "look",
+            "aa",
+            "msaa",
+            "shadows",
+            "no-shadows",
+            "shadow-size",
+            "view",
+            "render-scale",
+            "exposure",
+            "fog-density",
+            "no-cull-orientation",
+            "no-cull-frustum",
+            "no-cull-distance",
+            "no-cull-occlusion",
+            "no-lod",
+            "pipeline",
+            "compute-raster-below",
+        ],
+        "query's answers do not depend on how the frame is drawn",
     ),
 ];
 
@@ -185,6 +209,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Soak(_)) => "soak",
         Some(Command::Record(_)) => "record",
         Some(Command::Quality(_)) => "quality",
+        Some(Command::Query(_)) => "query",
         Some(Command::Config) => "config",
         Some(Command::View(_)) | None => "view",
     };
@@ -195,6 +220,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Soak(args)) => soak::run(&cli.common, &args).map(|_| ()),
         Some(Command::Record(args)) => record::run(&cli.common, &args).map(|_| ()),
         Some(Command::Quality(args)) => quality::run(&cli.common, &args).map(|_| ()),
+        Some(Command::Query(args)) => query::run(&cli.common, &args).map(|_| ()),
         Some(Command::Config) => {
             print!("{}", crate::config::defaults());
             Ok(())

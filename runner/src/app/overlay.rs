@@ -2,6 +2,7 @@
 //! the blade counts of each culling test, and every live setting as a control
 //! (`controls`).
 
+use crate::answers::Answers;
 use crate::camera::Fly;
 use crate::passes::tiles::PoolStats;
 use crate::renderer::{CullCounts, PassTimes};
@@ -38,11 +39,30 @@ pub struct Readings {
     pub occluders: bool,
     /// A tiled field's pool, as the last frame left it.
     pub pool: Option<PoolStats>,
+    /// The answers of the newest frame read back (the ball's, where asked).
+    pub answers: Answers,
     /// Something the user should know, shown above everything (a device made again).
     pub notice: Option<String>,
     /// What became of the last screenshot or settings file: where it went, or why it
     /// was not written (`true`).
     pub saved: Option<(String, bool)>,
+}
+
+/// What the overlay says of a file written (`saved`: its path) or not (why), also
+/// logged: `(message, failed)`.
+pub fn said(saved: anyhow::Result<std::path::PathBuf>, done: &str, failed: &str) -> (String, bool) {
+    match saved {
+        Ok(path) => {
+            let message = format!("{done}: {}", path.display());
+            log::info!("{message}");
+            (message, false)
+        }
+        Err(e) => {
+            let message = format!("{failed}: {e:#}");
+            log::warn!("{message}");
+            (message, true)
+        }
+    }
 }
 
 /// egui's output for one frame, ready for the overlay pass.
@@ -197,6 +217,7 @@ impl Overlay {
             let shown = panel().show(ctx, |ui| {
                 performance(ui, readings, &self.device, frame_ms);
                 counts(ui, readings);
+                answers(ui, readings);
                 tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
                 controls::controls(ui, settings, actors, &mut blow);
                 ui.separator();
@@ -351,6 +372,30 @@ fn counts(ui: &mut egui::Ui, r: &Readings) {
     if !r.occluders {
         ui.label("(flat ground, no rock: nothing here can occlude)");
     }
+}
+
+/// The answers about the ball (`Ball::questions`), where the frame asked: the grass
+/// around it, how hidden it is, whether it touches the grass.
+fn answers(ui: &mut egui::Ui, r: &Readings) {
+    let [(_, around), (_, sight)] = r.answers.answers.as_slice() else {
+        return;
+    };
+    ui.separator();
+    ui.label(format!(
+        "around the ball: {} blades, {:.2} tall, bent {:.0} %",
+        around.blades,
+        around.mean_height(),
+        100.0 * around.mean_bend()
+    ));
+    let touching = if r.answers.contacts.touching(0) {
+        "touching the grass, "
+    } else {
+        ""
+    };
+    ui.label(format!(
+        "the ball: {touching}{:.0} % hidden from the camera",
+        100.0 * sight.concealment()
+    ));
 }
 
 /// A tiled field's far tiles and pool, the distance every blade is kept within,

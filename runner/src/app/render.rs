@@ -177,6 +177,9 @@ pub struct Headless {
     pub walkers: Walkers,
     /// The ball cuts (`--ball-cuts`).
     pub ball_cuts: bool,
+    /// The questions each frame asks of the grass (`shared::query`; none but in
+    /// `grass query`), the contacts marked with them.
+    pub questions: Vec<shared::query::Question>,
 }
 
 impl Headless {
@@ -207,6 +210,7 @@ impl Headless {
             impulses,
             walkers,
             ball_cuts,
+            questions: Vec::new(),
         })
     }
 
@@ -215,7 +219,7 @@ impl Headless {
     pub fn frame(&mut self, seconds: f64, capture: bool) -> Result<()> {
         let (scene, settings, eye_at) = (&self.scene, &self.settings, &self.eye_at);
         let (ball, impulses, walkers) = (self.ball.as_ref(), &self.impulses, &self.walkers);
-        let ball_cuts = self.ball_cuts;
+        let (ball_cuts, questions) = (self.ball_cuts, &self.questions);
         let request = |f: &Frame| {
             let balls = ball
                 .map(|b| b.spheres_at(scene, f.time))
@@ -225,6 +229,8 @@ impl Headless {
                 .with_balls_cutting(ball_cuts)
                 .with_colliders(&walkers.colliders(scene, f.time, f.seconds()))
                 .with_impulses(impulses)
+                .with_questions(questions)
+                .with_contacts(!questions.is_empty())
         };
         self.driver
             .run(&mut self.offscreen, seconds, request, capture)

@@ -1,4 +1,4 @@
-//! The options of each command: soak, bench, render, record and the viewer.
+//! The options of each command: soak, bench, render, record, query and the viewer.
 
 use super::common::*;
 use crate::parse::range;
@@ -234,6 +234,57 @@ pub struct QualityArgs {
     /// Where the camera stands.
     #[command(flatten)]
     pub camera: CameraArgs,
+}
+
+/// Options of `grass query`.
+#[derive(Args, Debug, Clone)]
+pub struct QueryArgs {
+    /// Frames to simulate (1/60 s each); the last two ask the questions, and the last
+    /// one's answers are printed.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+    pub frames: u32,
+    /// Ask about the grass around the ground below "x,z": the blades rooted within
+    /// --radius, their mean height and bend. Repeat it (all questions: at most 16).
+    #[arg(long = "at", allow_hyphen_values = true, value_parser = parse_ground_point)]
+    pub at: Vec<Vec2>,
+    /// Radius of each --at, world units.
+    #[arg(long, default_value_t = 0.5, value_parser = range(0.01, 100.0))]
+    pub radius: f32,
+    /// Ask how hidden a line of sight is, "x,z:x,z": from --eye-height above the
+    /// ground below the first point to as high above the ground below the second.
+    /// Repeat it.
+    #[arg(long = "sight", allow_hyphen_values = true, value_parser = parse_sight)]
+    pub sight: Vec<(Vec2, Vec2)>,
+    /// Height of a sight's ends above the ground, world units.
+    #[arg(long, default_value_t = 1.0, value_parser = range(0.0, 100.0))]
+    pub eye_height: f32,
+    /// Radius of a line of sight (a blade crossing it hides its width over twice
+    /// this), world units.
+    #[arg(long, default_value_t = 0.25, value_parser = range(0.01, 10.0))]
+    pub sight_radius: f32,
+    /// Also read the blades back after the last frame and answer on the host
+    /// (`shared::query`); fail where the two answers differ beyond rounding.
+    #[arg(long)]
+    pub check: bool,
+    /// Where the camera stands (a tiled field simulates the blades around it).
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Wind impulses.
+    #[command(flatten)]
+    pub events: ImpulseArgs,
+}
+
+/// Parses a ground point "x,z".
+fn parse_ground_point(s: &str) -> Result<Vec2, String> {
+    crate::parse::parse_coordinates::<2>(s).map(Vec2::from_array)
+}
+
+/// Parses a line of sight "x,z:x,z" between two ground points.
+fn parse_sight(s: &str) -> Result<(Vec2, Vec2), String> {
+    let (from, to) = s
+        .split_once(':')
+        .ok_or(format!("{s:?}: expected \"x,z:x,z\""))?;
+    Ok((parse_ground_point(from)?, parse_ground_point(to)?))
 }
 
 /// Options of a clip.

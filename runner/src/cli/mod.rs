@@ -49,6 +49,9 @@ pub enum Command {
     /// Measure each anti-aliasing method against a supersampled reference: still, on a
     /// turning camera, and its shimmer; print a table and write a CSV.
     Quality(QualityArgs),
+    /// Ask the grass questions a game asks, after some frames: the blades around
+    /// ground points, how hidden lines of sight are, the colliders in the grass.
+    Query(QueryArgs),
     /// Print every setting at its default as a commented TOML file (for --config).
     Config,
 }

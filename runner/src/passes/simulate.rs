@@ -1,5 +1,6 @@
 //! The compute pass: simulate and cull every blade (appending survivors through the
-//! visible counter), then write one indirect draw command per chunk.
+//! visible counter), then write one indirect draw command per chunk; and the query
+//! pass, the frame's questions answered over the simulated blades.
 
 use crate::field::{Field, PUSH_CONSTANTS};
 use crate::shaders;
@@ -77,6 +78,8 @@ pub struct SimulatePass {
     clumps: Pipeline,
     grid: Pipeline,
     near_dispatch: Pipeline,
+    answer: Pipeline,
+    contacts: Pipeline,
 }
 
 impl SimulatePass {
@@ -100,6 +103,8 @@ impl SimulatePass {
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
             grid: Pipeline::compute(ctx, &field.layout, module, shaders::BUILD_COLLIDER_GRID)?,
             near_dispatch: Pipeline::compute(ctx, &field.layout, module, shaders::NEAR_DISPATCH)?,
+            answer: Pipeline::compute(ctx, &field.layout, module, shaders::ANSWER_QUESTIONS)?,
+            contacts: Pipeline::compute(ctx, &field.layout, module, shaders::MARK_CONTACTS)?,
         })
     }
 
@@ -163,6 +168,16 @@ impl SimulatePass {
         Ok(self.simulate.entry(variant).or_insert(pipeline).pipeline)
     }
 
+    /// Records the query pass (`compute::query`): the frame's questions answered
+    /// over every simulated blade, after the pass ([`SimulatePass::record`]) has left
+    /// them simulated; its answers are then ready for a transfer read.
+    pub fn record_questions(&self, rec: &Recorder, field: &Field) {
+        let (layout, set) = (field.layout.layout, field.descriptors.set);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        rec.bind_pipeline(compute, self.answer.pipeline, layout, set);
+        rec.dispatch(self.workgroups(field.simulated, SIMULATE_WORKGROUP));
+    }
+
     /// Records the colliders' grid's build from `colliders` colliders:
     /// `GRID_CORNERS` threads each (`compute::grid`). Their update and the grid's clearing must come before,
     /// with their barrier.
@@ -179,13 +194,14 @@ impl SimulatePass {
 
     /// Records the collision pass after the pass over every blade: its dispatch from
     /// the handed blades' count, then the blades near colliders simulated and tested
-    /// with them (`layout::COLLIDERS_NEAR`).
+    /// with them (`layout::COLLIDERS_NEAR`), then the colliders they touch marked where
+    /// the frame asks for `contacts`.
     fn record_near(
         &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
-        variant: SimulateVariant,
+        (variant, contacts): (SimulateVariant, bool),
     ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
@@ -210,7 +226,14 @@ impl SimulatePass {
         let pipeline = self.simulate(field, near)?;
         rec.bind_pipeline(compute, pipeline, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
-        rec.dispatch_indirect(field.near.buffer, (NEAR_DISPATCH * 4) as u64);
+        let args = (NEAR_DISPATCH * 4) as u64;
+        rec.dispatch_indirect(field.near.buffer, args);
+        if contacts {
+            // The colliders its blades touch, for a game's footsteps (`compute::query`).
+            rec.memory_barrier(written, (S::COMPUTE_SHADER, A::SHADER_READ));
+            rec.bind_pipeline(compute, self.contacts.pipeline, layout, set);
+            rec.dispatch_indirect(field.near.buffer, args);
+        }
         Ok(())
     }
 
@@ -218,13 +241,14 @@ impl SimulatePass {
     /// with their barrier; this leaves the draw commands and the visible buffer ready
     /// for the indirect draw, and the counters for a transfer read.
     /// The pipeline is `variant`'s, which must agree with the frame block
-    /// ([`SimulateVariant::of`]).
+    /// ([`SimulateVariant::of`]); with colliders, the `contacts` are marked after the
+    /// collision pass where asked.
     pub fn record(
         &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
-        variant: SimulateVariant,
+        (variant, contacts): (SimulateVariant, bool),
     ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
@@ -233,7 +257,7 @@ impl SimulatePass {
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
         if variant.colliders == COLLIDERS_HAND_OVER {
-            self.record_near(rec, field, push, variant)?;
+            self.record_near(rec, field, push, (variant, contacts))?;
         }
         // The visible count is complete before the chunk pass reads it.
         rec.memory_barrier(

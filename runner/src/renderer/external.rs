@@ -80,11 +80,13 @@ impl Renderer {
         // Orders this frame after the caller's rendering into the targets too (a
         // global dependency on every stage a frame uses).
         let colliders = &frame.request.colliders()[..uniforms.forces.colliders as usize];
-        self.begin_compute(rec, &uniforms, colliders);
+        let questions = frame.request.questions();
+        self.begin_compute(rec, &uniforms, (colliders, questions));
         self.record_tiles(rec, (&uniforms, colliders), frame.push)?;
         stamp(Mark::Pyramid);
         // The caller draws its own colliders: none in the shadow map.
-        self.record_simulation(rec, &plan, frame.push, (colliders, false), &stamp)?;
+        let asked = (colliders, false, super::Asked::of(&frame.request));
+        self.record_simulation(rec, &plan, frame.push, asked, &stamp)?;
         let images = LoadedImages {
             color: frame.targets.color,
             depth: frame.targets.depth,

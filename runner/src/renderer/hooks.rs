@@ -1,5 +1,5 @@
 //! What the GPU-against-host tests need of the renderer besides whole frames: the
-//! compute part of a frame alone, and a device buffer copied back to the host.
+//! compute part of a frame alone, the mesh path's vertices, a tile generated alone.
 
 use super::{FrameQueries, Renderer};
 use crate::field::PUSH_CONSTANTS;
@@ -30,27 +30,14 @@ impl Renderer {
         let facts = self.facts(vk::Extent2D::default(), push);
         let uniforms = self.make_block(request, &plan, &facts);
         let colliders = &request.colliders()[..uniforms.forces.colliders as usize];
-        self.begin_compute(rec, &uniforms, colliders);
-        // The simulation and the counters alone: nothing is drawn, so nothing dressed.
-        self.record_compute(rec, self.simulate_push(push), false)?;
+        let questions = request.questions();
+        self.begin_compute(rec, &uniforms, (colliders, questions));
+        // The simulation, the answers and the counters alone: nothing is drawn, so
+        // nothing dressed.
+        let asks = super::Asked::of(request);
+        self.record_compute(rec, self.simulate_push(push), (false, asks))?;
         self.copy_counters(rec, queries);
         Ok(())
-    }
-
-    /// Copies a device buffer into host memory and returns `count` values of `T`.
-    pub fn download<T: bytemuck::Pod>(&self, buffer: &Buffer, count: usize) -> Result<Vec<T>> {
-        let bytes = (count * size_of::<T>()) as u64;
-        let staging = Buffer::new(
-            &self.ctx,
-            "download",
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        self.ctx.wait_idle()?;
-        self.pool
-            .one_shot(|rec| rec.copy_buffer(buffer.buffer, staging.buffer, bytes))?;
-        staging.read(count)
     }
 
     /// With `Some(buffer)`, the mesh path's later frames draw the paper look through

@@ -32,6 +32,7 @@ use crate::vulkan::pipeline::ShaderModules;
 use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
+use compute::Asked;
 use shared::Blade;
 use shared::draw::shade::{MATERIAL_ROCK, MATERIAL_SOIL};
 use shared::gpu::layout::{FrameUniforms, SimulatePush};
@@ -355,7 +356,8 @@ impl Renderer {
         }
         stamp(Mark::Start);
         let colliders = &input.request.colliders()[..uniforms.forces.colliders as usize];
-        self.begin_compute(rec, &uniforms, colliders);
+        let questions = input.request.questions();
+        self.begin_compute(rec, &uniforms, (colliders, questions));
         if occlusion {
             let targets = self.targets.as_ref().context("draw targets")?;
             self.occlusion
@@ -364,7 +366,8 @@ impl Renderer {
         // After the pyramid: the far tiles are tested against it.
         self.record_tiles(rec, (&uniforms, colliders), input.push)?;
         stamp(Mark::Pyramid);
-        self.record_simulation(rec, &plan, input.push, (colliders, true), &stamp)?;
+        let asked = (colliders, true, Asked::of(&input.request));
+        self.record_simulation(rec, &plan, input.push, asked, &stamp)?;
         let targets = self.targets.as_ref().context("draw targets")?;
         let images = draw_images(targets, &target, drawn, natural);
         self.draw.record(
@@ -508,15 +511,16 @@ impl Renderer {
     }
 
     /// Simulate, cull and compact (the clumps first when the natural look's changed),
-    /// (the colliders' grid first where there are any), then the natural
-    /// look's shadow map, with the `colliders` where they are `drawn` (not where the
-    /// caller draws them): [`Mark::SimulateCull`] and [`Mark::Shadow`] after each.
+    /// (the colliders' grid first where there are any), the questions answered and the
+    /// contacts marked where the frame `asks`, then the natural look's shadow map,
+    /// with the `colliders` where they are `drawn` (not where the caller draws them):
+    /// [`Mark::SimulateCull`] and [`Mark::Shadow`] after each.
     fn record_simulation(
         &mut self,
         rec: &Recorder,
         plan: &FramePlan,
         push: SimulatePush,
-        (colliders, drawn): (&[Collider], bool),
+        (colliders, drawn, asks): (&[Collider], bool, Asked),
         stamp: &dyn Fn(Mark),
     ) -> Result<()> {
         let natural = plan.natural();
@@ -524,7 +528,7 @@ impl Renderer {
             self.simulate.record_clumps(rec, &self.field);
             self.clumped = Some(plan.clumps);
         }
-        self.record_compute(rec, self.simulate_push(push), natural)?;
+        self.record_compute(rec, self.simulate_push(push), (natural, asks))?;
         stamp(Mark::SimulateCull);
         if natural && plan.shadows.is_some() {
             let ground = &self.draw.ground;

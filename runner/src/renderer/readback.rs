@@ -2,14 +2,18 @@
 //! and the triangles the grass draw generated, each in per-slot objects the renderer
 //! writes and the frame driver reads once the slot's fence has signalled.
 
+use crate::answers::Answers;
 pub use crate::passes::Mark;
 use crate::vulkan::query::{TimestampPool, TrianglePool};
 use crate::vulkan::{Buffer, Context};
 use anyhow::Result;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use shared::Blade;
 use shared::gpu::counters;
 use shared::gpu::counters::COUNTER_COUNT;
+use shared::query::{QUERY_WORDS, Question, Tally};
+use shared::sim::cut::{CUT_SLOTS, CUT_WORDS, as_cut};
 use std::sync::Arc;
 
 /// How the compute pass sorted the blades of one frame: drawn, or removed by the
@@ -173,8 +177,9 @@ impl PassTimes {
     }
 }
 
-/// What the newest frame read back left: its counts, pass times and triangles.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
+/// What the newest frame read back left: its counts, pass times, triangles and
+/// answers.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Readback {
     /// The culling tests' counts.
     pub counts: Option<CullCounts>,
@@ -183,6 +188,8 @@ pub struct Readback {
     /// Triangles the grass draw generated (pipeline statistics, where the device has
     /// them).
     pub triangles: Option<u64>,
+    /// Its answers to the questions asked of the grass, and its contacts.
+    pub answers: Answers,
 }
 
 impl Readback {
@@ -192,10 +199,12 @@ impl Readback {
     }
 }
 
-/// One frame slot's queries and the host copy of its counters.
+/// One frame slot's queries and the host copy of its counters and answers.
 pub struct FrameQueries {
     /// The counters, copied at the end of the compute pass.
     pub counters: Buffer,
+    /// The query buffer (`shared::query::QUERY_WORDS`), copied with the counters.
+    pub answers: Buffer,
     /// One timestamp per [`Mark`], where the device has them.
     pub timestamps: Option<TimestampPool>,
     /// The grass draw's triangles, where the device counts them.
@@ -210,6 +219,13 @@ impl FrameQueries {
                 ctx,
                 "counter readback",
                 counters::COUNTER_BYTES,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?,
+            answers: Buffer::new(
+                ctx,
+                "answer readback",
+                (QUERY_WORDS * 4) as u64,
                 vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?,
@@ -229,6 +245,43 @@ impl FrameQueries {
                 .and_then(TimestampPool::read_ms)
                 .map(|m| PassTimes::from_marks(&m)),
             triangles: self.triangles.as_ref().and_then(TrianglePool::read),
+            answers: Answers::from_words(&self.answers.read::<u32>(QUERY_WORDS)?),
         })
+    }
+}
+
+impl super::Renderer {
+    /// Copies a device buffer into host memory and returns `count` values of `T`.
+    pub fn download<T: bytemuck::Pod>(&self, buffer: &Buffer, count: usize) -> Result<Vec<T>> {
+        let bytes = (count * size_of::<T>()) as u64;
+        let staging = Buffer::new(
+            &self.ctx,
+            "download",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.ctx.wait_idle()?;
+        self.pool
+            .one_shot(|rec| rec.copy_buffer(buffer.buffer, staging.buffer, bytes))?;
+        staging.read(count)
+    }
+
+    /// The answers to `questions` over the field's simulated blades as the newest
+    /// frame left them, on the host (`shared::query`): the blades and the cut table
+    /// read back (waiting for the device), each blade as the cut table leaves it at the
+    /// frame's time, as the query pass reads it.
+    pub fn host_answers(&self, questions: &[Question]) -> Result<Vec<Tally>> {
+        let count = self.field.simulated as usize;
+        let mut blades: Vec<Blade> = self.download(&self.field.blades, count)?;
+        let forces = &self.block().forces;
+        if forces.cutting != 0 {
+            let words = CUT_SLOTS as usize * CUT_WORDS;
+            let cuts: Vec<u32> = self.download(&self.field.cuts, words)?;
+            for b in &mut blades {
+                *b = as_cut(b, &cuts, forces.time, forces.regrow);
+            }
+        }
+        Ok(questions.iter().map(|q| q.tally(&blades)).collect())
     }
 }

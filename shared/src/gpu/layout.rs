@@ -228,6 +228,12 @@ pub const BINDING_NEAR: u32 = 27;
 /// blade, read by the compute pass and the far tiles' generation while
 /// `Environment::cutting` is set.
 pub const BINDING_CUTS: u32 = 28;
+/// Binding of the query buffer (storage, `u32` words laid out by `query::ASKED`,
+/// `query::CONTACTS`, `query::ANSWERS` and `query::QUESTIONS`): the frame's
+/// questions, uploaded with the answers cleared at its start; the colliders touching
+/// the collision pass's blades are marked after it, and the query pass adds each
+/// blade's part to each answer.
+pub const BINDING_QUERIES: u32 = 29;
 /// Word of the collision pass's `VkDispatchIndirectCommand` in [`BINDING_NEAR`].
 pub const NEAR_DISPATCH: usize = 0;
 /// First word of the handed blades' indices in [`BINDING_NEAR`].

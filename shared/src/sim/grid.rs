@@ -44,6 +44,13 @@ pub const GRID_CORNERS: u32 = 27;
 /// each collider hands to the collision pass by the square.
 pub const REACH_MARGIN: f32 = 1.1;
 
+/// How near a collider's surface a blade's tip or midpoint touches it
+/// ([`Nearby::first_touching`]), world units: a tenth of the narrowest blade's height.
+pub const TOUCH_MARGIN: f32 = 0.1;
+
+/// [`Nearby::first_touching`]: no collider touches.
+pub const NONE_TOUCHING: u32 = u32::MAX;
+
 /// Threads of a workgroup of the grid's build: one per collider and cube it may mark.
 pub const GRID_WORKGROUP: u32 = 64;
 
@@ -182,7 +189,9 @@ pub fn collide_near(
 /// Calls `visit(i)` for each collider `i` marked in `slot` of `words` (with
 /// `slot.every`, each of the first `count`), in ascending order, until it returns
 /// false: the walk over a slot's bits (the cuts' ([`crate::sim::cut::cut_near`]);
-/// the collisions' ([`collide_near`]) and the hand-over's).
+/// the collisions' ([`collide_near`]), the hand-over's and the contacts'). On the GPU,
+/// `visit` does no device atomic: NVIDIA's compiler crashes on one there
+/// (`docs/architecture.md`, "Five workarounds worth knowing").
 pub fn each_marked(words: &[u32], slot: &Slot, count: u32, mut visit: impl FnMut(u32) -> bool) {
     let used = (count as usize).min(MAX_COLLIDERS) as u32;
     let mut going = true;
@@ -264,6 +273,24 @@ impl Nearby<'_> {
             let c = &self.colliders[i as usize];
             found = !c.cuts() && (c.may_hold(tip) || c.may_hold(mid));
             !found
+        });
+        found
+    }
+
+    /// The first collider of `slot` (of the first `count`) that pushes and that `tip`
+    /// or `mid` touches: within [`TOUCH_MARGIN`] of its surface ([`Collider::gap`]; a
+    /// push leaves a point on the surface); [`NONE_TOUCHING`] where none does. What
+    /// the collision pass's blades mark in the query buffer's contacts
+    /// (`query::CONTACTS`), for a game's footsteps: a collider in the grass touches
+    /// many blades, and one of them that touches no collider before it marks it.
+    pub fn first_touching(&self, (tip, mid): (Vec3, Vec3), slot: &Slot, count: u32) -> u32 {
+        let mut found = NONE_TOUCHING;
+        each_marked(self.words, slot, count, |i| {
+            let c = &self.colliders[i as usize];
+            if !c.cuts() && c.gap(tip).min(c.gap(mid)) < TOUCH_MARGIN {
+                found = i;
+            }
+            found == NONE_TOUCHING
         });
         found
     }

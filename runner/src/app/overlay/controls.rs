@@ -18,6 +18,9 @@ pub struct Actors {
     pub mowers: u32,
     /// The ball cuts the grass (C; `--ball-cuts`).
     pub ball_cuts: bool,
+    /// Ask the grass about the ball each frame (`shared::query`): the overlay shows
+    /// the answers.
+    pub ask: bool,
 }
 
 impl Actors {
@@ -28,6 +31,7 @@ impl Actors {
             walkers: common.walkers,
             mowers: common.mowers,
             ball_cuts: common.ball_cuts,
+            ask: false,
         }
     }
 }
@@ -232,6 +236,10 @@ fn forces(ui: &mut egui::Ui, s: &mut Settings, actors: &mut Actors, blow: &mut O
         });
     ui.add(egui::Slider::new(&mut s.tip_start, 0.0..=1.0).text("tip start"));
     ui.checkbox(&mut actors.ball, "ball (B)");
+    ui.checkbox(&mut actors.ask, "ask the grass about the ball")
+        .on_hover_text(
+            "the blades around the ball, how hidden it is from the camera (grass query)",
+        );
     let most = crate::walkers::MAX_WALKERS;
     ui.add(egui::Slider::new(&mut actors.walkers, 0..=most).text("walkers"))
         .on_hover_text("capsules the size of people wandering the ground (--walkers)");

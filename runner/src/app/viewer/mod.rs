@@ -7,7 +7,7 @@ mod gpu;
 mod keys;
 
 use super::driver::FrameSpec;
-use super::overlay::{Overlay, Readings};
+use super::overlay::{Overlay, Readings, said};
 use super::storm::{Gust, Storm};
 use crate::app::overlay::Actors;
 use crate::camera::{Fly, OrbitCamera};
@@ -55,23 +55,6 @@ struct Viewer {
     file: Option<SceneFile>,
     state: Option<Running>,
     error: Option<anyhow::Error>,
-}
-
-/// What the overlay says of a file written (`saved`: its path) or not (why), also
-/// logged: `(message, failed)`.
-fn said(saved: Result<std::path::PathBuf>, done: &str, failed: &str) -> (String, bool) {
-    match saved {
-        Ok(path) => {
-            let message = format!("{done}: {}", path.display());
-            log::info!("{message}");
-            (message, false)
-        }
-        Err(e) => {
-            let message = format!("{failed}: {e:#}");
-            log::warn!("{message}");
-            (message, true)
-        }
-    }
 }
 
 /// Mouse state for the orbit camera.
@@ -320,6 +303,7 @@ impl Running {
             times: readback.times,
             occluders: self.gpu.driver.renderer.has_occluders,
             pool: self.gpu.driver.renderer.tiles.as_ref().map(|t| t.stats),
+            answers: readback.answers.clone(),
             notice: self.notice.clone(),
             saved: self.saved.clone(),
         };
@@ -362,6 +346,8 @@ impl Running {
             .map(Ball::sphere)
             .collect();
         let eye = self.camera.viewpoint(frame.extent());
+        let asked = self.ball.filter(|_| self.actors.ask && self.actors.ball);
+        let questions = asked.map_or(vec![], |b| b.questions(eye.position).to_vec());
         let spec = FrameSpec {
             request: self
                 .settings
@@ -372,7 +358,9 @@ impl Running {
                         .walkers
                         .colliders(&self.scene, frame.time, frame.seconds()),
                 )
-                .with_impulses(&self.impulses),
+                .with_impulses(&self.impulses)
+                .with_questions(&questions)
+                .with_contacts(!questions.is_empty()),
             overlay: painted.as_ref().map(|p| OverlayFrame {
                 changed: p.changed,
                 primitives: &p.primitives,

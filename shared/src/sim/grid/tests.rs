@@ -179,3 +179,44 @@ fn every_collider_tested_when_the_count_is_not_a_whole_word() {
     assert!(pushed(37).length() > 0.1, "{}", pushed(37));
     assert_eq!(pushed(0), Vec3::ZERO);
 }
+
+#[test]
+fn a_collider_touches_the_blades_it_pushes_and_no_others() {
+    // A blade 2 tall at the origin; a ball on its tip, one over it, one beside it
+    // and a cutter on its tip.
+    let b = Blade::at_rest(Vec3::ZERO, Vec3::Y, 0.0, 2.0, 0.1, 10.0);
+    let colliders = [
+        Collider::sphere(Vec3::new(0.1, 2.0, 0.0), 0.3),
+        Collider::sphere(Vec3::new(0.0, 2.5, 0.0), 0.3),
+        Collider::sphere(Vec3::new(1.0, 1.0, 0.0), 0.3),
+        Collider::sphere(Vec3::new(0.0, 2.0, 0.0), 0.3).cutting(),
+    ];
+    let set = ColliderSet::new(&colliders, fitted(&colliders, 2.5, 64));
+    let n = set.nearby();
+    let count = colliders.len() as u32;
+    let touched = |blade: &Blade| {
+        let slot = n.around(blade.root(), blade.height(), count);
+        n.first_touching((blade.tip(), blade.midpoint()), &slot, count)
+    };
+    // Before the push the first holds the tip; after it the tip is on its surface,
+    // still touching. The ball over the tip (its surface 0.2 from it) is not within
+    // the margin, the one beside is not, and a cutter never touches.
+    assert_eq!(touched(&b), 0);
+    let (pushed, _) = collide_near(
+        &b,
+        (n.colliders, n.words),
+        &n.around(b.root(), 2.0, count),
+        count,
+    );
+    assert_eq!(touched(&pushed), 0);
+    // Pushed out and then stood away: not touching.
+    let away = Blade::at_rest(Vec3::new(-3.0, 0.0, 0.0), Vec3::Y, 0.0, 2.0, 0.1, 10.0);
+    assert_eq!(touched(&away), NONE_TOUCHING);
+    // A cutter first on the tip, then a ball: the cutter does not touch, the ball
+    // does.
+    let both = [colliders[3], colliders[0]];
+    let set = ColliderSet::new(&both, fitted(&both, 2.5, 64));
+    let n = set.nearby();
+    let slot = n.around(b.root(), b.height(), 2);
+    assert_eq!(n.first_touching((b.tip(), b.midpoint()), &slot, 2), 1);
+}

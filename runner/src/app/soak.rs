@@ -1,7 +1,8 @@
 //! `grass soak`: thousands of frames headless with the validation layer on, every
 //! switch cycled (culling tests, LOD, view, wind, blade shape, look, MSAA, shadows,
-//! pipeline, frame times from 0.1 ms to 2 s, two image sizes), a ball circling through the grass; it reads host and
-//! device memory as it goes and fails unless both stay flat and the layer says nothing.
+//! pipeline, frame times from 0.1 ms to 2 s, two image sizes), a ball circling through
+//! the grass, asked about every other half second; it reads host and device memory as
+//! it goes and fails unless both stay flat and the layer says nothing.
 
 use super::driver::{Frame, FrameDriver};
 use super::headless::{FORMAT, Offscreen};
@@ -245,15 +246,22 @@ fn soak(common: &Common, args: &SoakArgs) -> Result<SoakReport> {
         let request = |f: &Frame| {
             let angle = f.time * 0.7;
             let around = camera.target.xz() + Vec2::from_angle(angle) * circle;
-            let balls: Vec<_> = Ball::dropped(&scene.solid, around, common.collider_radius)
-                .filter(|_| !common.no_ball)
-                .iter()
-                .map(Ball::sphere)
-                .collect();
+            let ball = Ball::dropped(&scene.solid, around, common.collider_radius)
+                .filter(|_| !common.no_ball);
+            let balls: Vec<_> = ball.iter().map(Ball::sphere).collect();
+            let eye = camera.viewpoint(size);
+            // Every other half second of simulated time the frame asks about the ball
+            // (`shared::query`) and marks the colliders touching blades.
+            let asking = (f.time * 2.0) as u32 % 2 == 1;
+            let questions = ball
+                .filter(|_| asking)
+                .map_or(vec![], |b| b.questions(eye.position).to_vec());
             settings
-                .request(&camera.viewpoint(size), &balls)
+                .request(&eye, &balls)
                 .with_balls_cutting(common.ball_cuts)
                 .with_colliders(&walkers.colliders(&scene, f.time, f.seconds()))
+                .with_questions(&questions)
+                .with_contacts(asking)
         };
         driver.run(offscreen, dt, request, false)?;
         // The newest frame read back (a slot's older frame, with no wait).

@@ -403,22 +403,26 @@ fn simulate_and_cull<T: Copy + Default>(
         // A stored blade reads the maps at its root, over the map square.
         map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
-    // A simulated blade within reach of a collider of its slot of the grid has its
-    // steps watched; one a collider's bounding sphere may have touched goes to the
+    // A simulated blade has its steps watched against the colliders of its slot of
+    // the grid; one a collider's bounding sphere may have touched goes to the
     // collision pass, which simulates and tests it instead, and so does one a cutter
-    // reaches.
+    // reaches. The slot's words are first needed in the first step's watch, after
+    // that step's forces: their load waits behind arithmetic, not in front of it.
+    // Only a frame with a cutter (`Environment::cutting`) tests the reach first.
     let mut handed = false;
     let mut slot = Slot::default();
     let count = frame.forces.colliders;
     if hand_over && in_field && simulated {
         let b = &blades[index as usize];
-        let around = nearby.around(b.root(), b.height(), count);
-        let (reaching, cutter) =
-            nearby.reaches(b.root(), b.height() * REACH_MARGIN, &around, count);
-        handed = cutter;
-        in_field = !handed;
-        if reaching {
-            slot = around;
+        slot = nearby.around(b.root(), b.height(), count);
+        if frame.forces.cutting != 0 {
+            let (reaching, cutter) =
+                nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
+            handed = cutter;
+            in_field = !handed;
+            if !reaching {
+                slot = Slot::default();
+            }
         }
     }
     let mut drawn = in_field;

@@ -247,8 +247,8 @@ impl Nearby<'_> {
     /// surface ([`Collider::gap`], after its bounding sphere). A blade for which the
     /// first is false is pushed and cut by none of them, whatever the order: its tip
     /// and midpoint stay within `reach` of its root. What the compute pass's pass over
-    /// every blade asks before watching a blade's steps, or handing it to its
-    /// collision pass straight away where a cutter reaches it.
+    /// every blade asks, in a frame with a cutter, before watching a blade's steps, or
+    /// handing it to its collision pass straight away where a cutter reaches it.
     pub fn reaches(&self, root: Vec3, reach: f32, slot: &Slot, count: u32) -> (bool, bool) {
         let (mut found, mut cutter) = (false, false);
         each_marked(self.words, slot, count, |i| {

@@ -857,3 +857,35 @@ fn quality_finds_taa_and_msaa_closer_to_the_reference_than_one_sample() {
     assert!(crops.join("quality-msaa4.png").is_file());
     assert!(crops.join("quality-taa.png").is_file());
 }
+
+/// `grass query` refuses, before any device is opened, what it would not use: nothing
+/// asked, more questions than a frame answers, a shape for questions not asked, and
+/// the camera on a stored field (all of whose blades are simulated wherever it is).
+#[test]
+fn query_refuses_what_it_would_not_use() {
+    let no_device = [("VK_DRIVER_FILES", "/nonexistent/icd.json")];
+    let many: Vec<String> = (0..17).map(|i| format!("--at={i},0")).collect();
+    let mut seventeen = vec!["query"];
+    seventeen.extend(many.iter().map(String::as_str));
+    for (args, why) in [
+        (vec!["query"], "nothing asked"),
+        (seventeen, "17 questions: at most 16"),
+        (
+            vec!["query", "--sight=0,0:1,1", "--radius", "2"],
+            "--radius: it sizes each --at",
+        ),
+        (
+            vec!["query", "--at", "0,0", "--eye-height", "2"],
+            "--eye-height: it shapes each --sight",
+        ),
+        (
+            vec!["query", "--at", "0,0", "--yaw", "30"],
+            "--yaw: a stored field's blades are all simulated",
+        ),
+    ] {
+        let o = grass_with(&args, &no_device);
+        let stderr = stderr_of(&args, &o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(why), "{args:?}: {stderr}");
+    }
+}

@@ -91,6 +91,23 @@ pub fn query(common: &Common, args: &QueryArgs) -> Result<QueryReport> {
     if asked > MAX_QUESTIONS {
         bail!("{asked} questions: at most {MAX_QUESTIONS} a frame");
     }
+    let given = &common.given;
+    if args.at.is_empty() {
+        given.refuse(&["radius"], "it sizes each --at, and none is asked")?;
+    }
+    if args.sight.is_empty() {
+        given.refuse(
+            &["eye-height", "sight-radius"],
+            "it shapes each --sight, and none is asked",
+        )?;
+    }
+    if !super::tiled(common, &common.scene_kind()) {
+        given.refuse(
+            &["zoom", "yaw", "pitch", "orbit"],
+            "a stored field's blades are all simulated wherever the camera is: it acts \
+             on a tiled field (--field tiles), whose simulated blades are around the camera",
+        )?;
+    }
     // The target's size matters to no answer.
     let mut run = Headless::open(common, (64, 64), &args.camera, &args.events)?;
     let questions = questions(&run.scene, args)?;

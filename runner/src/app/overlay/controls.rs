@@ -238,7 +238,8 @@ fn forces(ui: &mut egui::Ui, s: &mut Settings, actors: &mut Actors, blow: &mut O
     ui.checkbox(&mut actors.ball, "ball (B)");
     ui.checkbox(&mut actors.ask, "ask the grass about the ball")
         .on_hover_text(
-            "the blades around the ball, how hidden it is from the camera (grass query)",
+            "with the ball on (B): the blades around it, how hidden it is from the camera \
+             (grass query)",
         );
     let most = crate::walkers::MAX_WALKERS;
     ui.add(egui::Slider::new(&mut actors.walkers, 0..=most).text("walkers"))

@@ -2,7 +2,7 @@
 //! question with its tally, and the colliders touching blades, from which the host
 //! makes the events of a collider entering or leaving the grass (a game's footsteps).
 
-use shared::query::{ASKED, CONTACT_WORDS, CONTACTS, MAX_QUESTIONS, Question, Tally};
+use shared::query::{ASKED, CONTACT_WORDS, CONTACTS, MAX_QUESTIONS, Question, Tally, contact_bit};
 
 /// The questions one frame asked, each with its answer, and the colliders it found
 /// touching blades.
@@ -58,8 +58,8 @@ pub struct GrassEvent {
 impl Contacts {
     /// Whether collider `i` touches blades.
     pub fn touching(&self, i: u32) -> bool {
-        let word = (i / 32) as usize;
-        word < CONTACT_WORDS && self.words[word] & (1 << (i % 32)) != 0
+        let (at, bit) = contact_bit(i);
+        self.words.get(at - CONTACTS).is_some_and(|w| w & bit != 0)
     }
 
     /// The colliders touching blades, in ascending order.

@@ -223,10 +223,21 @@ pub fn query_words(questions: &[Question]) -> Vec<u32> {
     words
 }
 
+/// The query buffer's first word of question `q`'s answer (a [`Tally`]'s four words:
+/// blades, height, bend, cover).
+pub fn answer_at(q: usize) -> usize {
+    ANSWERS + TALLY_WORDS * q
+}
+
+/// Where collider `i`'s contact bit is: (query buffer word, bit mask).
+pub fn contact_bit(i: u32) -> (usize, u32) {
+    (CONTACTS + (i / 32) as usize, 1 << (i % 32))
+}
+
 impl Tally {
     /// The answer to question `q` in the query buffer's `words`.
     pub fn read(words: &[u32], q: usize) -> Self {
-        let at = ANSWERS + TALLY_WORDS * q;
+        let at = answer_at(q);
         Self {
             blades: words[at],
             height: words[at + 1],

@@ -8,7 +8,7 @@ use shared::gpu::counters::COUNTER_NEAR;
 use shared::gpu::layout::{
     CULL_WORKGROUP, FrameUniforms, NEAR_LIST, SIMULATE_WORKGROUP, flat_index,
 };
-use shared::query::{ANSWERS, ASKED, CONTACTS, MAX_QUESTIONS, Question, TALLY_WORDS};
+use shared::query::{ASKED, MAX_QUESTIONS, Question, answer_at, contact_bit};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{NONE_TOUCHING, Nearby};
 use spirv_std::arch::{atomic_i_add, atomic_or, workgroup_memory_barrier_with_group_sync};
@@ -48,7 +48,7 @@ pub fn answer_questions(
     while q < asked {
         let part = asked_here[q].part(&blade);
         if part.blades > 0 {
-            let at = ANSWERS + TALLY_WORDS * q;
+            let at = answer_at(q);
             add(&mut queries[at], part.blades);
             add(&mut queries[at + 1], part.height);
             add(&mut queries[at + 2], part.bend);
@@ -96,10 +96,11 @@ pub fn mark_contacts(
 /// Marks `collider` as touching a blade this frame (`query::CONTACTS`), with a
 /// device atomic.
 fn mark_contact(queries: &mut [u32], collider: u32) {
+    let (at, bit) = contact_bit(collider);
     unsafe {
         atomic_or::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-            &mut queries[CONTACTS + (collider / 32) as usize],
-            1u32 << (collider % 32),
+            &mut queries[at],
+            bit,
         );
     }
 }

@@ -180,6 +180,8 @@ fn every_collider_tested_when_the_count_is_not_a_whole_word() {
     assert_eq!(pushed(0), Vec3::ZERO);
 }
 
+/// Planted faults: a margin of 0.3 (the ball over the tip then touches) and of 0.03
+/// (the ball 0.05 away then does not) each fail it.
 #[test]
 fn a_collider_touches_the_blades_it_pushes_and_no_others() {
     // A blade 2 tall at the origin; a ball on its tip, one over it, one beside it
@@ -212,6 +214,18 @@ fn a_collider_touches_the_blades_it_pushes_and_no_others() {
     // Pushed out and then stood away: not touching.
     let away = Blade::at_rest(Vec3::new(-3.0, 0.0, 0.0), Vec3::Y, 0.0, 2.0, 0.1, 10.0);
     assert_eq!(touched(&away), NONE_TOUCHING);
+    // Alone, the ball over the tip (its surface 0.2 away) and the one beside do not
+    // touch; a ball whose surface is 0.05 from the tip does.
+    let alone = |c: &[Collider]| {
+        let set = ColliderSet::new(c, fitted(c, 2.5, 64));
+        let n = set.nearby();
+        let count = c.len() as u32;
+        let slot = n.around(b.root(), b.height(), count);
+        n.first_touching((b.tip(), b.midpoint()), &slot, count)
+    };
+    assert_eq!(alone(&colliders[1..3]), NONE_TOUCHING);
+    let close = Collider::sphere(Vec3::new(0.0, 2.35, 0.0), 0.3);
+    assert_eq!(alone(&[colliders[2], close]), 1);
     // A cutter first on the tip, then a ball: the cutter does not touch, the ball
     // does.
     let both = [colliders[3], colliders[0]];

@@ -235,6 +235,16 @@ pub fn contact_bit(i: u32) -> (usize, u32) {
 }
 
 impl Tally {
+    /// Calls `add(word, value)` for each of its sums with the query buffer word it
+    /// goes to, as question `q`'s answer ([`Tally::read`]'s order).
+    pub fn add_to(&self, q: usize, mut add: impl FnMut(usize, u32)) {
+        let at = answer_at(q);
+        add(at, self.blades);
+        add(at + 1, self.height);
+        add(at + 2, self.bend);
+        add(at + 3, self.cover);
+    }
+
     /// The answer to question `q` in the query buffer's `words`.
     pub fn read(words: &[u32], q: usize) -> Self {
         let at = answer_at(q);
@@ -416,6 +426,16 @@ mod tests {
         assert_eq!(Question::read(&words, 1), asked[1]);
         assert!(!asked[0].is_sight() && asked[1].is_sight());
         assert_eq!(Tally::read(&words, 1), Tally::default());
+        let mut answered = words.clone();
+        let t = Tally {
+            blades: 3,
+            height: 700,
+            bend: 90,
+            cover: 5,
+        };
+        t.add_to(1, |at, v| answered[at] += v);
+        assert_eq!(Tally::read(&answered, 1), t);
+        assert_eq!(Tally::read(&answered, 0), Tally::default());
         // The kinds answer as the host's tallies do.
         let blades = crate::world::generate::square_field(500, 4.0, 9);
         assert_eq!(asked[0].tally(&blades), tally_around(&blades, &around));

@@ -116,7 +116,7 @@ pub fn query(common: &Common, args: &QueryArgs) -> Result<QueryReport> {
     for frame in 0..args.frames {
         // The last two frames ask (the last answers): a pipeline's first dispatch may
         // cost a driver more than the pass (lavapipe compiles it then).
-        if frame + 2 == args.frames || (args.frames == 1) {
+        if frame + 2 == args.frames.max(2) {
             // The frame before, done: its time without the query pass.
             run.driver.finish()?;
             before = run.driver.readback.times.map(|t| t.simulate_cull);

@@ -8,7 +8,7 @@ use shared::gpu::counters::COUNTER_NEAR;
 use shared::gpu::layout::{
     CULL_WORKGROUP, FrameUniforms, NEAR_LIST, SIMULATE_WORKGROUP, flat_index,
 };
-use shared::query::{ASKED, MAX_QUESTIONS, Question, answer_at, contact_bit};
+use shared::query::{ASKED, MAX_QUESTIONS, Question, contact_bit};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{NONE_TOUCHING, Nearby};
 use spirv_std::arch::{atomic_i_add, atomic_or, workgroup_memory_barrier_with_group_sync};
@@ -48,11 +48,7 @@ pub fn answer_questions(
     while q < asked {
         let part = asked_here[q].part(&blade);
         if part.blades > 0 {
-            let at = answer_at(q);
-            add(&mut queries[at], part.blades);
-            add(&mut queries[at + 1], part.height);
-            add(&mut queries[at + 2], part.bend);
-            add(&mut queries[at + 3], part.cover);
+            part.add_to(q, |at, value| add(&mut queries[at], value));
         }
         q += 1;
     }

@@ -196,6 +196,8 @@ pub struct ViewerState {
     pub mowers: u32,
     /// The ball cuts (C; `--ball-cuts`).
     pub ball_cuts: bool,
+    /// The species the field grows (the overlay's control; `--species`).
+    pub species: shared::species::Mix,
 }
 
 /// The running `settings` and `viewer` state (as the overlay and the keys leave them)
@@ -241,6 +243,7 @@ pub fn current(
         ("height-map", path(&common.height_map)),
         ("colour-map", path(&common.colour_map)),
         ("type-map", path(&common.type_map)),
+        ("species", Some(format!("{:?}", viewer.species.to_string()))),
         ("full-distance", viewer.full_distance.and_then(number)),
         ("wind", Some(word(s.wind.field.to_possible_value()))),
         ("wind-strength", number(s.wind.strength)),

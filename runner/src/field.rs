@@ -221,6 +221,8 @@ pub enum FieldBlades<'a> {
         far: u32,
         /// Words of the tile buffer.
         tile_words: u32,
+        /// How the tiles mix their species (`TileParams::species`).
+        species: shared::species::Mix,
     },
 }
 
@@ -338,9 +340,8 @@ impl Field {
         let paint = Buffer::upload(ctx, pool, "painted maps", paint_words, U::STORAGE_BUFFER)?;
         let tallest = match source {
             FieldBlades::Stored { blades, .. } => tallest(blades),
-            FieldBlades::Tiled { paint, .. } => {
-                let painted = shared::world::paint::has(paint, shared::world::paint::HEIGHT);
-                shared::blade::HEIGHT.1 * if painted { 2.0 } else { 1.0 }
+            FieldBlades::Tiled { paint, species, .. } => {
+                shared::blade::HEIGHT.1 * shared::world::paint::tallest_factor(paint, species)
             }
         };
         let reach = REACH_MARGIN * tallest;

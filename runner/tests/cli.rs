@@ -588,6 +588,7 @@ const OPTIONS: &[(&str, Option<&str>, &str)] = &[
     ("height-map", Some("map.png"), "scene"),
     ("colour-map", Some("map.png"), "scene"),
     ("type-map", Some("map.png"), "scene"),
+    ("species", Some("grass=4,flower=1"), "scene"),
     ("full-distance", Some("20"), "scene"),
     ("seed", Some("9"), "Settings"),
     ("wind", Some("gusts"), "Settings"),

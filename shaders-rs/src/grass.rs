@@ -13,16 +13,17 @@
 use crate::{ShadowMap, sun_shadow};
 use shared::Blade;
 use shared::cull::lod::{blade_level, dealt_slot, tess_levels, tess_levels_if};
-use shared::draw::look::clump::{Clump, DressedBlade, blade_albedo, caster_blade};
-use shared::draw::look::coverage::unpack_coverage;
+use shared::draw::look::clump::{Clump, DressedBlade, caster_blade, species_albedo};
+use shared::draw::look::coverage::{coverage_species, unpack_coverage};
 use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::sky::fog;
 use shared::draw::look::visibility;
-use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_facing};
+use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_tagged};
 use shared::draw::shape::surface_point;
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::counters::COUNTER_VISIBLE;
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
+use shared::species::{self, tag_v};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
@@ -85,7 +86,7 @@ pub fn grass_tes(
     let grass = &frame.grass;
     let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal_v = p.normal.extend(coord.y);
+    *out_normal_v = p.normal.extend(tag_v(coord.y, species::of(blade)));
     *out_level = in_level[0];
 }
 
@@ -111,7 +112,7 @@ pub fn grass_taa_tes(
     let grass = &frame.grass;
     let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal_v = p.normal.extend(coord.y);
+    *out_normal_v = p.normal.extend(tag_v(coord.y, species::of(blade)));
     *out_level = in_level[0];
     let moved = point_motion(frame, motion, slot, p.position, coord.y, blade);
     *out_motion = moved.extend(0.0).extend(0.0);
@@ -130,7 +131,7 @@ pub fn grass_fs(
     out_color: &mut Vec4,
 ) {
     let facing = facing_normal(normal_v.xyz().normalize_or_zero(), front);
-    *out_color = shade_facing(facing, frame.light, normal_v.w).extend(1.0);
+    *out_color = shade_tagged(facing, frame.light, normal_v.w).extend(1.0);
 }
 
 /// [`grass_fs`] with temporal anti-aliasing: also the blade's own motion into the
@@ -349,7 +350,7 @@ pub(crate) fn natural_colour(
     let to_eye = to_camera / distance.max(1e-6);
     let facing = facing_normal(n, n.dot(to_eye) >= 0.0);
     let rounded = rounded_normal(facing, leaf.width_dir, leaf.uv.x);
-    let albedo = blade_albedo(leaf.tint.xyz(), leaf.uv.y);
+    let albedo = species_albedo(leaf.tint.xyz(), leaf.uv.y, coverage_species(leaf.tint.w));
     let occlusion = ambient_occlusion(leaf.uv.y, density);
     let sun = sun_shadow(frame, shadow_map, shadow_sampler, leaf.world);
     let to_light = frame.light.direction;

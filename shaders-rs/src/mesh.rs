@@ -77,13 +77,14 @@ fn strip_vertex(
 }
 
 /// The paper look's vertex of a strip at (u, v, level): clip position, and the
-/// normal with v (the tessellation evaluation stage's varyings), and the world
-/// position.
+/// normal with v tagged with the blade's species (the tessellation evaluation stage's
+/// varyings), and the world position.
 fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4, Vec3) {
     let grass = &frame.grass;
     let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
     let clip = frame.camera.view_proj * p.position.extend(1.0);
-    (clip, p.normal.extend(uvl.y), p.position)
+    let v = shared::species::tag_v(uvl.y, shared::species::of(blade));
+    (clip, p.normal.extend(v), p.position)
 }
 
 /// The paper look's mesh stage: strips of the stored blades, with the tessellation

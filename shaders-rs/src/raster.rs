@@ -10,7 +10,7 @@ use crate::grass::{Leaf, natural_colour};
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::raster::{EMPTY, pixel_index, unpack};
-use shared::draw::shade::{facing_normal, shade_facing};
+use shared::draw::shade::{facing_normal, shade_species};
 use shared::draw::shape::{SurfacePoint, surface_point};
 use shared::gpu::counters::far_slot;
 use shared::gpu::layout::FrameUniforms;
@@ -64,7 +64,8 @@ pub fn resolve_paper_fs(
     let blade = &blades[visible[slot as usize] as usize];
     let (_, facing) = centre(blade, v, frame);
     *out_depth = depth;
-    *out_color = shade_facing(facing, frame.light, v).extend(1.0);
+    let species = shared::species::of(blade);
+    *out_color = shade_species(facing, frame.light, v, species).extend(1.0);
 }
 
 /// The LOD view: what the compute rasterizer drew, in [`COMPUTE_DRAWN`].

@@ -6,8 +6,9 @@
 //!
 //! The modules by concern: `sim` (the simulation), `cull` (what is drawn), `draw` (how
 //! it is drawn), `world` (where grass grows), `gpu` (the frame's block and counters the
-//! runner and the shaders share), with `blade`, `camera` and `noise` under them all and
-//! `settings` (host only) over them all, the one place settings become the GPU block.
+//! runner and the shaders share), with `blade`, `species`, `camera` and `noise` under
+//! them all and `settings` (host only) over them all, the one place settings become the
+//! GPU block.
 #![cfg_attr(target_arch = "spirv", no_std)]
 
 pub mod blade;
@@ -23,6 +24,7 @@ pub mod query;
 #[cfg(not(target_arch = "spirv"))]
 pub mod settings;
 pub mod sim;
+pub mod species;
 pub mod world;
 
 pub use blade::Blade;

@@ -74,7 +74,9 @@ const BALLS: [Vec4; 2] = [
 /// A camera low over the field's edge, so that every test removes blades; the wind
 /// field `wind_kind`, two balls, and gravity blended towards a centre by `blend`.
 fn setup(wind: WindField, blend: f32) -> (Scene, FrameRequest) {
-    let scene = Scene::plane(BLADES, 11);
+    let mut scene = Scene::plane(BLADES, 11);
+    // Every species, each with its own height and stiffness.
+    scene.set_species(shared::species::Mix::new([5, 1, 2, 2]));
     let side = 2.0 * scene.bounds.1 / std::f32::consts::SQRT_2;
     let mut settings = scene.settings();
     settings.cull.max_distance = side * 0.9;
@@ -680,7 +682,8 @@ fn the_gpu_answers_questions_as_the_host_does() {
         assert!(t[1].mean_bend() > t[0].mean_bend(), "{:?} {:?}", t[1], t[0]);
         assert_eq!(t[2], Tally::default());
         assert!(t[3].concealment() > 0.5, "{}", t[3].concealment());
-        assert!(t[4].concealment() < t[3].concealment());
+        // Fewer blades reach the higher line (both lines may be hidden whole).
+        assert!(t[4].cover < t[3].cover, "{:?} {:?}", t[4], t[3]);
         assert_eq!(t[5].blades, 0);
         let touching: Vec<u32> = answers.contacts.iter().collect();
         assert_eq!(touching, vec![0, 1]);

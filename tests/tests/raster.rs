@@ -79,10 +79,12 @@ fn equal_to_the_hosts(
     wide_at_least: f64,
     samples: u32,
 ) -> Vec<f32> {
-    let scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(2048), 5, |_| {
+    let mut scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(2048), 5, |_| {
         Ok(())
     })
     .unwrap();
+    // Every species, each in its own outline.
+    scene.set_species(shared::species::Mix::new([5, 1, 2, 2]));
     let mut settings = scene.settings();
     settings.look.style = Look::Paper;
     settings.look.msaa = samples;

@@ -122,10 +122,12 @@ fn the_shadow_maps_grass_is_the_hosts() {
         use shared::draw::look::clump::{Clump, caster_blade};
         use shared::draw::look::shadow_raster::{caster_corners, raster_caster, texel_word};
         use shared::gpu::counters::COUNTER_NEAR_CASTERS;
-        let scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(32768), 3, |_| {
+        let mut scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(32768), 3, |_| {
             Ok(())
         })
         .expect("scene");
+        // Every species, each casting its own outline.
+        scene.set_species(shared::species::Mix::new([5, 1, 2, 2]));
         let mut settings = scene.settings();
         settings.look.style = Look::Natural;
         settings.look.shadows = true;

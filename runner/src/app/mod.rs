@@ -325,6 +325,7 @@ pub fn build_scene(
             scene.degenerate
         );
     }
+    scene.species = common.species.unwrap_or_default();
     scene.paint = crate::paint::load_all(
         common.density_map.as_deref(),
         common.height_map.as_deref(),

@@ -8,6 +8,7 @@ use crate::passes::tiles::PoolStats;
 use crate::renderer::{CullCounts, PassTimes};
 use egui::{ClippedPrimitive, Color32, Stroke, TexturesDelta};
 use shared::settings::Settings;
+use shared::species::Mix;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 use winit::event::WindowEvent;
@@ -112,6 +113,7 @@ struct Shown {
     actors: Actors,
     fly: Fly,
     full_distance: Option<f32>,
+    species: Mix,
     notice: Option<String>,
     saved: Option<(String, bool)>,
     size: (u32, u32),
@@ -174,7 +176,8 @@ impl Overlay {
         window: &Window,
         readings: &Readings,
         settings: &mut Settings,
-        (actors, fly, full_distance): (&mut Actors, &mut Fly, &mut Option<f32>),
+        (actors, fly): (&mut Actors, &mut Fly),
+        (full_distance, species): (&mut Option<f32>, &mut Mix),
     ) -> Option<Painted> {
         if !self.visible {
             self.last = None;
@@ -182,16 +185,17 @@ impl Overlay {
         }
         let now = Instant::now();
         let size = window.inner_size();
-        let shown = |settings: &Settings, actors: Actors, fly: Fly, full_distance| Shown {
+        let shown = |settings: &Settings, actors: Actors, fly: Fly, full_distance, species| Shown {
             settings: *settings,
             actors,
             fly,
             full_distance,
+            species,
             notice: readings.notice.clone(),
             saved: readings.saved.clone(),
             size: (size.width, size.height),
         };
-        let before = shown(settings, *actors, *fly, *full_distance);
+        let before = shown(settings, *actors, *fly, *full_distance, *species);
         let due = self.input
             || self.repaint_at.is_some_and(|at| now >= at)
             || self
@@ -219,6 +223,7 @@ impl Overlay {
                 counts(ui, readings);
                 answers(ui, readings);
                 tiles(ui, readings, fly, full_distance, &mut settings.far_sway);
+                species_mix(ui, species);
                 controls::controls(ui, settings, actors, &mut blow);
                 ui.separator();
                 save |= ui
@@ -237,7 +242,10 @@ impl Overlay {
             .get(&egui::ViewportId::ROOT)
             .map_or(Duration::MAX, |v| v.repaint_delay);
         self.repaint_at = now.checked_add(delay);
-        self.last = Some((now, shown(settings, *actors, *fly, *full_distance)));
+        self.last = Some((
+            now,
+            shown(settings, *actors, *fly, *full_distance, *species),
+        ));
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
         let opaque = window_rect.and_then(|rect| opaque_part(&self.ctx.global_style(), rect));
@@ -446,5 +454,28 @@ fn tiles(
                 .logarithmic(true)
                 .text("units/s (+ -)"),
         );
+    });
+}
+
+/// The species the field grows: a weight for each (`shared::species::Mix`); a change
+/// grows the field again.
+fn species_mix(ui: &mut egui::Ui, mix: &mut Mix) {
+    use shared::species::{COUNT, NAMES};
+    ui.collapsing("species", |ui| {
+        let mut weights = mix.weights.to_le_bytes();
+        // Grass only is grass at weight 1.
+        if mix.weights == 0 {
+            weights[0] = 1;
+        }
+        for k in 0..COUNT as usize {
+            ui.add(egui::Slider::new(&mut weights[k], 0..=255).text(NAMES[k]))
+                .on_hover_text("the share of blades of this species, where no type map picks one");
+        }
+        // Grass alone, at any weight, is grass only.
+        *mix = if weights[1..].iter().all(|&w| w == 0) {
+            Mix::GRASS
+        } else {
+            Mix::new(weights)
+        };
     });
 }

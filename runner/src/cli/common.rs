@@ -109,10 +109,16 @@ pub struct Common {
     /// colours times its colour (white keeps them) [tiled fields].
     #[arg(long, global = true)]
     pub colour_map: Option<PathBuf>,
-    /// A greyscale PNG over the ground (as --density-map): black bare, grey
-    /// dandelions, white grass [tiled fields].
+    /// A greyscale PNG over the ground (as --density-map), what grows there by its
+    /// grey: black (0) bare, 64 seed grass, 128 dandelions, 192 flowers, white the
+    /// --species mix [tiled fields].
     #[arg(long, global = true)]
     pub type_map: Option<PathBuf>,
+    /// Species mixed by weight where no type map picks one, e.g.
+    /// "grass=6,flower=1,seed-grass=1" (grass, dandelion, flower, seed-grass; weights 0
+    /// to 255) [default: grass only].
+    #[arg(long, global = true, value_parser = parse_species)]
+    pub species: Option<shared::species::Mix>,
     /// Wind field.
     #[arg(long, global = true, value_enum, default_value_t = WindField::Breeze)]
     pub wind: WindField,
@@ -311,6 +317,10 @@ impl CullArgs {
             occlusion: !self.no_cull_occlusion,
         }
     }
+}
+
+pub(crate) fn parse_species(s: &str) -> Result<shared::species::Mix, String> {
+    s.parse()
 }
 
 pub(crate) fn parse_point(s: &str) -> Result<Vec3, String> {

@@ -144,6 +144,7 @@ fn loaded(cli: &Cli, scene: &crate::scene::Scene) -> (shared::settings::Settings
         walkers: cli.common.walkers,
         mowers: cli.common.mowers,
         ball_cuts: cli.common.ball_cuts,
+        species: cli.common.species.unwrap_or_default(),
     };
     (settings, viewer)
 }
@@ -224,6 +225,7 @@ fn every_setting_is_saved_and_read_back() {
         walkers: 640,
         mowers: 7,
         ball_cuts: true,
+        species: "grass=5,flower=2,seed-grass=1".parse().unwrap(),
     };
 
     let unchanged: Vec<String> = leaves(&format!("{defaults:#?}"))

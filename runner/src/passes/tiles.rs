@@ -108,6 +108,15 @@ impl TilesPass {
         self.spec.params.full_distance = distance.max(1.0);
     }
 
+    /// Tiles grown with the species `mix` from the next frame on (the overlay's
+    /// control): the pool starts empty, so every tile is made again, trails and cuts
+    /// with it.
+    pub fn set_species(&mut self, mix: shared::species::Mix) {
+        self.spec.params.species = mix.weights;
+        self.pool = TilePool::new(self.spec.pool_tiles as usize);
+        self.trails.clear();
+    }
+
     /// The pool's slot holding `tile`, if any.
     pub fn slot_of(&self, tile: IVec2) -> Option<usize> {
         self.pool.slot_of(tile)

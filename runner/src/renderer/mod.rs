@@ -184,6 +184,9 @@ impl Renderer {
                     simulated: spec.pool_blades(),
                     far: spec.far_blades,
                     tile_words: spec.tile_words(),
+                    species: shared::species::Mix {
+                        weights: spec.params.species,
+                    },
                 }
             }
             None => FieldBlades::Stored {

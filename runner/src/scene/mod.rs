@@ -101,6 +101,8 @@ pub struct Scene {
     pub tiles: Option<TiledSpec>,
     /// The painted maps laid over the world (`shared::paint` words; empty for none).
     pub paint: Vec<u32>,
+    /// How the species mix where the type map leaves it to the field.
+    pub species: shared::species::Mix,
 }
 
 /// Side of the valley scene (units, metres in its terrain's terms): 2 km.
@@ -252,6 +254,7 @@ impl Scene {
             degenerate,
             tiles: None,
             paint: Vec::new(),
+            species: shared::species::Mix::GRASS,
         })
     }
 
@@ -277,14 +280,17 @@ impl Scene {
         (centre.xz(), 0.5 * (hi.x - lo.x).max(hi.z - lo.z))
     }
 
-    /// A stored field under its painted maps (`paint`, over [`Self::paint_square`]):
-    /// each blade kept with the probability the density map reads at its root (by a
-    /// hash of its index); then, under a type or height map, gone from bare ground,
-    /// made a dandelion, its height scaled (`shared::world::paint::painted_blade`). The colour
-    /// map is read on the GPU, at the same point.
+    /// A stored field under its painted maps (`paint`, over [`Self::paint_square`])
+    /// and its species mix: each blade kept with the probability the density map reads
+    /// at its root (by a hash of its index); then, under a type or height map or a
+    /// mix of species, gone from bare ground, grown as its species (the type map's, or
+    /// the mix's by a second hash), its height scaled
+    /// (`shared::world::paint::painted_blade`). The colour map is read on the GPU, at
+    /// the same point.
     pub fn apply_paint(&mut self) {
         use shared::world::paint::{HEADER_WORDS, HEIGHT, TYPE, has, painted_blade};
-        if self.paint.len() <= HEADER_WORDS || self.tiles.is_some() {
+        let mixed = self.species != shared::species::Mix::GRASS;
+        if (self.paint.len() <= HEADER_WORDS && !mixed) || self.tiles.is_some() {
             return;
         }
         let (centre, half) = self.paint_square();
@@ -296,11 +302,14 @@ impl Scene {
             shared::noise::hash_unit(index.wrapping_mul(0x9e37_79b9))
                 < shared::world::paint::density(paint, at(b), half)
         });
-        if has(paint, TYPE) || has(paint, HEIGHT) {
+        if has(paint, TYPE) || has(paint, HEIGHT) || mixed {
+            let unit = |i: usize| shared::noise::hash_unit((i as u32) ^ 0x27d4_eb2f);
+            let mix = self.species;
             self.blades = self
                 .blades
                 .iter()
-                .filter_map(|b| painted_blade(b, paint, at(b), half))
+                .enumerate()
+                .filter_map(|(i, b)| painted_blade(b, paint, at(b), half, (mix, unit(i))))
                 .collect();
         }
     }
@@ -323,6 +332,23 @@ impl Scene {
         self.blades = scatter_scaled(&self.surface, self.grown, self.seed, scale);
         self.blade_scale = scale;
         self.apply_paint();
+        true
+    }
+
+    /// Grows the species `mix` from now on: a stored field's blades grown again (same
+    /// seed, same roots, so the same count) under it; a tiled field's tiles take it
+    /// when they are made (`TileParams::species`). True when it changed.
+    pub fn set_species(&mut self, mix: shared::species::Mix) -> bool {
+        if mix == self.species {
+            return false;
+        }
+        self.species = mix;
+        if let Some(tiles) = &mut self.tiles {
+            tiles.params.species = mix.weights;
+        } else {
+            self.blades = scatter_scaled(&self.surface, self.grown, self.seed, self.blade_scale);
+            self.apply_paint();
+        }
         true
     }
 
@@ -473,6 +499,7 @@ pub fn tiled_spec(scene: &Scene, software: bool, scale: f32) -> TiledSpec {
         half_extent,
         centre,
         blade_scale: scale,
+        species: scene.species.weights,
         ..TileParams::default()
     };
     let area = if terrain == TERRAIN_MESH {

@@ -7,7 +7,7 @@
 //! the level rises, so detail fades in and out without popping.
 
 use crate::camera::CameraParams;
-use crate::draw::shape::{SHAPE_DANDELION, blade_shape};
+use crate::draw::shape::{SHAPE_DANDELION, SHAPE_FLOWER, SHAPE_SEED_HEAD, blade_shape};
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -176,11 +176,13 @@ pub fn dealt_slot(vertex: u32, visible: u32) -> u32 {
 }
 
 /// The fewest segments along a leaf of `shape` whatever its size on screen: the
-/// dandelion's lobes need every segment there is ([`MAX_LEVEL`]); other
-/// shapes 1.
+/// dandelion's lobes and the flower's head (the last fifth of its length) need every
+/// segment there is ([`MAX_LEVEL`]), the seed head 5; other shapes 1.
 pub fn shape_min_level(shape: u32) -> f32 {
-    if shape == SHAPE_DANDELION {
+    if shape == SHAPE_DANDELION || shape == SHAPE_FLOWER {
         MAX_LEVEL
+    } else if shape == SHAPE_SEED_HEAD {
+        5.0
     } else {
         1.0
     }
@@ -195,6 +197,23 @@ mod tests {
     fn the_dandelion_needs_every_segment() {
         assert_eq!(shape_min_level(SHAPE_DANDELION), MAX_LEVEL);
         assert_eq!(shape_min_level(SHAPE_QUAD), 1.0);
+        // The flower's head has a row at its middle; the seed head two rows inside it.
+        let rows = |level: f32| {
+            (0..=odd_segments(level)).map(move |k| k as f32 / odd_segments(level) as f32)
+        };
+        let inside = |level: f32, from: f32| rows(level).filter(|&v| v > from && v < 1.0).count();
+        assert!(
+            inside(
+                shape_min_level(SHAPE_FLOWER),
+                crate::species::FLOWER_HEAD_FROM
+            ) >= 1
+        );
+        assert!(
+            inside(
+                shape_min_level(SHAPE_SEED_HEAD),
+                crate::species::SEED_HEAD_FROM
+            ) >= 2
+        );
     }
 
     #[test]

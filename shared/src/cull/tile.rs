@@ -34,16 +34,15 @@ pub fn tile_ground(
 }
 
 /// The height range of `tile`'s box: its ground ([`tile_ground`]) up to the tallest
-/// blade it can grow (the course's tallest times the blade scale, twice that under a
-/// height map, `paint::height_factor`).
+/// blade it can grow (the course's tallest times the blade scale and
+/// `paint::tallest_factor`: the species and the height map).
 pub fn tile_box(tile: IVec2, params: &TileParams, ground: (f32, f32), map: &[u32]) -> (f32, f32) {
     let (low, high) = tile_ground(tile, params, ground, map);
-    let painted = if crate::world::paint::has(map, crate::world::paint::HEIGHT) {
-        2.0
-    } else {
-        1.0
+    let mix = crate::species::Mix {
+        weights: params.species,
     };
-    (low, high + HEIGHT.1 * params.blade_scale * painted)
+    let tallest = crate::world::paint::tallest_factor(map, mix);
+    (low, high + HEIGHT.1 * params.blade_scale * tallest)
 }
 
 /// Whether every blade `tile` can hold is hidden behind the occluders' depth

@@ -45,6 +45,28 @@ pub fn shade_facing(facing: Vec3, light: Light, v: f32) -> Vec3 {
     lambert(BLADE_BASE.lerp(BLADE_TIP, v), facing, light)
 }
 
+/// [`shade_facing`] for a blade of `species` (`crate::species`): its head in the
+/// species' colour (`species::albedo`).
+pub fn shade_species(facing: Vec3, light: Light, v: f32, species: u32) -> Vec3 {
+    let gradient = BLADE_BASE.lerp(BLADE_TIP, v);
+    lambert(
+        crate::species::albedo(species, gradient, v, 1.0),
+        facing,
+        light,
+    )
+}
+
+/// [`shade_species`] at a height tagged with its species (`species::tag_v`, the
+/// paper look's geometry stages' varying).
+pub fn shade_tagged(facing: Vec3, light: Light, tagged_v: f32) -> Vec3 {
+    // Grass (tagged below 2) is shaded as the paper shades it, at no extra cost.
+    if tagged_v < 2.0 {
+        return shade_facing(facing, light, tagged_v);
+    }
+    let (v, species) = crate::species::untag_v(tagged_v);
+    shade_species(facing, light, v, species)
+}
+
 /// [`shade_facing`] for a blade fragment at `position` seen from `camera`, its normal
 /// turned towards the camera.
 pub fn shade_blade(normal: Vec3, position: Vec3, camera: Vec3, light: Light, v: f32) -> Vec3 {
@@ -79,6 +101,8 @@ pub fn blade_colour(view: u32, facing: Vec3, light: Light, v: f32, level: f32) -
 /// The LOD view's colour of a blade fragment: the hue of its tessellation `level`,
 /// with the blade's own light and gradient as brightness.
 pub fn lod_shade(facing: Vec3, light: Light, v: f32, level: f32) -> Vec3 {
+    // The paper look's v carries the blade's species (`species::tag_v`).
+    let (v, _) = crate::species::untag_v(v);
     let brightness = shade_facing(facing, light, v).length() / BLADE_TIP.length();
     lod_colour(level) * (0.35 + 0.65 * brightness.min(1.0))
 }

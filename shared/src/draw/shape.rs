@@ -2,6 +2,7 @@
 //! Bezier curve by De Casteljau, widened along t1 and cut by a shape function.
 
 use crate::Blade;
+use crate::species;
 use spirv_std::glam::Vec3;
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -19,28 +20,59 @@ pub const SHAPE_TRIANGLE_TIP: u32 = 3;
 /// root. PAPER.md gives no formula for it; this one is ours (see [`shape_tau`]).
 pub const SHAPE_DANDELION: u32 = 4;
 
-/// The shape blade `blade` is drawn with when the field's is `shape`: a blade a type
-/// map made a dandelion ([`DANDELION_TURNS`]) is one whatever the field's shape.
+/// A flower ([`species::FLOWER`]): a stem an eighth of the outline's width, and past
+/// [`species::FLOWER_HEAD_FROM`] a round head, the full width at its middle and closed at
+/// the tip: τ = ½ + (u − ½)·max(stem, √(1 − ((v − c)/r)²)) with c and r the head's
+/// middle and half its length along v.
+pub const SHAPE_FLOWER: u32 = 5;
+/// A seed grass ([`species::SEED_GRASS`]): a stalk a third of the outline's width,
+/// and past [`species::SEED_HEAD_FROM`] a spindle of seeds, τ = ½ + (u − ½)·max(stalk,
+/// sin(π·t)) with t running 0 to 1 over the head.
+pub const SHAPE_SEED_HEAD: u32 = 6;
+
+/// The shape blade `blade` is drawn with when the field's is `shape`: grass is drawn in
+/// the field's shape, every other species in its own ([`species::of`]).
 pub fn blade_shape(blade: &Blade, shape: u32) -> u32 {
-    if blade.orientation() >= DANDELION_TURNS {
+    species_shape(species::of(blade), shape)
+}
+
+/// The shape of `species` in a field whose shape is `shape`.
+pub fn species_shape(species: u32, shape: u32) -> u32 {
+    if species == species::GRASS {
+        shape
+    } else if species == species::DANDELION {
         SHAPE_DANDELION
+    } else if species == species::FLOWER {
+        SHAPE_FLOWER
+    } else if species == species::SEED_GRASS {
+        SHAPE_SEED_HEAD
     } else {
         shape
     }
 }
 
-/// A blade's orientation at or beyond this (two whole turns) marks it a dandelion: the
-/// angle's sine and cosine are the same, so nothing else sees the mark (a painted type
-/// map's dandelions, `paint::TYPE`; the blade has no other word to spare).
-pub const DANDELION_TURNS: f32 = 2.0 * core::f32::consts::TAU;
+/// Width of a flower's stem, a share of its outline's.
+pub const FLOWER_STEM: f32 = 0.12;
+/// Width of a seed grass's stalk, a share of its outline's.
+pub const SEED_STALK: f32 = 0.35;
 
 /// Lobes of the dandelion leaf.
 pub const DANDELION_LOBES: f32 = 3.0;
 
-/// How many times its blade's width a leaf of `shape` spans: a dandelion leaf is far
-/// broader than a blade of grass (3 times), every other shape 1.
+/// How many times its blade's width a leaf of `shape` spans at its widest: a dandelion
+/// leaf is far broader than a blade of grass (3 times), a flower's head 3 times, a seed
+/// head 0.8 times, every other shape 1.
 pub fn shape_width(shape: u32) -> f32 {
-    if shape == SHAPE_DANDELION { 3.0 } else { 1.0 }
+    // The field's shapes, the common case, with one comparison.
+    if shape < SHAPE_DANDELION {
+        1.0
+    } else if shape == SHAPE_DANDELION || shape == SHAPE_FLOWER {
+        3.0
+    } else if shape == SHAPE_SEED_HEAD {
+        0.8
+    } else {
+        1.0
+    }
 }
 
 /// The shape function τ(u, v) for `shape` (one of the `SHAPE_*` constants);
@@ -59,6 +91,20 @@ pub fn shape_tau(shape: u32, u: f32, v: f32, tip_start: f32) -> f32 {
         let lobe = v * DANDELION_LOBES;
         let tooth = 1.0 - (lobe - lobe.floor());
         0.5 + (u - 0.5) * (1.0 - v) * (0.25 + 0.75 * tooth)
+    } else if shape == SHAPE_FLOWER {
+        let from = species::FLOWER_HEAD_FROM;
+        let r = 0.5 * (1.0 - from);
+        let d = (v - (from + r)) / r;
+        let head = (1.0 - d * d).max(0.0).sqrt();
+        // The stem runs up to the head's middle; above it the head closes to the tip.
+        let stem = if d < 0.0 { FLOWER_STEM } else { 0.0 };
+        0.5 + (u - 0.5) * head.max(stem)
+    } else if shape == SHAPE_SEED_HEAD {
+        let from = species::SEED_HEAD_FROM;
+        let t = ((v - from) / (1.0 - from)).max(0.0);
+        let seeds = (core::f32::consts::PI * t).sin().max(0.0);
+        let stalk = if t < 0.5 { SEED_STALK } else { 0.0 };
+        0.5 + (u - 0.5) * seeds.max(stalk)
     } else {
         u
     }
@@ -78,7 +124,7 @@ pub struct SurfacePoint {
 /// The blade surface at (u across the width, v along the height), both in 0..1:
 /// a = v0 + v(v1 − v0), b = v1 + v(v2 − v1), c = a + v(b − a); c0, c1 = c ∓ ½w·t1;
 /// p = (1 − τ)·c0 + τ·c1; tangent t0 = normalize(b − a). `shape` is the field's; a
-/// dandelion of a type map is drawn as one ([`blade_shape`]).
+/// blade of another species is drawn in its own ([`blade_shape`]).
 pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) -> SurfacePoint {
     let shape = blade_shape(blade, shape);
     let (v0, v1, v2) = (blade.root(), blade.guide(), blade.tip());
@@ -143,6 +189,34 @@ mod tests {
         let leaf = surface_point(&b, 1.0, 0.0, SHAPE_DANDELION, 0.5).position;
         let blade = surface_point(&b, 1.0, 0.0, SHAPE_QUAD, 0.5).position;
         assert!((leaf.x - 3.0 * blade.x).abs() < 1e-6);
+    }
+
+    /// A flower: a stem 0.12 of its head, the head its full 3 widths at its middle
+    /// and closed at the tip; a seed grass: a stalk 0.35 of its head's width, the
+    /// head 0.8 widths at its middle. Each drawn so for its species' mark whatever the
+    /// field's shape.
+    #[test]
+    fn flowers_and_seed_heads_have_their_outlines() {
+        let half_width = |species: u32, v: f32| {
+            let b = Blade::at_rest(
+                Vec3::ZERO,
+                Vec3::Y,
+                species::mark(0.0, species),
+                2.0,
+                0.1,
+                10.0,
+            );
+            surface_point(&b, 1.0, v, SHAPE_QUAD, 0.5).position.x
+        };
+        let middle = species::FLOWER_HEAD_FROM + 0.5 * (1.0 - species::FLOWER_HEAD_FROM);
+        assert!((half_width(species::FLOWER, middle) - 0.15).abs() < 1e-5);
+        assert!((half_width(species::FLOWER, 0.3) - 0.018).abs() < 1e-5);
+        assert!(half_width(species::FLOWER, 1.0).abs() < 1e-5);
+        let middle = species::SEED_HEAD_FROM + 0.5 * (1.0 - species::SEED_HEAD_FROM);
+        assert!((half_width(species::SEED_GRASS, middle) - 0.04).abs() < 1e-5);
+        assert!((half_width(species::SEED_GRASS, 0.3) - 0.35 * 0.04).abs() < 1e-5);
+        assert!(half_width(species::SEED_GRASS, 1.0).abs() < 1e-5);
+        assert!((half_width(species::GRASS, 0.3) - 0.05).abs() < 1e-5);
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Painted maps: 8-bit images laid over the world's square, read where a
 //! blade grows: how dense the grass is ([`DENSITY`]), how tall ([`HEIGHT`]), what
-//! colour ([`COLOUR`]) and what grows there ([`TYPE`]: grass, dandelions, nothing). The maps travel in one set of `u32` words: a header of
+//! colour ([`COLOUR`]) and what grows there ([`TYPE`]: a species, the field's mix of them, or nothing). The maps travel in one set of `u32` words: a header of
 //! [`MAPS`] word offsets (0: no such map) and the loaded scene's surface table's
 //! ([`SURFACE`], `surface`), then each map as its width, its height
 //! and its texels row by row (the image's top row at −z), one RGBA texel a word
@@ -17,8 +17,10 @@ pub const DENSITY: usize = 0;
 pub const HEIGHT: usize = 1;
 /// The colour map: the natural look's blade colours times its RGB (white keeps them).
 pub const COLOUR: usize = 2;
-/// The type map, read at the nearest texel: black (below 64) bare ground, grey (64 to
-/// 191) dandelions, white (192 and up) grass ([`kind`]).
+/// The type map, read at the nearest texel, in five bands of grey ([`kind`]): black
+/// (below 32) bare ground, dark grey (32 to 95, 64 at its middle) seed grass, mid grey
+/// (96 to 159, 128) dandelions, light grey (160 to 223, 192) flowers, white (224 and
+/// up) the field's mix of species (`species::Mix`, grass unless set).
 pub const TYPE: usize = 3;
 /// Maps a set can hold.
 pub const MAPS: usize = 4;
@@ -26,12 +28,17 @@ pub const MAPS: usize = 4;
 /// (`surface`; 0: none).
 pub const SURFACE: usize = MAPS;
 
-/// What grows at a point of the type map: grass.
-pub const KIND_GRASS: u32 = 0;
+/// What grows at a point of the type map: the field's mix of species (grass unless
+/// set).
+pub const KIND_MIX: u32 = 0;
 /// Dandelions (the paper's fifth shape, whatever the field's).
 pub const KIND_DANDELION: u32 = 1;
 /// Nothing.
 pub const KIND_BARE: u32 = 2;
+/// Flowers (`species::FLOWER`).
+pub const KIND_FLOWER: u32 = 3;
+/// Seed grass (`species::SEED_GRASS`).
+pub const KIND_SEED_GRASS: u32 = 4;
 /// Words of the set's header.
 pub const HEADER_WORDS: usize = MAPS + 1;
 
@@ -92,57 +99,91 @@ pub fn height_factor(set: &[u32], p: Vec2, half: f32) -> f32 {
     (2.0 * sample(set, HEIGHT, p, half).x).max(0.05)
 }
 
-/// What grows at `p` ([`TYPE`]): the nearest texel's red, classed; grass without a
-/// type map. Nearest rather than blended, so no band of another kind lines the border
-/// between two.
+/// How many times the course's tallest blade (`blade::HEIGHT`) the tallest blade of a
+/// field under the maps of `set` and the species `mix` can grow: the tallest species
+/// the type map or the mix can grow (`species::height_factor`), twice that under a
+/// height map ([`height_factor`]).
+pub fn tallest_factor(set: &[u32], mix: crate::species::Mix) -> f32 {
+    let species = if has(set, TYPE) {
+        crate::species::TALLEST
+    } else {
+        mix.tallest()
+    };
+    let painted = if has(set, HEIGHT) { 2.0 } else { 1.0 };
+    species * painted
+}
+
+/// What grows at `p` ([`TYPE`]): the nearest texel's red, classed; the field's mix
+/// without a type map. Nearest rather than blended, so no band of another kind lines
+/// the border between two.
 pub fn kind(set: &[u32], p: Vec2, half: f32) -> u32 {
     if !has(set, TYPE) {
-        return KIND_GRASS;
+        return KIND_MIX;
     }
     let base = set[TYPE] as usize;
     let (width, height) = (set[base], set[base + 1]);
     if width == 0 || height == 0 {
-        return KIND_GRASS;
+        return KIND_MIX;
     }
     let uv = (p + Vec2::splat(half)) / (2.0 * half).max(1e-6);
     let x = (uv.x * width as f32).clamp(0.0, (width - 1) as f32) as u32;
     let y = (uv.y * height as f32).clamp(0.0, (height - 1) as f32) as u32;
     let grey = texel(set, base, width, x, y).x * 255.0;
-    if grey < 64.0 {
+    if grey < 32.0 {
         KIND_BARE
-    } else if grey < 192.0 {
+    } else if grey < 96.0 {
+        KIND_SEED_GRASS
+    } else if grey < 160.0 {
         KIND_DANDELION
+    } else if grey < 224.0 {
+        KIND_FLOWER
     } else {
-        KIND_GRASS
+        KIND_MIX
     }
 }
 
-/// A stored field's `blade` as the maps of `set` have it at its map point `p`: `None`
-/// where the type map leaves the ground bare; else a dandelion's mark where it paints
-/// dandelions (two more turns, `shape::blade_shape`), and its height times the height
-/// map, as `tiles::tile_blade` makes a tile's blade.
+/// The species a blade grows as at `p`, `unit` its own uniform draw (0..1): the type
+/// map's where it paints one, else `mix`'s pick; on bare ground the grass (the caller
+/// leaves such a blade out).
+pub fn species_at(set: &[u32], p: Vec2, half: f32, mix: crate::species::Mix, unit: f32) -> u32 {
+    let kind = kind(set, p, half);
+    if kind == KIND_DANDELION {
+        crate::species::DANDELION
+    } else if kind == KIND_FLOWER {
+        crate::species::FLOWER
+    } else if kind == KIND_SEED_GRASS {
+        crate::species::SEED_GRASS
+    } else if kind == KIND_MIX {
+        mix.pick(unit)
+    } else {
+        crate::species::GRASS
+    }
+}
+
+/// A stored field's `blade` as the maps of `set` and the field's `mix` have it at its
+/// map point `p`, `unit` its own uniform draw: `None` where the type map leaves the
+/// ground bare; else grown as the species there ([`species_at`],
+/// `species::grown_as`), its height times the height map, as `tiles::tile_blade` makes
+/// a tile's blade.
 pub fn painted_blade(
     blade: &crate::blade::Blade,
     set: &[u32],
     p: Vec2,
     half: f32,
+    (mix, unit): (crate::species::Mix, f32),
 ) -> Option<crate::blade::Blade> {
-    let kind = kind(set, p, half);
-    if kind == KIND_BARE {
+    if kind(set, p, half) == KIND_BARE {
         return None;
     }
-    let turns = if kind == KIND_DANDELION {
-        crate::draw::shape::DANDELION_TURNS
-    } else {
-        0.0
-    };
+    let species = species_at(set, p, half, mix, unit);
+    let grown = crate::species::grown_as(blade, species);
     Some(crate::blade::Blade::at_rest(
-        blade.root(),
-        blade.up_dir(),
-        blade.orientation() + turns,
-        blade.height() * height_factor(set, p, half),
-        blade.width(),
-        blade.stiffness(),
+        grown.root(),
+        grown.up_dir(),
+        grown.orientation(),
+        grown.height() * height_factor(set, p, half),
+        grown.width(),
+        grown.stiffness(),
     ))
 }
 
@@ -210,13 +251,22 @@ mod tests {
         assert_eq!(kind(&set, Vec2::new(-2.5, 0.0), half), KIND_BARE);
         assert_eq!(kind(&set, Vec2::new(-0.9, 0.0), half), KIND_DANDELION);
         assert_eq!(kind(&set, Vec2::new(0.9, 0.0), half), KIND_DANDELION);
-        assert_eq!(kind(&set, Vec2::new(1.1, 0.0), half), KIND_GRASS);
-        assert_eq!(kind(&[], Vec2::ZERO, half), KIND_GRASS);
+        assert_eq!(kind(&set, Vec2::new(1.1, 0.0), half), KIND_MIX);
+        assert_eq!(kind(&[], Vec2::ZERO, half), KIND_MIX);
+        // The five bands at their middles and edges.
+        let bands = grey(&[31, 32, 64, 95, 96, 159, 160, 192, 223, 224]);
+        let set = words(&[(TYPE, 10, 1, &bands)]);
+        let kinds: Vec<u32> = (0..10)
+            .map(|i| kind(&set, Vec2::new(-2.7 + 0.6 * i as f32, 0.0), half))
+            .collect();
+        let (s, d, f) = (KIND_SEED_GRASS, KIND_DANDELION, KIND_FLOWER);
+        assert_eq!(kinds, [KIND_BARE, s, s, s, d, d, f, f, f, KIND_MIX]);
         assert_eq!(density(&[0, 0, 0], Vec2::ZERO, half), 1.0);
     }
 
-    /// A stored blade under a type and a height map: gone on bare ground, two turns
-    /// more among dandelions, its height twice the height map's grey, the rest kept.
+    /// A stored blade under a type and a height map: gone on bare ground, a dandelion
+    /// among dandelions (two turns more), its height twice the height map's grey, the
+    /// rest kept; on white, the field's mix.
     #[test]
     fn a_stored_blade_takes_the_maps_at_its_root() {
         use crate::blade::Blade;
@@ -227,22 +277,30 @@ mod tests {
         let set = words(&[(TYPE, 3, 1, &types), (HEIGHT, 3, 1, &heights)]);
         let at = |x: f32| Blade::at_rest(Vec3::new(x, 0.5, 0.0), Vec3::Y, 1.0, 0.8, 0.05, 2.0);
         let map_point = |b: &Blade| Vec2::new(b.root().x, b.root().z);
+        let grass_only = (crate::species::Mix::GRASS, 0.5);
         let bare = at(-2.0);
-        assert!(painted_blade(&bare, &set, map_point(&bare), half).is_none());
-        let flower = at(0.0);
-        let painted = painted_blade(&flower, &set, map_point(&flower), half).unwrap();
-        assert!((painted.orientation() - (1.0 + crate::draw::shape::DANDELION_TURNS)).abs() < 1e-5);
+        assert!(painted_blade(&bare, &set, map_point(&bare), half, grass_only).is_none());
+        let dandelion = at(0.0);
+        let painted = painted_blade(&dandelion, &set, map_point(&dandelion), half, grass_only);
+        let painted = painted.unwrap();
+        assert!((painted.orientation() - (1.0 + crate::species::TURNS)).abs() < 1e-5);
         assert!((painted.height() - 1.6).abs() < 1e-5);
         let grass = at(2.0);
-        let painted = painted_blade(&grass, &set, map_point(&grass), half).unwrap();
+        let painted = painted_blade(&grass, &set, map_point(&grass), half, grass_only).unwrap();
         assert!((painted.orientation() - 1.0).abs() < 1e-5);
         assert!((painted.height() - 0.8 * 2.0 * 64.0 / 255.0).abs() < 1e-5);
         assert_eq!(painted.root(), grass.root());
         assert_eq!((painted.width(), painted.stiffness()), (0.05, 2.0));
         // No maps: the blade as it was.
         assert_eq!(
-            painted_blade(&grass, &[], map_point(&grass), half),
+            painted_blade(&grass, &[], map_point(&grass), half, grass_only),
             Some(grass)
         );
+        // White under a mix of seed grass only: seed grass, taller and softer.
+        let seeds = (crate::species::Mix::new([0, 0, 0, 1]), 0.5);
+        let painted = painted_blade(&grass, &set, map_point(&grass), half, seeds).unwrap();
+        assert_eq!(crate::species::of(&painted), crate::species::SEED_GRASS);
+        assert!((painted.height() - 1.5 * 0.8 * 2.0 * 64.0 / 255.0).abs() < 1e-5);
+        assert_eq!(painted.stiffness(), 2.0 * 0.75);
     }
 }

@@ -62,10 +62,11 @@ pub struct TileParams {
     /// stiffnesses over it (`mesh::scatter_scaled`'s rule: the same bend under the same
     /// forces).
     pub blade_scale: f32,
+    /// How the species mix where the type map leaves it to the field
+    /// (`crate::species::Mix`'s weights; 0: grass only).
+    pub species: u32,
     /// Padding to 48 bytes (no arrays in push constants: the reflection tests read
     /// scalars and vectors).
-    pub pad0: u32,
-    /// Padding.
     pub pad: UVec2,
 }
 
@@ -91,7 +92,7 @@ impl Default for TileParams {
             half_extent: 1000.0,
             centre: Vec2::ZERO,
             blade_scale: 1.0,
-            pad0: 0,
+            species: 0,
             pad: UVec2::ZERO,
         }
     }
@@ -334,7 +335,8 @@ pub fn painted_scale(rank: f32, density: f32, paint: f32) -> f32 {
 /// [`width_scale`]: 0 (not [`kept`]) when its rank has left it at that distance or it
 /// stands on bare ground. `map` holds the painted maps (`paint`: the density thins the
 /// blades as the distance does, the height map scales their heights, the type map
-/// makes dandelions or bare ground; `&[]` for none). On a loaded scene, a blade past
+/// picks species or bare ground, `paint::species_at`, else `params.species` mixes
+/// them; `&[]` for none). On a loaded scene, a blade past
 /// the tile's count ([`tile_count`]) is empty (all zero: height 0).
 pub fn tile_blade(
     tile: IVec2,
@@ -363,21 +365,23 @@ pub fn tile_blade(
     let root2 = spot_map_point(&spot, params, map);
     let pick =
         |k: u32, (lo, hi): (f32, f32)| lo + (hi - lo) * blade_unit(tile, index, params.seed, k);
-    let dandelion = crate::world::paint::kind(map, root2, params.half_extent)
-        == crate::world::paint::KIND_DANDELION;
-    // A dandelion's mark: two more turns (`shape::blade_shape`).
-    let turns = if dandelion {
-        crate::draw::shape::DANDELION_TURNS
-    } else {
-        0.0
-    };
-    let orientation = pick(3, (0.0, core::f32::consts::TAU)) + turns;
+    let species = crate::world::paint::species_at(
+        map,
+        root2,
+        params.half_extent,
+        crate::species::Mix {
+            weights: params.species,
+        },
+        blade_unit(tile, index, params.seed, 7),
+    );
+    let orientation = crate::species::mark(pick(3, (0.0, core::f32::consts::TAU)), species);
     let scale = params.blade_scale;
     let height = pick(4, HEIGHT)
         * scale
+        * crate::species::height_factor(species)
         * crate::world::paint::height_factor(map, root2, params.half_extent);
     let width = drawn_width(tile, index, root, camera, params, map);
-    let stiffness = pick(6, STIFFNESS) / scale;
+    let stiffness = pick(6, STIFFNESS) / scale * crate::species::stiffness_factor(species);
     Blade::at_rest(root, up, orientation, height, width, stiffness)
 }
 

@@ -7,6 +7,9 @@ use crate::renderer::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::{Context, ContextOptions};
 use anyhow::{Context as _, Result};
+use shared::sim::grid::REACH_MARGIN;
+use shared::species::Mix;
+use shared::world::paint::tallest_factor;
 use std::sync::Arc;
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::Window;
@@ -41,6 +44,28 @@ impl Gpu {
         renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
         let driver = FrameDriver::new(ctx, renderer)?;
         Ok(Self { driver, presenter })
+    }
+}
+
+impl Gpu {
+    /// The field of `scene` grown as the species `mix` from the next frame on
+    /// (`Scene::set_species`): a stored field's blades replaced, a tiled field's pool
+    /// made anew; the collisions reach the tallest of them.
+    pub(super) fn set_species(&mut self, scene: &mut Scene, mix: Mix) -> Result<()> {
+        if !scene.set_species(mix) {
+            return Ok(());
+        }
+        let renderer = &mut self.driver.renderer;
+        match renderer.tiles.as_mut() {
+            Some(tiles) => {
+                tiles.set_species(mix);
+                let tallest = tallest_factor(&scene.paint, mix);
+                renderer.field.reach = REACH_MARGIN * shared::blade::HEIGHT.1 * tallest;
+            }
+            None => renderer.replace_blades(&scene.blades)?,
+        }
+        log::info!("the field grows {mix}");
+        Ok(())
     }
 }
 

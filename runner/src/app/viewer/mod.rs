@@ -156,6 +156,8 @@ struct Running {
     fly: Fly,
     /// A tiled field's distance every blade is kept within (the overlay's control).
     full_distance: Option<f32>,
+    /// The species the field grows (the overlay's control).
+    species: shared::species::Mix,
     mouse: Mouse,
     overlay: Overlay,
     pace: Pace,
@@ -210,6 +212,7 @@ impl Running {
             arrows: Arrows::default(),
             fly: Fly::default(),
             full_distance: scene.tiles.map(|t| t.params.full_distance),
+            species: scene.species,
             scene,
             mouse: Mouse::default(),
             overlay,
@@ -274,6 +277,7 @@ impl Running {
         }
         // The look's blade size (loaded scenes are in metres): grow a stored field
         // again.
+        self.gpu.set_species(&mut self.scene, self.species)?;
         let scale = self.scene.scale_for(self.settings.look.style);
         if self.scene.rescale(scale) {
             log::info!("blades grown again at {scale} times the course's size");
@@ -311,7 +315,8 @@ impl Running {
             &self.window,
             &readings,
             &mut self.settings,
-            (&mut self.actors, &mut self.fly, &mut self.full_distance),
+            (&mut self.actors, &mut self.fly),
+            (&mut self.full_distance, &mut self.species),
         );
         let Actors {
             walkers, mowers, ..
@@ -325,6 +330,7 @@ impl Running {
                 walkers: self.walkers.count(),
                 mowers: self.walkers.mowers(),
                 ball_cuts: self.actors.ball_cuts,
+                species: self.species,
             };
             let text = crate::config::current(&self.common, &self.settings, &viewer);
             let written = crate::files::write(&path, text.as_bytes());

@@ -136,7 +136,7 @@ pub fn dressed_blade(blade: &Blade, clump: &Clump, jitter: f32, width_scale: f32
 pub struct DressedBlade {
     /// The blade as drawn.
     pub blade: Blade,
-    /// Tint (rgb); coverage mask and local density ([`pack_coverage`]) in w.
+    /// Tint (rgb); coverage mask, species and local density ([`pack_coverage`]) in w.
     pub tint: Vec4,
 }
 
@@ -188,7 +188,8 @@ pub fn dress(
     // the H100's grass draw 3.8 ms slower at 4x MSAA (1,048,576 blades, edge camera),
     // so a thin blade is drawn a pixel wide with probability alpha, or not at all.
     let mask = coverage_mask(alpha, 1, h3);
-    let tint = blade_tint(clump, h1, h2).extend(pack_coverage(mask, density));
+    let species = crate::species::of(blade);
+    let tint = blade_tint(clump, h1, h2).extend(pack_coverage(mask, density, species));
     (dressed, tint)
 }
 
@@ -236,4 +237,11 @@ pub fn blade_albedo(tint: Vec3, v: f32) -> Vec3 {
     let v = v.clamp(0.0, 1.0);
     let drier = tint.lerp(DRY, 0.45 * v * v * v);
     drier * (0.55 + 0.45 * v)
+}
+
+/// [`blade_albedo`] for a blade of `species`: its head in the species' colour
+/// (`species::albedo`), as bright against the ripe grass as its tint is.
+pub fn species_albedo(tint: Vec3, v: f32, species: u32) -> Vec3 {
+    let value = (tint.length() / RIPE.length()).clamp(0.7, 1.3);
+    crate::species::albedo(species, blade_albedo(tint, v), v, value)
 }

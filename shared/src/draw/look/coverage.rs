@@ -4,16 +4,23 @@
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
-/// One varying for a blade's coverage mask (0..255) and the local density (0..1):
-/// mask + density/2, exact for both (the mask is the whole part).
-pub fn pack_coverage(mask: u32, density: f32) -> f32 {
-    mask as f32 + 0.5 * density.clamp(0.0, 1.0)
+/// One varying for a blade's coverage mask (0..255), its species
+/// (`crate::species`) and the local density (0..1): 256·species + mask + density/2,
+/// exact for all three (the mask and the species are the whole part, below 2¹⁰, so
+/// the density keeps 13 bits).
+pub fn pack_coverage(mask: u32, density: f32, species: u32) -> f32 {
+    (species * 256 + (mask & 255)) as f32 + 0.5 * density.clamp(0.0, 1.0)
 }
 
 /// The (mask, density) of [`pack_coverage`].
 pub fn unpack_coverage(packed: f32) -> (u32, f32) {
-    let mask = packed.floor();
-    (mask as u32, 2.0 * (packed - mask))
+    let whole = packed.floor();
+    ((whole as u32) & 255, 2.0 * (packed - whole))
+}
+
+/// The species of [`pack_coverage`].
+pub fn coverage_species(packed: f32) -> u32 {
+    (packed.floor() as u32) >> 8
 }
 
 /// The samples a blade of coverage `alpha` covers in a pixel of `samples` samples:

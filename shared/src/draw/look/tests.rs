@@ -204,7 +204,7 @@ fn coverage_masks_hold_alpha_on_average() {
 fn coverage_and_density_share_a_varying() {
     for mask in [0u32, 1, 5, 255] {
         for density in [0.0f32, 0.125, 0.5, 0.99] {
-            let (m, d) = unpack_coverage(pack_coverage(mask, density));
+            let (m, d) = unpack_coverage(pack_coverage(mask, density, 3));
             assert_eq!(m, mask);
             assert!((d - density).abs() < 1e-4, "{mask} {density}: {d}");
         }

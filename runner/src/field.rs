@@ -29,7 +29,7 @@ use std::sync::Arc;
 mod limits;
 mod resize;
 pub use limits::DEVICE_BYTES_PER_BLADE;
-use resize::tallest;
+use resize::{root_range, tallest};
 use vk::ShaderStageFlags as Stage;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -221,6 +221,8 @@ pub enum FieldBlades<'a> {
         far: u32,
         /// Words of the tile buffer.
         tile_words: u32,
+        /// The ground's lowest and highest points (`TiledSpec::ground`).
+        ground: (f32, f32),
         /// How the tiles mix their species (`TileParams::species`).
         species: shared::species::Mix,
     },
@@ -307,6 +309,10 @@ pub struct Field {
     /// tallest a tile grows, twice that under a painted height map (which doubles at
     /// most).
     pub reach: f32,
+    /// The lowest and highest height of the roots (`FrameFacts::roots`): a stored
+    /// field's own, a tiled field's ground's with a unit to spare (its blades stand on
+    /// the analytic ground its mesh follows within a fifth of a unit).
+    pub roots: Option<(f32, f32)>,
     /// The occluders' depth pyramid (`shared::hiz`), sized for the target.
     pub pyramid: Buffer,
     /// Descriptor set over the buffers above.
@@ -345,6 +351,10 @@ impl Field {
             }
         };
         let reach = REACH_MARGIN * tallest;
+        let roots = match source {
+            FieldBlades::Stored { blades, .. } => root_range(blades),
+            FieldBlades::Tiled { ground, .. } => Some((ground.0 - 1.0, ground.1 + 1.0)),
+        };
         let (blade_buffer, simulated, tiles, ids) = match source {
             FieldBlades::Stored { blades, .. } => {
                 let buffer = Buffer::upload(ctx, pool, "blades", blades, blade_usage)?;
@@ -542,6 +552,7 @@ impl Field {
             cuts,
             queries,
             reach,
+            roots,
             pyramid,
             descriptors,
             layout,

@@ -157,6 +157,10 @@ pub struct FrameFacts {
     /// How far the field's tallest blade reaches from its root (the colliders'
     /// grid's reach, `sim::grid::ColliderGrid::reach`).
     pub reach: f32,
+    /// The lowest and highest height (y) of the field's roots, where known: the
+    /// colliders' grid marks only cubes that meet them
+    /// (`sim::grid::ColliderGrid::over_roots`).
+    pub roots: Option<(f32, f32)>,
     /// Simulated time of the newest cut before this frame (`f32::NEG_INFINITY`:
     /// none): the blades read the cut table while it may still be growing back
     /// (`Environment::cutting`).
@@ -297,7 +301,8 @@ impl Settings {
         let collider_grid = if used == 0 {
             ColliderGrid::default()
         } else {
-            fitted(&colliders[..used], facts.reach, GRID_SLOTS)
+            let grid = fitted(&colliders[..used], facts.reach, GRID_SLOTS);
+            facts.roots.map_or(grid, |roots| grid.over_roots(roots))
         };
         let cull = &self.cull;
         let lod = &self.lod;
@@ -509,6 +514,7 @@ mod tests {
             },
             time: 0.0,
             reach: 2.5,
+            roots: None,
             last_cut: f32::NEG_INFINITY,
             frame: 0,
             previous: None,

@@ -523,6 +523,8 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(ColliderGrid, cell),
                 offset_of!(ColliderGrid, reach),
                 offset_of!(ColliderGrid, slots),
+                offset_of!(ColliderGrid, low),
+                offset_of!(ColliderGrid, high),
                 offset_of!(ColliderGrid, pad),
             ],
         ),

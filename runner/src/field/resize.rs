@@ -32,6 +32,7 @@ impl Field {
         let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
         self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
         self.reach = REACH_MARGIN * tallest(blades);
+        self.roots = root_range(blades);
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         self.descriptors
             .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
@@ -64,6 +65,14 @@ impl Field {
         );
         Ok(())
     }
+}
+
+/// The lowest and highest height of `blades`' roots (`None` for no blade).
+pub(super) fn root_range(blades: &[Blade]) -> Option<(f32, f32)> {
+    let heights = blades.iter().map(|b| b.root().y);
+    let low = heights.clone().fold(f32::INFINITY, f32::min);
+    let high = heights.fold(f32::NEG_INFINITY, f32::max);
+    (low <= high).then_some((low, high))
 }
 
 /// The tallest of `blades` (at least a hundredth).

@@ -184,6 +184,7 @@ impl Renderer {
                     simulated: spec.pool_blades(),
                     far: spec.far_blades,
                     tile_words: spec.tile_words(),
+                    ground: spec.ground,
                     species: shared::species::Mix {
                         weights: spec.params.species,
                     },
@@ -475,6 +476,7 @@ impl Renderer {
             field: self.field_part(),
             time: shared::sim::simulate::step_time(push.first_step + push.steps),
             reach: self.field.reach,
+            roots: self.field.roots,
             last_cut: self.last_cut,
             frame: self.temporal.frame,
             previous: self.temporal.previous,

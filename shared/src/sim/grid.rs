@@ -65,8 +65,13 @@ pub struct ColliderGrid {
     pub reach: f32,
     /// Slots (a power of two; 1: every collider in one slot, the test of them all).
     pub slots: u32,
-    /// Padding to 16 bytes.
-    pub pad: u32,
+    /// The lowest height (y) of a blade's root in the field: a collider marks no
+    /// cube wholly below it ([`Self::over_roots`]).
+    pub low: f32,
+    /// The highest height of a blade's root: no cube wholly above it is marked.
+    pub high: f32,
+    /// Padding to 32 bytes.
+    pub pad: [u32; 3],
 }
 
 impl Default for ColliderGrid {
@@ -76,10 +81,15 @@ impl Default for ColliderGrid {
             cell: 1.0,
             reach: 0.0,
             slots: 1,
-            pad: 0,
+            low: -ROOTS_ANYWHERE,
+            high: ROOTS_ANYWHERE,
+            pad: [0; 3],
         }
     }
 }
+
+/// The roots' height range of a grid that knows none: every height.
+pub const ROOTS_ANYWHERE: f32 = 1e30;
 
 impl ColliderGrid {
     /// The cube holding `p`.
@@ -97,12 +107,24 @@ impl ColliderGrid {
     }
 
     /// The cubes a collider marks: from the least to the greatest corner of its
-    /// bounds grown by the reach, at most three along each axis.
+    /// bounds grown by the reach, at most three along each axis, in height only
+    /// those the roots' range meets (a blade looks its collider up at its root's
+    /// cube; a collider whose grown bounds miss that range marks none).
     pub fn cubes_of(&self, collider: &Collider) -> (IVec3, IVec3) {
         let (lo, hi) = collider.bounds();
         let grow = Vec3::splat(self.reach);
-        let (a, b) = (self.cube(lo - grow), self.cube(hi + grow));
+        let (mut lo, mut hi) = (lo - grow, hi + grow);
+        lo.y = lo.y.max(self.low);
+        hi.y = hi.y.min(self.high);
+        let (a, b) = (self.cube(lo), self.cube(hi));
         (a, b.min(a + IVec3::splat(2)))
+    }
+
+    /// This grid for a field whose roots lie between the heights `low` and `high`:
+    /// a collider standing on a flat field marks one layer of cubes instead of
+    /// three, so fewer slots are shared by cubes far apart.
+    pub fn over_roots(self, (low, high): (f32, f32)) -> Self {
+        Self { low, high, ..self }
     }
 
     /// The `corner`th (0..[`GRID_CORNERS`]) cube of those [`Self::cubes_of`] gives,
@@ -120,8 +142,9 @@ impl ColliderGrid {
 }
 
 /// The grid a frame's colliders need: cubes half as large as the largest collider's
-/// bounds grown by `reach` on every side, and 32 slots a collider (about three for
-/// each cube it marks), a power of two from 64 to `most`.
+/// bounds grown by `reach` on every side, and 64 slots a collider (about seven for
+/// each cube it marks on a flat field, [`ColliderGrid::over_roots`]), a power of two
+/// from 64 to `most`.
 #[cfg(not(target_arch = "spirv"))]
 pub fn fitted(colliders: &[Collider], reach: f32, most: u32) -> ColliderGrid {
     let largest = colliders
@@ -132,14 +155,14 @@ pub fn fitted(colliders: &[Collider], reach: f32, most: u32) -> ColliderGrid {
         })
         .fold(0.0f32, f32::max);
     let wanted = (colliders.len() as u32)
-        .saturating_mul(32)
+        .saturating_mul(64)
         .next_power_of_two();
     ColliderGrid {
         // A little over, so a collider exactly two cubes wide marks three at most.
         cell: (0.5 * (largest + 2.0 * reach) * 1.001).max(0.01),
         reach,
         slots: wanted.max(64).min(most.max(1)),
-        pad: 0,
+        ..ColliderGrid::default()
     }
 }
 
@@ -329,7 +352,9 @@ pub const NOTHING_NEAR: Nearby<'static> = Nearby {
         cell: 1.0,
         reach: 0.0,
         slots: 1,
-        pad: 0,
+        low: -ROOTS_ANYWHERE,
+        high: ROOTS_ANYWHERE,
+        pad: [0; 3],
     },
 };
 

@@ -70,9 +70,9 @@ fn a_collider_marks_every_cube_a_blade_it_can_touch_stands_in() {
 /// failed; `Nearby::reaches` without the reach failed the pushes' check).
 #[test]
 fn the_grid_pushes_every_blade_as_testing_every_collider_does() {
-    let (dense, dense_left) = grid_against_every(60.0);
+    let (dense, dense_left) = grid_against_every(60.0, None);
     assert!(dense < 60.0, "{dense} colliders looked at per blade");
-    let (_, sparse_left) = grid_against_every(350.0);
+    let (_, sparse_left) = grid_against_every(350.0, None);
     eprintln!("LEFT {dense_left} {sparse_left}");
     assert!(dense_left < 0.1, "{dense_left}");
     assert!(sparse_left > 0.5, "{sparse_left} of the blades left out");
@@ -82,10 +82,12 @@ fn the_grid_pushes_every_blade_as_testing_every_collider_does() {
 /// the grid and through every collider, which must be the same bit for bit; the
 /// colliders looked at per blade, and the share of the blades
 /// [`Nearby::reaches`] leaves out of the collision pass.
-fn grid_against_every(side: f32) -> (f32, f32) {
+fn grid_against_every(side: f32, roots: Option<(f32, f32)>) -> (f32, f32) {
     let colliders = crowd(1024, side);
     let reach = crate::blade::HEIGHT.1;
-    let grid = ColliderSet::new(&colliders, fitted(&colliders, reach, 4096));
+    let fit = fitted(&colliders, reach, 4096);
+    let fit = roots.map_or(fit, |r| fit.over_roots(r));
+    let grid = ColliderSet::new(&colliders, fit);
     let every = ColliderSet::every(&colliders);
     let blades = crate::world::generate::square_field(8192, side / 2.0, 5);
     let mut touched = 0;
@@ -124,6 +126,20 @@ fn grid_against_every(side: f32) -> (f32, f32) {
     assert!(touched > 50, "{touched} blades touched");
     let n = blades.len() as f32;
     (looked as f32 / n, left as f32 / n)
+}
+
+/// A grid that knows the field's roots stand at height 0 marks one layer of cubes:
+/// the same pushes as testing every collider, and in the sparse crowd, where most
+/// of a slot's colliders are there because their cubes share it, fewer colliders
+/// looked at per blade (measured: 2.83 against 4.29 in 4,096 slots). Planted fault:
+/// the roots' range taken as 6 to 7 (above every collider's grown bounds, so none is
+/// marked) failed the pushes' check.
+#[test]
+fn a_grid_over_the_roots_pushes_the_same_and_looks_at_fewer() {
+    let (all, _) = grid_against_every(350.0, None);
+    let (over, _) = grid_against_every(350.0, Some((0.0, 0.0)));
+    eprintln!("LOOKED {all} {over}");
+    assert!(over < 0.75 * all, "{over} against {all}");
 }
 
 /// A collider past the first 1,024 (the second occupancy word) is found by the

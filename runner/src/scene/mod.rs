@@ -559,5 +559,34 @@ mod tests {
         assert!(!scene.rescale(1.0));
         assert!(scene.blades.is_empty());
         assert_eq!(scene.blade_scale, 0.5);
+        // A tiled field takes a new mix in its tiles' parameters.
+        let mix = shared::species::Mix::new([1, 0, 1, 0]);
+        assert!(scene.set_species(mix));
+        assert_eq!(scene.tiles.unwrap().params.species, mix.weights);
+        assert!(scene.blades.is_empty());
+    }
+
+    /// A stored field grows again under a new mix of species: the same roots (the
+    /// same count), the mix's species, and back to grass alone as it was.
+    #[test]
+    fn a_stored_field_grows_again_as_its_species() {
+        use shared::species::{self, Mix};
+        let mut scene = Scene::plane(2048, 3);
+        let grass = scene.blades.clone();
+        assert!(!scene.set_species(Mix::GRASS));
+        assert!(scene.set_species(Mix::new([1, 0, 1, 1])));
+        assert_eq!(scene.blades.len(), grass.len());
+        let count = |s: u32| scene.blades.iter().filter(|b| species::of(b) == s).count();
+        let (flowers, seeds) = (count(species::FLOWER), count(species::SEED_GRASS));
+        assert!(flowers > 500 && seeds > 500, "{flowers} {seeds}");
+        assert!(
+            scene
+                .blades
+                .iter()
+                .zip(&grass)
+                .all(|(a, b)| a.root() == b.root())
+        );
+        assert!(scene.set_species(Mix::GRASS));
+        assert_eq!(scene.blades, grass);
     }
 }

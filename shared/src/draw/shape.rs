@@ -21,14 +21,21 @@ pub const SHAPE_TRIANGLE_TIP: u32 = 3;
 pub const SHAPE_DANDELION: u32 = 4;
 
 /// A flower ([`species::FLOWER`]): a stem an eighth of the outline's width, and past
-/// [`species::FLOWER_HEAD_FROM`] a round head, the full width at its middle and closed at
-/// the tip: τ = ½ + (u − ½)·max(stem, √(1 − ((v − c)/r)²)) with c and r the head's
+/// [`species::FLOWER_HEAD_FROM`] a head, the full width at its middle and closed at
+/// the tip: τ = ½ + (u − ½)·max(stem, 1 − ((v − c)/r)²) with c and r the head's
 /// middle and half its length along v.
 pub const SHAPE_FLOWER: u32 = 5;
 /// A seed grass ([`species::SEED_GRASS`]): a stalk a third of the outline's width,
 /// and past [`species::SEED_HEAD_FROM`] a spindle of seeds, τ = ½ + (u − ½)·max(stalk,
-/// sin(π·t)) with t running 0 to 1 over the head.
+/// 4t(1 − t)) with t running 0 to 1 over the head.
 pub const SHAPE_SEED_HEAD: u32 = 6;
+
+/// The middle of a flower's head along its blade (c of [`SHAPE_FLOWER`]).
+const FLOWER_HEAD_MIDDLE: f32 = 0.5 * (1.0 + species::FLOWER_HEAD_FROM);
+/// One over half the head's length (1/r of [`SHAPE_FLOWER`]).
+const FLOWER_HEAD_PER_HALF: f32 = 2.0 / (1.0 - species::FLOWER_HEAD_FROM);
+/// One over a seed head's length along its blade.
+const SEED_HEAD_PER_LENGTH: f32 = 1.0 / (1.0 - species::SEED_HEAD_FROM);
 
 /// The shape blade `blade` is drawn with when the field's is `shape`: grass is drawn in
 /// the field's shape, every other species in its own ([`species::of`]).
@@ -92,17 +99,17 @@ pub fn shape_tau(shape: u32, u: f32, v: f32, tip_start: f32) -> f32 {
         let tooth = 1.0 - (lobe - lobe.floor());
         0.5 + (u - 0.5) * (1.0 - v) * (0.25 + 0.75 * tooth)
     } else if shape == SHAPE_FLOWER {
-        let from = species::FLOWER_HEAD_FROM;
-        let r = 0.5 * (1.0 - from);
-        let d = (v - (from + r)) / r;
-        let head = (1.0 - d * d).max(0.0).sqrt();
+        // Products and sums only: a geometry stage may run every branch of this
+        // function for every vertex, and a square root or a sine there costs every
+        // blade, grass too.
+        let d = (v - FLOWER_HEAD_MIDDLE) * FLOWER_HEAD_PER_HALF;
+        let head = (1.0 - d * d).max(0.0);
         // The stem runs up to the head's middle; above it the head closes to the tip.
         let stem = if d < 0.0 { FLOWER_STEM } else { 0.0 };
         0.5 + (u - 0.5) * head.max(stem)
     } else if shape == SHAPE_SEED_HEAD {
-        let from = species::SEED_HEAD_FROM;
-        let t = ((v - from) / (1.0 - from)).max(0.0);
-        let seeds = (core::f32::consts::PI * t).sin().max(0.0);
+        let t = ((v - species::SEED_HEAD_FROM) * SEED_HEAD_PER_LENGTH).max(0.0);
+        let seeds = (4.0 * t * (1.0 - t)).max(0.0);
         let stalk = if t < 0.5 { SEED_STALK } else { 0.0 };
         0.5 + (u - 0.5) * seeds.max(stalk)
     } else {

@@ -9,7 +9,7 @@
 //! |---|---|---|---|---|
 //! | [`GRASS`] | 1 | 1 | the field's shape | the grass palette |
 //! | [`DANDELION`] | 1 | 1 | the paper's fifth shape, 3 widths | the grass palette |
-//! | [`FLOWER`] | 1.2 | 1.5 | a stem, a round head 3 widths across | stem green, head [`FLOWER_HEAD`] |
+//! | [`FLOWER`] | 1.2 | 1.5 | a stem, a head 3 widths across | stem green, head [`FLOWER_HEAD`] |
 //! | [`SEED_GRASS`] | 1.5 | 0.75 | a stalk, a spindle of seeds 0.8 widths across | stalk green, head [`SEED_HEAD`] |
 //!
 //! A blade's species is carried in its orientation θ: species `k` adds `k` times

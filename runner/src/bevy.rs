@@ -273,6 +273,7 @@ fn make_field(mut grass: ResMut<RenderGrass>) {
         blades: g.blades,
         tiled: false,
         seed: g.seed,
+        species: shared::species::Mix::GRASS,
         color_format: ash::vk::Format::R16G16B16A16_SFLOAT,
         draw_ground: false,
         reverse_z: true,

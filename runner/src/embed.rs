@@ -143,6 +143,10 @@ pub struct FieldDesc {
     pub tiled: bool,
     /// Seed of the blades' places and shapes.
     pub seed: u64,
+    /// The species the field grows, mixed by weight (`shared::species::Mix`, e.g.
+    /// `Mix::new([12, 0, 2, 3])` for grass, flowers and seed grass;
+    /// `Mix::GRASS` for grass alone).
+    pub species: shared::species::Mix,
     /// Format of the colour images the field draws into.
     pub color_format: vk::Format,
     /// Draw the ground too (else only the blades: your scene has its ground).
@@ -214,6 +218,7 @@ impl GrassField {
         };
         let count = BladeCount::Total(desc.blades);
         let mut scene = Scene::build(&kind, file, count, desc.seed, |_| Ok(()))?;
+        scene.set_species(desc.species);
         let ctx = Context::from_external(device, features);
         if desc.tiled {
             scene.make_tiled(crate::scene::tiled_spec(&scene, ctx.is_software(), 1.0));

@@ -116,6 +116,7 @@
 //!     ground: Ground::Hills,
 //!     blades: 100_000,
 //!     seed: 1,
+//!     species: shared::species::Mix::GRASS, // or e.g. Mix::new([12, 0, 2, 3]): flowers, seed grass
 //!     color_format: format,
 //!     draw_ground: true,
 //!     tiled: false, // true: generated tile by tile around the camera, to the horizon

@@ -161,6 +161,7 @@ impl Gpu {
             ground,
             blades,
             seed: 1,
+            species: shared::species::Mix::GRASS,
             color_format: format,
             draw_ground: true,
             tiled,

@@ -103,6 +103,7 @@ pub fn render(args: &Args) -> Result<Shot> {
         ground: Ground::Hills,
         blades: args.blades,
         seed: 1,
+        species: shared::species::Mix::GRASS,
         color_format: ash::vk::Format::R8G8B8A8_SRGB,
         draw_ground: true,
         tiled: false,

@@ -169,8 +169,12 @@ impl Mix {
     /// Grass only.
     pub const GRASS: Mix = Mix { weights: 0 };
 
-    /// The mix of weights (grass, dandelion, flower, seed grass), each 0 to 255.
+    /// The mix of weights (grass, dandelion, flower, seed grass), each 0 to 255;
+    /// grass alone, at any weight, is the one grass-only mix ([`Mix::GRASS`]).
     pub fn new(weights: [u8; COUNT as usize]) -> Self {
+        if weights[1] == 0 && weights[2] == 0 && weights[3] == 0 {
+            return Self::GRASS;
+        }
         Self {
             weights: u32::from_le_bytes(weights),
         }
@@ -246,10 +250,6 @@ impl core::str::FromStr for Mix {
         }
         if weights.iter().all(|&w| w == 0) {
             return Err(format!("{s:?} gives every species a weight of 0"));
-        }
-        // Grass alone, at any weight, is the one grass-only mix.
-        if weights[1..].iter().all(|&w| w == 0) {
-            return Ok(Mix::GRASS);
         }
         Ok(Mix::new(weights))
     }

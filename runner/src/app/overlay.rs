@@ -471,11 +471,6 @@ fn species_mix(ui: &mut egui::Ui, mix: &mut Mix) {
             ui.add(egui::Slider::new(&mut weights[k], 0..=255).text(NAMES[k]))
                 .on_hover_text("the share of blades of this species, where no type map picks one");
         }
-        // Grass alone, at any weight, is grass only.
-        *mix = if weights[1..].iter().all(|&w| w == 0) {
-            Mix::GRASS
-        } else {
-            Mix::new(weights)
-        };
+        *mix = Mix::new(weights);
     });
 }

@@ -329,10 +329,16 @@ impl Scene {
         if scale == self.blade_scale || self.tiles.is_some() {
             return false;
         }
-        self.blades = scatter_scaled(&self.surface, self.grown, self.seed, scale);
         self.blade_scale = scale;
-        self.apply_paint();
+        self.regrow();
         true
+    }
+
+    /// A stored field's blades grown again from the seed at the current blade scale,
+    /// under the painted maps and the species mix.
+    fn regrow(&mut self) {
+        self.blades = scatter_scaled(&self.surface, self.grown, self.seed, self.blade_scale);
+        self.apply_paint();
     }
 
     /// Grows the species `mix` from now on: a stored field's blades grown again (same
@@ -346,8 +352,7 @@ impl Scene {
         if let Some(tiles) = &mut self.tiles {
             tiles.params.species = mix.weights;
         } else {
-            self.blades = scatter_scaled(&self.surface, self.grown, self.seed, self.blade_scale);
-            self.apply_paint();
+            self.regrow();
         }
         true
     }

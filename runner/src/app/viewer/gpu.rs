@@ -9,7 +9,6 @@ use crate::vulkan::{Context, ContextOptions};
 use anyhow::{Context as _, Result};
 use shared::sim::grid::REACH_MARGIN;
 use shared::species::Mix;
-use shared::world::paint::tallest_factor;
 use std::sync::Arc;
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::Window;
@@ -59,8 +58,8 @@ impl Gpu {
         match renderer.tiles.as_mut() {
             Some(tiles) => {
                 tiles.set_species(mix);
-                let tallest = tallest_factor(&scene.paint, mix);
-                renderer.field.reach = REACH_MARGIN * shared::blade::HEIGHT.1 * tallest;
+                let tallest = crate::field::tiled_tallest(&scene.paint, mix);
+                renderer.field.reach = REACH_MARGIN * tallest;
             }
             None => renderer.replace_blades(&scene.blades)?,
         }

@@ -346,7 +346,9 @@ impl Field {
         let paint = Buffer::upload(ctx, pool, "painted maps", paint_words, U::STORAGE_BUFFER)?;
         let tallest = match source {
             FieldBlades::Stored { blades, .. } => tallest(blades),
-            FieldBlades::Tiled { paint, species, .. } => tiled_tallest(paint, species),
+            FieldBlades::Tiled { paint, species, .. } => {
+                shared::world::paint::tallest(paint, species)
+            }
         };
         let reach = REACH_MARGIN * tallest;
         let roots = match source {
@@ -567,10 +569,4 @@ impl Field {
             u64::from(MESH_DRAWS) * size,
         ]
     }
-}
-
-/// The tallest blade a tiled field under the maps `paint` and the species `mix` can
-/// grow: the course's tallest times `paint::tallest_factor`.
-pub fn tiled_tallest(paint: &[u32], mix: shared::species::Mix) -> f32 {
-    shared::blade::HEIGHT.1 * shared::world::paint::tallest_factor(paint, mix)
 }

@@ -1,7 +1,6 @@
 //! Whether a tile of the tiled world can show a blade: its box over the ground, the
 //! view volume, the occluders' depth pyramid and the reach of the far field.
 
-use crate::blade::HEIGHT;
 use crate::world::terrain;
 use crate::world::tiles::tile_in_world;
 use crate::world::tiles::{TERRAIN_MESH, TERRAIN_VALLEY, TileParams, nearest_point, tile_square};
@@ -41,8 +40,10 @@ pub fn tile_box(tile: IVec2, params: &TileParams, ground: (f32, f32), map: &[u32
     let mix = crate::species::Mix {
         weights: params.species,
     };
-    let tallest = crate::world::paint::tallest_factor(map, mix);
-    (low, high + HEIGHT.1 * params.blade_scale * tallest)
+    (
+        low,
+        high + crate::world::paint::tallest(map, mix) * params.blade_scale,
+    )
 }
 
 /// Whether every blade `tile` can hold is hidden behind the occluders' depth

@@ -113,6 +113,13 @@ pub fn tallest_factor(set: &[u32], mix: crate::species::Mix) -> f32 {
     species * painted
 }
 
+/// The tallest blade, at the course's size, a field under the maps of `set` and the
+/// species `mix` can grow: the course's tallest (`blade::HEIGHT`) times
+/// [`tallest_factor`].
+pub fn tallest(set: &[u32], mix: crate::species::Mix) -> f32 {
+    crate::blade::HEIGHT.1 * tallest_factor(set, mix)
+}
+
 /// What grows at `p` ([`TYPE`]): the nearest texel's red, classed; the field's mix
 /// without a type map. Nearest rather than blended, so no band of another kind lines
 /// the border between two.

@@ -58,7 +58,7 @@ impl Gpu {
         match renderer.tiles.as_mut() {
             Some(tiles) => {
                 tiles.set_species(mix);
-                let tallest = crate::field::tiled_tallest(&scene.paint, mix);
+                let tallest = shared::world::paint::tallest(&scene.paint, mix);
                 renderer.field.reach = REACH_MARGIN * tallest;
             }
             None => renderer.replace_blades(&scene.blades)?,

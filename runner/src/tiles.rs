@@ -99,12 +99,15 @@ impl TiledSpec {
     }
 
     /// The tiles a collider can bend blades in: those its bounding sphere's ground
-    /// shadow, grown by the tallest blade of any species (`shared::species::TALLEST`),
-    /// touches.
+    /// shadow, grown by the tallest blade of the tiles' species mix
+    /// (`shared::species::Mix::tallest`), touches.
     pub fn touched(&self, collider: &Collider) -> Vec<IVec2> {
         let (lo, hi) = collider.bounds();
         let centre = (lo + hi) * 0.5;
-        let reach = 0.5 * (hi - lo).length() + shared::blade::HEIGHT.1 * shared::species::TALLEST;
+        let mix = shared::species::Mix {
+            weights: self.params.species,
+        };
+        let reach = 0.5 * (hi - lo).length() + shared::blade::HEIGHT.1 * mix.tallest();
         self.tiles_within(Vec2::new(centre.x, centre.z), reach)
     }
 

@@ -99,16 +99,14 @@ impl TiledSpec {
     }
 
     /// The tiles a collider can bend blades in: those its bounding sphere's ground
-    /// shadow, grown by the tallest blade of the tiles' species mix
-    /// (`shared::species::Mix::tallest`), touches.
-    pub fn touched(&self, collider: &Collider) -> Vec<IVec2> {
+    /// shadow, grown by `reach`, touches: how far the field's blades reach from
+    /// their roots (`Field::reach`: the tallest its species mix and painted maps
+    /// grow, `shared::world::paint::tallest`, times `sim::grid::REACH_MARGIN`).
+    pub fn touched(&self, collider: &Collider, reach: f32) -> Vec<IVec2> {
         let (lo, hi) = collider.bounds();
         let centre = (lo + hi) * 0.5;
-        let mix = shared::species::Mix {
-            weights: self.params.species,
-        };
-        let reach = 0.5 * (hi - lo).length() + shared::blade::HEIGHT.1 * mix.tallest();
-        self.tiles_within(Vec2::new(centre.x, centre.z), reach)
+        let radius = 0.5 * (hi - lo).length() + reach;
+        self.tiles_within(Vec2::new(centre.x, centre.z), radius)
     }
 
     /// Tiles from the camera's tile to the edge of the far tiles' candidate square:
@@ -329,6 +327,43 @@ mod tests {
         // Recovered (no longer pinned) and not needed: it gives way.
         pool.update(&away, |_| false);
         assert_eq!(pool.slot_of(trail), None);
+    }
+
+    /// A collider pins the tiles within its bounding sphere's ground shadow grown by
+    /// the reach it is given: seed grass painted by a type map (half as tall again
+    /// as grass) pins a ring of tiles more than grass alone. Planted fault: the
+    /// reach of grass whatever the field grows (as before) failed.
+    #[test]
+    fn a_collider_pins_the_tiles_its_fields_tallest_blades_reach() {
+        let spec = TiledSpec {
+            params: shared::world::tiles::TileParams {
+                size: 1.0,
+                per_side: 4,
+                half_extent: 16.0,
+                ..Default::default()
+            },
+            pool_tiles: 64,
+            pool_radius: 3.0,
+            far_blades: 1 << 10,
+            reach: 20.0,
+            ground: (0.0, 0.0),
+            area: 1024.0,
+        };
+        let ball = Collider::sphere(Vec3::new(0.5, 0.5, 0.5), 0.5);
+        let radius = 0.5 * 3f32.sqrt();
+        let tallest = shared::blade::HEIGHT.1;
+        for reach in [tallest, 1.5 * tallest] {
+            let touched = spec.touched(&ball, reach);
+            let centre = Vec2::splat(0.5);
+            for tile in spec.tiles_within(centre, 8.0) {
+                let (min, max) = shared::world::tiles::tile_square(tile, &spec.params);
+                let within = centre.clamp(min, max).distance(centre) <= radius + reach;
+                assert_eq!(touched.contains(&tile), within, "{tile} at reach {reach}");
+            }
+        }
+        let grass = spec.touched(&ball, tallest).len();
+        let seed = spec.touched(&ball, 1.5 * tallest).len();
+        assert!(seed > grass, "{seed} against {grass} tiles");
     }
 
     #[test]

@@ -149,7 +149,7 @@ impl TilesPass {
         self.trails.retain(|_, hold| *hold > 0.0);
         let hold = trail_hold(uniforms.forces.strength_decay);
         for collider in colliders {
-            for tile in spec.touched(collider) {
+            for tile in spec.touched(collider, field.reach) {
                 self.trails.insert(tile, hold);
             }
         }

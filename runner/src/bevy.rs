@@ -48,6 +48,9 @@ pub struct Grass {
     pub blades: u32,
     /// Seed of their places and shapes.
     pub seed: u64,
+    /// The species and their shares (`shared::species::Mix`; `Mix::GRASS`: grass
+    /// alone).
+    pub species: shared::species::Mix,
 }
 
 /// A sphere that pushes the blades down: centred on the entity, of this radius. At
@@ -273,7 +276,7 @@ fn make_field(mut grass: ResMut<RenderGrass>) {
         blades: g.blades,
         tiled: false,
         seed: g.seed,
-        species: shared::species::Mix::GRASS,
+        species: g.species,
         color_format: ash::vk::Format::R16G16B16A16_SFLOAT,
         draw_ground: false,
         reverse_z: true,

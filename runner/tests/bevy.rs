@@ -1,13 +1,15 @@
 //! The Bevy example (`runner/examples/bevy/`, the `bevy` feature) run headless in
-//! this process, twice: the ball walking across the field, and the ball standing at
-//! the end of its walk from the start.
+//! this process, three times: the ball walking across the field, the ball standing
+//! at the end of its walk from the start, and that again in a field of flowers and
+//! seed grass among the grass.
 //!
 //! Checked by content, with the ball's place projected by the host with Bevy's
 //! camera: the grass covers much of the ground; the ball shows inside its silhouette
 //! (Bevy drew it, and the grass, depth-tested against Bevy's reverse-Z depth, did not
 //! cover it) but not all of it (the blades in front of it hide some); and the walk
 //! left a trail: along the ball's path the two pictures differ far more than away
-//! from it.
+//! from it; and the species the example is given grow: the flowers' yellow heads show
+//! in the mixed field and not in the grass alone.
 
 #[path = "../examples/bevy/main.rs"]
 #[allow(dead_code)]
@@ -20,6 +22,13 @@ use runner::vulkan::probe::runs_here;
 fn is_ball(p: [u8; 3]) -> bool {
     let [r, g, b] = p.map(f32::from);
     r > 1.6 * g + 20.0 && r > 1.6 * b + 20.0
+}
+
+/// A flower's yellow head (`shared::species::albedo`), as Bevy tone-maps it: red
+/// and green high, blue low.
+fn is_head(p: [u8; 3]) -> bool {
+    let [r, g, b] = p.map(i32::from);
+    r > 150 && g > 120 && b < 90 && r - b > 90
 }
 
 /// The grass's green: green above red and blue.
@@ -58,12 +67,27 @@ fn the_bevy_example_draws_grass_around_its_ball_and_a_trail() {
         frames: 120,
         size: (320, 180),
         blades: 40_000,
+        species: shared::species::Mix::GRASS,
         still,
         validation: false,
     };
-    let render =
-        |still| example::render(&args(still)).unwrap_or_else(|e| panic!("bevy example: {e:#}"));
-    let (walked, stood) = (render(false), render(true));
+    let run = |args: &example::Args| {
+        example::render(args).unwrap_or_else(|e| panic!("bevy example: {e:#}"))
+    };
+    let (walked, stood) = (run(&args(false)), run(&args(true)));
+    let meadow = run(&example::Args {
+        frames: 10,
+        species: "grass=2,flower=1,seed-grass=1".parse().expect("a mix"),
+        ..args(true)
+    });
+    let heads = |shot: &example::Shot| {
+        let (w, h) = shot.size;
+        let n = (0..w * h)
+            .filter(|&k| is_head(pixel(shot, k % w, k / w)))
+            .count();
+        n as f32 / (w * h) as f32
+    };
+    let (in_meadow, in_grass) = (heads(&meadow), heads(&stood));
     let size = walked.size;
     let (w, h) = size;
     assert_eq!(walked.rgba.len(), (w * h * 4) as usize);
@@ -126,6 +150,21 @@ fn the_bevy_example_draws_grass_around_its_ball_and_a_trail() {
         }
     }
     let (on, off) = (on / on_n.max(1) as f32, off / off_n.max(1) as f32);
+    eprintln!(
+        "bevy: yellow heads in {:.2} % of the meadow, {:.2} % of the grass",
+        100.0 * in_meadow,
+        100.0 * in_grass
+    );
+    assert!(
+        in_meadow > 0.05,
+        "heads in {:.2} % of the meadow",
+        100.0 * in_meadow
+    );
+    assert!(
+        in_grass < 0.001,
+        "heads in {:.2} % of the grass",
+        100.0 * in_grass
+    );
     eprintln!(
         "bevy: ball {inside} px inside its silhouette, {:.1} % red, {ball_outside} red px \
          outside; grass {:.1} % of the picture; walk against still: {on:.2} on the path \

@@ -41,6 +41,10 @@ pub struct Args {
     /// Blades on the plane.
     #[arg(long, default_value_t = 40_000, value_parser = clap::value_parser!(u32).range(1..=(1 << 22)))]
     pub blades: u32,
+    /// The species and their weights, as `grass --species` takes them
+    /// (`grass=12,flower=2`; grass alone by default).
+    #[arg(long, default_value = "grass=1")]
+    pub species: shared::species::Mix,
     /// The ball stays at the end of its walk (no trail).
     #[arg(long)]
     pub still: bool,
@@ -206,6 +210,7 @@ fn setup(
         Grass {
             blades: run.args.blades,
             seed: 1,
+            species: run.args.species,
         },
     ));
     commands.spawn((

@@ -19,7 +19,7 @@ use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::sky::fog;
 use shared::draw::look::visibility;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_tagged};
-use shared::draw::shape::surface_point;
+use shared::draw::shape::row_point;
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::counters::COUNTER_VISIBLE;
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
@@ -84,9 +84,16 @@ pub fn grass_tes(
 ) {
     let blade = &blades[in_blade[0] as usize];
     let grass = &frame.grass;
-    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let species = species::of(blade);
+    let (p, v) = row_point(
+        blade,
+        species,
+        (coord.x, coord.y),
+        grass.shape,
+        grass.tip_start,
+    );
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal_v = p.normal.extend(tag_v(coord.y, species::of(blade)));
+    *out_normal_v = p.normal.extend(tag_v(v, species));
     *out_level = in_level[0];
 }
 
@@ -110,11 +117,18 @@ pub fn grass_taa_tes(
     let slot = in_blade[0] as usize;
     let blade = &blades[slot];
     let grass = &frame.grass;
-    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let species = species::of(blade);
+    let (p, v) = row_point(
+        blade,
+        species,
+        (coord.x, coord.y),
+        grass.shape,
+        grass.tip_start,
+    );
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal_v = p.normal.extend(tag_v(coord.y, species::of(blade)));
+    *out_normal_v = p.normal.extend(tag_v(v, species));
     *out_level = in_level[0];
-    let moved = point_motion(frame, motion, slot, p.position, coord.y, blade);
+    let moved = point_motion(frame, motion, slot, p.position, v, blade);
     *out_motion = moved.extend(0.0).extend(0.0);
 }
 
@@ -219,11 +233,13 @@ pub fn natural_tes(
 ) {
     let drawn = &dressed[in_slot[0] as usize];
     let grass = &frame.grass;
-    let p = surface_point(&drawn.blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let species = coverage_species(drawn.tint.w);
+    let (u, t) = (coord.x, coord.y);
+    let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;
-    *out_uv_level = coord.truncate().extend(in_level[0]);
+    *out_uv_level = Vec3::new(u, v, in_level[0]);
     *out_tint = drawn.tint;
     *out_width_dir = p.width_dir;
 }
@@ -244,11 +260,13 @@ pub fn natural_vis_tes(
     #[spirv(flat)] out_slot: &mut f32,
 ) {
     let slot = in_slot[0];
-    let blade = &dressed[slot as usize].blade;
+    let drawn = &dressed[slot as usize];
     let grass = &frame.grass;
-    let p = surface_point(blade, coord.x, coord.y, grass.shape, grass.tip_start);
+    let species = coverage_species(drawn.tint.w);
+    let (u, t) = (coord.x, coord.y);
+    let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_uv = coord.extend(0.0);
+    *out_uv = Vec4::new(u, v, coord.z, 0.0);
     *out_slot = slot as f32;
 }
 

@@ -14,11 +14,12 @@
 use crate::grass::point_motion;
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
+use shared::draw::look::coverage::coverage_species;
 use shared::draw::meshlet::{
     MAX_STRIP_VERTICES, StripBlade, draw_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
-use shared::draw::shape::surface_point;
+use shared::draw::shape::row_point;
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::draw_slice;
 use shared::gpu::layout::FrameUniforms;
@@ -76,15 +77,16 @@ fn strip_vertex(
     Some((lane as usize, at, blade, Vec3::new(u, v, blade.level)))
 }
 
-/// The paper look's vertex of a strip at (u, v, level): clip position, and the
-/// normal with v tagged with the blade's species (the tessellation evaluation stage's
-/// varyings), and the world position.
-fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4, Vec3) {
+/// The paper look's vertex of a strip at (u, t, level): clip position, and the
+/// normal with its row's v (`shape::row_point`) tagged with the blade's species (the
+/// tessellation evaluation stage's varyings), the world position and that v.
+fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4, Vec3, f32) {
     let grass = &frame.grass;
-    let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
+    let species = shared::species::of(blade);
+    let (p, v) = row_point(blade, species, (uvl.x, uvl.y), grass.shape, grass.tip_start);
     let clip = frame.camera.view_proj * p.position.extend(1.0);
-    let v = shared::species::tag_v(uvl.y, shared::species::of(blade));
-    (clip, p.normal.extend(v), p.position)
+    let tagged = shared::species::tag_v(v, species);
+    (clip, p.normal.extend(tagged), p.position, v)
 }
 
 /// The paper look's mesh stage: strips of the stored blades, with the tessellation
@@ -113,7 +115,7 @@ pub fn paper_mesh(
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
-        let (clip, normal_v, _) = paper_vertex(frame, &blades[strip.source as usize], uvl);
+        let (clip, normal_v, _, _) = paper_vertex(frame, &blades[strip.source as usize], uvl);
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
@@ -151,12 +153,12 @@ pub fn paper_taa_mesh(
     if let Some((k, _, strip, uvl)) = vertex {
         let index = strip.source as usize;
         let blade = &blades[index];
-        let (clip, normal_v, point) = paper_vertex(frame, blade, uvl);
+        let (clip, normal_v, point, v) = paper_vertex(frame, blade, uvl);
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
         // A vec4 (zw unused): lavapipe's mesh stages crash on arrays of vec2 outputs.
-        let moved = point_motion(frame, motion, index, point, uvl.y, blade);
+        let moved = point_motion(frame, motion, index, point, v, blade);
         out_motion[k] = moved.extend(0.0).extend(0.0);
     }
 }
@@ -189,7 +191,7 @@ pub fn paper_mesh_capture(
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, at, strip, uvl)) = vertex {
-        let (clip, normal_v, _) = paper_vertex(frame, &blades[strip.source as usize], uvl);
+        let (clip, normal_v, _, _) = paper_vertex(frame, &blades[strip.source as usize], uvl);
         out_position[k] = clip;
         out_normal_v[k] = normal_v;
         out_level[k] = uvl.z;
@@ -231,11 +233,13 @@ pub fn natural_mesh(
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
         let drawn = &dressed[strip.source as usize];
-        let p = surface_point(&drawn.blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
+        let species = coverage_species(drawn.tint.w);
+        let (u, t) = (uvl.x, uvl.y);
+        let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
         out_normal[k] = p.normal;
         out_world[k] = p.position;
-        out_uv_level[k] = uvl;
+        out_uv_level[k] = Vec3::new(u, v, uvl.z);
         out_tint[k] = drawn.tint;
         out_width_dir[k] = p.width_dir;
     }
@@ -269,10 +273,12 @@ pub fn natural_vis_mesh(
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
-        let blade = &dressed[strip.source as usize].blade;
-        let p = surface_point(blade, uvl.x, uvl.y, grass.shape, grass.tip_start);
+        let drawn = &dressed[strip.source as usize];
+        let species = coverage_species(drawn.tint.w);
+        let (u, t) = (uvl.x, uvl.y);
+        let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
-        out_uv[k] = uvl.truncate().extend(0.0).extend(0.0);
+        out_uv[k] = Vec4::new(u, v, 0.0, 0.0);
         out_slot[k] = strip.source as f32;
     }
 }

@@ -108,6 +108,27 @@ pub const FLOWER_HEAD_FROM: f32 = 0.75;
 /// Where a seed grass's head starts along its blade (v).
 pub const SEED_HEAD_FROM: f32 = 0.5;
 
+/// The share of a flower's strip (of its rows, [`row_v`]) that lies in its head: 5
+/// of its 9 segments.
+pub const FLOWER_HEAD_ROWS: f32 = 5.0 / 9.0;
+
+/// Where along the blade (v) the row at `t` of a strip or a tessellated patch (0 at
+/// the root, 1 at the tip; rows evenly spaced in `t`) lies for `species`. A flower's
+/// rows crowd into its head ([`FLOWER_HEAD_ROWS`] of them past
+/// [`FLOWER_HEAD_FROM`]), so its round outline is drawn with six rows rather than
+/// three; the thin stem below takes the rest. Piecewise linear, so the strip still
+/// morphs continuously across its levels; any other species' rows lie at `t`.
+pub fn row_v(species: u32, t: f32) -> f32 {
+    if species != FLOWER {
+        t
+    } else if t < 1.0 - FLOWER_HEAD_ROWS {
+        t * (FLOWER_HEAD_FROM / (1.0 - FLOWER_HEAD_ROWS))
+    } else {
+        FLOWER_HEAD_FROM
+            + (t - (1.0 - FLOWER_HEAD_ROWS)) * ((1.0 - FLOWER_HEAD_FROM) / FLOWER_HEAD_ROWS)
+    }
+}
+
 /// Where the head of `species` starts along the blade (v); past the tip for a species
 /// with none.
 pub fn head_from(species: u32) -> f32 {
@@ -352,5 +373,27 @@ mod tests {
         assert_eq!(albedo(FLOWER, green, 0.7, 1.0), green);
         assert_eq!(albedo(FLOWER, green, 0.9, 1.0), FLOWER_HEAD);
         assert_eq!(albedo(SEED_GRASS, green, 0.6, 0.5), SEED_HEAD * 0.5);
+    }
+
+    /// A flower's rows: from the root to the tip, rising, continuous where the stem
+    /// meets the head, and five of nine segments in the head; any other species' rows
+    /// where they were.
+    #[test]
+    fn a_flowers_rows_crowd_into_its_head() {
+        for species in [GRASS, DANDELION, SEED_GRASS] {
+            assert_eq!(row_v(species, 0.3), 0.3);
+        }
+        assert_eq!(row_v(FLOWER, 0.0), 0.0);
+        assert!((row_v(FLOWER, 1.0) - 1.0).abs() < 1e-6);
+        let knee = 1.0 - FLOWER_HEAD_ROWS;
+        assert!((row_v(FLOWER, knee - 1e-6) - row_v(FLOWER, knee)).abs() < 1e-4);
+        assert!((row_v(FLOWER, knee) - FLOWER_HEAD_FROM).abs() < 1e-6);
+        let rows: Vec<f32> = (0..=9).map(|k| row_v(FLOWER, k as f32 / 9.0)).collect();
+        assert!(rows.windows(2).all(|w| w[1] > w[0]), "{rows:?}");
+        let head = rows
+            .iter()
+            .filter(|&&v| v > FLOWER_HEAD_FROM + 1e-6)
+            .count();
+        assert_eq!(head, 5, "{rows:?}");
     }
 }

@@ -108,7 +108,8 @@ fn mesh_and_tessellation_draw_the_same_field() {
 /// the mesh path with its capture stage (`mesh::paper_mesh_capture`), which writes
 /// each vertex's clip position; the host takes the same binned blades and computes
 /// every vertex of every strip with the same `shared` functions (`blade_level`,
-/// `strip_coord`, `surface_point`). Blades of every strip length, 1 to 9 segments,
+/// `strip_coord`, `shape::row_point`), grass and flowers (whose rows crowd into their
+/// heads, `species::row_v`). Blades of every strip length, 1 to 9 segments,
 /// are checked, each in its bucket (the longest strips in their band of distance,
 /// `meshlet::near_band`), and every vertex the draw should have written was written. Limit: a
 /// relative difference of 1e-5 of the clip coordinates (measured on lavapipe: 9e-8;
@@ -126,15 +127,17 @@ fn mesh_stage_vertices_equal_the_hosts() {
         MAX_STRIP_VERTICES, MESH_DRAWS, NEAR_BANDS, SPILL_DRAW, StripBlade, draw_segments,
         near_band, strip_coord, strip_segments, strip_vertices, top_segments,
     };
-    use shared::draw::shape::surface_point;
+    use shared::draw::shape::row_point;
     use shared::gpu::counters::{COUNTER_SPILLED, COUNTER_WORDS, draw_slice};
     use shared::settings::{GrassPipeline, Look};
     let name = "mesh_stage_vertices_equal_the_hosts";
     tests::with_device_needing(name, &[tests::Need::MeshShaders], |ctx| {
-        let scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(2048), 5, |_| {
+        let mut scene = Scene::build(&SceneKind::Plane, None, BladeCount::Total(2048), 5, |_| {
             Ok(())
         })
         .unwrap();
+        // Flowers among the grass: their rows crowd into their heads.
+        scene.set_species(shared::species::Mix::new([8, 0, 1, 0]));
         let mut settings = scene.settings();
         settings.pipeline = GrassPipeline::Mesh;
         settings.look.style = Look::Paper;
@@ -154,7 +157,7 @@ fn mesh_stage_vertices_equal_the_hosts() {
         renderer.capture_mesh_vertices(Some(&capture)).unwrap();
         let mut driver = FrameDriver::new(&ctx, renderer).unwrap();
         let eye = scene.camera().viewpoint(target.size());
-        let (mut checked, mut worst) = (0usize, 0f32);
+        let (mut checked, mut worst, mut flowers) = (0usize, 0f32, 0usize);
         let mut per_bucket = [0u32; shared::cull::lod::MAX_SEGMENTS as usize];
         let top = top_segments(settings.lod.most);
         // Blades spilled past their bucket's part of the binned list, by frame.
@@ -213,8 +216,9 @@ fn mesh_stage_vertices_equal_the_hosts() {
                     per_bucket[segments as usize - 1] += 1;
                     binned_total += 1;
                     for k in 0..strip_vertices(n) {
-                        let (u, v) = strip_coord(k, strip.level);
-                        let p = surface_point(blade, u, v, shape, tip).position;
+                        let (u, t) = strip_coord(k, strip.level);
+                        let species = shared::species::of(blade);
+                        let p = row_point(blade, species, (u, t), shape, tip).0.position;
                         let host = uniforms.camera.view_proj * p.extend(1.0);
                         let gpu = captured[(at * MAX_STRIP_VERTICES + k) as usize];
                         assert!(!gpu.is_nan(), "vertex {k} of binned blade {at} not written");
@@ -227,6 +231,7 @@ fn mesh_stage_vertices_equal_the_hosts() {
                             strip.level
                         );
                         checked += 1;
+                        flowers += usize::from(species == shared::species::FLOWER);
                     }
                 }
             }
@@ -236,9 +241,10 @@ fn mesh_stage_vertices_equal_the_hosts() {
             );
         }
         println!(
-            "{checked} vertices, strips per length {per_bucket:?}, worst relative \
-             difference {worst:e}, spilled by frame {spilled:?}"
+            "{checked} vertices ({flowers} of flowers), strips per length {per_bucket:?}, \
+             worst relative difference {worst:e}, spilled by frame {spilled:?}"
         );
+        assert!(flowers > 1000, "{flowers} vertices of flowers");
         // The first frame has no layout: every blade spills; one laid out by the
         // same blades' counts has room for all; between, some spill.
         assert!(

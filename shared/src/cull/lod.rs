@@ -197,23 +197,22 @@ mod tests {
     fn the_dandelion_needs_every_segment() {
         assert_eq!(shape_min_level(SHAPE_DANDELION), MAX_LEVEL);
         assert_eq!(shape_min_level(SHAPE_QUAD), 1.0);
-        // The flower's head has a row at its middle; the seed head two rows inside it.
-        let rows = |level: f32| {
-            (0..=odd_segments(level)).map(move |k| k as f32 / odd_segments(level) as f32)
+        // The flower's head has four rows inside it (its rows crowd there,
+        // `species::row_v`); the seed head two.
+        use crate::species::{FLOWER, FLOWER_HEAD_FROM, SEED_GRASS, SEED_HEAD_FROM, row_v};
+        let rows = |level: f32, species: u32| {
+            let n = odd_segments(level);
+            (0..=n).map(move |k| row_v(species, k as f32 / n as f32))
         };
-        let inside = |level: f32, from: f32| rows(level).filter(|&v| v > from && v < 1.0).count();
-        assert!(
-            inside(
-                shape_min_level(SHAPE_FLOWER),
-                crate::species::FLOWER_HEAD_FROM
-            ) >= 1
-        );
-        assert!(
-            inside(
-                shape_min_level(SHAPE_SEED_HEAD),
-                crate::species::SEED_HEAD_FROM
-            ) >= 2
-        );
+        let inside = |level: f32, species: u32, from: f32| {
+            rows(level, species)
+                .filter(|&v| v > from + 1e-6 && v < 1.0)
+                .count()
+        };
+        let flower = shape_min_level(SHAPE_FLOWER);
+        assert_eq!(inside(flower, FLOWER, FLOWER_HEAD_FROM), 4);
+        let seed = shape_min_level(SHAPE_SEED_HEAD);
+        assert!(inside(seed, SEED_GRASS, SEED_HEAD_FROM) >= 2);
     }
 
     #[test]

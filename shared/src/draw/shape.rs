@@ -156,6 +156,20 @@ pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) 
     }
 }
 
+/// The vertex of a strip or a tessellated patch at (u, `t`) on a blade of `species`:
+/// its row's v along the blade (`species::row_v`: a flower's rows crowd into its
+/// head) and the surface point there ([`surface_point`]).
+pub fn row_point(
+    blade: &Blade,
+    species: u32,
+    (u, t): (f32, f32),
+    shape: u32,
+    tip_start: f32,
+) -> (SurfacePoint, f32) {
+    let v = species::row_v(species, t);
+    (surface_point(blade, u, v, shape, tip_start), v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -309,6 +309,8 @@ pub struct Field {
     /// tallest a tile grows, twice that under a painted height map (which doubles at
     /// most).
     pub reach: f32,
+    /// A blade may be of a species other than grass (`GrassParams::mixed`).
+    pub mixed: bool,
     /// The lowest and highest height of the roots (`FrameFacts::roots`): a stored
     /// field's own, a tiled field's ground's with a unit to spare (its blades stand on
     /// the analytic ground its mesh follows within a fifth of a unit).
@@ -351,6 +353,12 @@ impl Field {
             }
         };
         let reach = REACH_MARGIN * tallest;
+        let mixed = match source {
+            FieldBlades::Stored { blades, .. } => resize::mixed(blades),
+            FieldBlades::Tiled { paint, species, .. } => {
+                shared::world::paint::mixed(paint, species)
+            }
+        };
         let roots = match source {
             FieldBlades::Stored { blades, .. } => root_range(blades),
             FieldBlades::Tiled { ground, .. } => Some((ground.0 - 1.0, ground.1 + 1.0)),
@@ -552,6 +560,7 @@ impl Field {
             cuts,
             queries,
             reach,
+            mixed,
             roots,
             pyramid,
             descriptors,

@@ -19,10 +19,11 @@ use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::sky::fog;
 use shared::draw::look::visibility;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_tagged};
-use shared::draw::shape::row_point;
+use shared::draw::shape::{row_point, surface_point};
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::counters::COUNTER_VISIBLE;
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
+use shared::species::row_v;
 use shared::species::{self, tag_v};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
@@ -84,10 +85,10 @@ pub fn grass_tes(
 ) {
     let blade = &blades[in_blade[0] as usize];
     let grass = &frame.grass;
-    let species = species::of(blade);
-    let (p, v) = row_point(
+    let kind = (species::of(blade), grass.mixed != 0);
+    let (p, v, species) = row_point(
         blade,
-        species,
+        kind,
         (coord.x, coord.y),
         grass.shape,
         grass.tip_start,
@@ -117,10 +118,10 @@ pub fn grass_taa_tes(
     let slot = in_blade[0] as usize;
     let blade = &blades[slot];
     let grass = &frame.grass;
-    let species = species::of(blade);
-    let (p, v) = row_point(
+    let kind = (species::of(blade), grass.mixed != 0);
+    let (p, v, species) = row_point(
         blade,
-        species,
+        kind,
         (coord.x, coord.y),
         grass.shape,
         grass.tip_start,
@@ -233,9 +234,11 @@ pub fn natural_tes(
 ) {
     let drawn = &dressed[in_slot[0] as usize];
     let grass = &frame.grass;
-    let species = coverage_species(drawn.tint.w);
+    // The paper look's stages draw grass alone in the field's shape
+    // (`shape::row_point`); the natural look's measured no faster so.
     let (u, t) = (coord.x, coord.y);
-    let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
+    let v = row_v(coverage_species(drawn.tint.w), t);
+    let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;
@@ -262,9 +265,11 @@ pub fn natural_vis_tes(
     let slot = in_slot[0];
     let drawn = &dressed[slot as usize];
     let grass = &frame.grass;
-    let species = coverage_species(drawn.tint.w);
+    // The paper look's stages draw grass alone in the field's shape
+    // (`shape::row_point`); the natural look's measured no faster so.
     let (u, t) = (coord.x, coord.y);
-    let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
+    let v = row_v(coverage_species(drawn.tint.w), t);
+    let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_uv = Vec4::new(u, v, coord.z, 0.0);
     *out_slot = slot as f32;

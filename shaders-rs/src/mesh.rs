@@ -19,10 +19,11 @@ use shared::draw::meshlet::{
     MAX_STRIP_VERTICES, StripBlade, draw_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
-use shared::draw::shape::row_point;
+use shared::draw::shape::{row_point, surface_point};
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::draw_slice;
 use shared::gpu::layout::FrameUniforms;
+use shared::species::row_v;
 use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
@@ -82,8 +83,8 @@ fn strip_vertex(
 /// tessellation evaluation stage's varyings), the world position and that v.
 fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4, Vec3, f32) {
     let grass = &frame.grass;
-    let species = shared::species::of(blade);
-    let (p, v) = row_point(blade, species, (uvl.x, uvl.y), grass.shape, grass.tip_start);
+    let kind = (shared::species::of(blade), grass.mixed != 0);
+    let (p, v, species) = row_point(blade, kind, (uvl.x, uvl.y), grass.shape, grass.tip_start);
     let clip = frame.camera.view_proj * p.position.extend(1.0);
     let tagged = shared::species::tag_v(v, species);
     (clip, p.normal.extend(tagged), p.position, v)
@@ -233,9 +234,11 @@ pub fn natural_mesh(
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
         let drawn = &dressed[strip.source as usize];
-        let species = coverage_species(drawn.tint.w);
+        // The paper look's stages draw grass alone in the field's shape
+        // (`shape::row_point`); the natural look's measured no faster so.
         let (u, t) = (uvl.x, uvl.y);
-        let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
+        let v = row_v(coverage_species(drawn.tint.w), t);
+        let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
         out_normal[k] = p.normal;
         out_world[k] = p.position;
@@ -274,9 +277,11 @@ pub fn natural_vis_mesh(
     if let Some((k, _, strip, uvl)) = vertex {
         let grass = &frame.grass;
         let drawn = &dressed[strip.source as usize];
-        let species = coverage_species(drawn.tint.w);
+        // The paper look's stages draw grass alone in the field's shape
+        // (`shape::row_point`); the natural look's measured no faster so.
         let (u, t) = (uvl.x, uvl.y);
-        let (p, v) = row_point(&drawn.blade, species, (u, t), grass.shape, grass.tip_start);
+        let v = row_v(coverage_species(drawn.tint.w), t);
+        let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
         out_uv[k] = Vec4::new(u, v, 0.0, 0.0);
         out_slot[k] = strip.source as f32;

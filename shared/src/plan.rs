@@ -182,6 +182,8 @@ pub struct FieldPart {
     pub simulated: u32,
     /// A tiled field: the blades from `simulated` on are generated each frame.
     pub tiled: bool,
+    /// A blade may be of a species other than grass (`GrassParams::mixed`).
+    pub mixed: bool,
 }
 
 /// What one frame does.
@@ -360,7 +362,7 @@ impl Settings {
                 pipeline: plan.pipeline as u32,
                 simulated: field.simulated,
                 tiled: u32::from(field.tiled),
-                padding: 0,
+                mixed: u32::from(field.mixed),
             },
             cull: CullParams {
                 orientation_threshold: cull.orientation_threshold,
@@ -466,6 +468,7 @@ mod tests {
                 blades: 1234,
                 simulated: 1234,
                 tiled: false,
+                mixed: false,
             },
             time: 2.5,
             ..Default::default()
@@ -511,6 +514,7 @@ mod tests {
                 blades: 100,
                 simulated: 40,
                 tiled: true,
+                mixed: false,
             },
             time: 0.0,
             reach: 2.5,

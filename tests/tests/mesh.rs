@@ -176,6 +176,7 @@ fn mesh_stage_vertices_equal_the_hosts() {
             driver.finish().unwrap();
             let renderer = &driver.renderer;
             let uniforms = *renderer.block();
+            assert_eq!(uniforms.grass.mixed, 1, "a field with flowers is mixed");
             let field = &renderer.field;
             let counters: Vec<u32> = renderer.download(&field.counters, COUNTER_WORDS).unwrap();
             let drawn = driver.readback.visible().unwrap() as usize;
@@ -217,8 +218,9 @@ fn mesh_stage_vertices_equal_the_hosts() {
                     binned_total += 1;
                     for k in 0..strip_vertices(n) {
                         let (u, t) = strip_coord(k, strip.level);
-                        let species = shared::species::of(blade);
-                        let p = row_point(blade, species, (u, t), shape, tip).0.position;
+                        let kind = (shared::species::of(blade), uniforms.grass.mixed != 0);
+                        let (p, _, species) = row_point(blade, kind, (u, t), shape, tip);
+                        let p = p.position;
                         let host = uniforms.camera.view_proj * p.extend(1.0);
                         let gpu = captured[(at * MAX_STRIP_VERTICES + k) as usize];
                         assert!(!gpu.is_nan(), "vertex {k} of binned blade {at} not written");

@@ -560,7 +560,7 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(GrassParams, pipeline),
                 offset_of!(GrassParams, simulated),
                 offset_of!(GrassParams, tiled),
-                offset_of!(GrassParams, padding),
+                offset_of!(GrassParams, mixed),
             ],
         ),
         (

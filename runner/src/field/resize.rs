@@ -33,6 +33,7 @@ impl Field {
         self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
         self.reach = REACH_MARGIN * tallest(blades);
         self.roots = root_range(blades);
+        self.mixed = mixed(blades);
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         self.descriptors
             .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
@@ -73,6 +74,13 @@ pub(super) fn root_range(blades: &[Blade]) -> Option<(f32, f32)> {
     let low = heights.clone().fold(f32::INFINITY, f32::min);
     let high = heights.fold(f32::NEG_INFINITY, f32::max);
     (low <= high).then_some((low, high))
+}
+
+/// Whether one of `blades` is of a species other than grass.
+pub(super) fn mixed(blades: &[Blade]) -> bool {
+    blades
+        .iter()
+        .any(|b| shared::species::of(b) != shared::species::GRASS)
 }
 
 /// The tallest of `blades` (at least a hundredth).

@@ -495,6 +495,7 @@ impl Renderer {
             blades: self.field.blade_count,
             simulated: self.field.simulated,
             tiled: self.tiles.is_some(),
+            mixed: self.field.mixed,
         }
     }
 

@@ -133,7 +133,11 @@ pub struct SurfacePoint {
 /// p = (1 − τ)·c0 + τ·c1; tangent t0 = normalize(b − a). `shape` is the field's; a
 /// blade of another species is drawn in its own ([`blade_shape`]).
 pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) -> SurfacePoint {
-    let shape = blade_shape(blade, shape);
+    shaped_point(blade, u, v, blade_shape(blade, shape), tip_start)
+}
+
+/// [`surface_point`] in the shape `shape`, whatever the blade's species.
+pub fn shaped_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) -> SurfacePoint {
     let (v0, v1, v2) = (blade.root(), blade.guide(), blade.tip());
     let a = v0 + v * (v1 - v0);
     let b = v1 + v * (v2 - v1);
@@ -156,18 +160,33 @@ pub fn surface_point(blade: &Blade, u: f32, v: f32, shape: u32, tip_start: f32) 
     }
 }
 
-/// The vertex of a strip or a tessellated patch at (u, `t`) on a blade of `species`:
-/// its row's v along the blade (`species::row_v`: a flower's rows crowd into its
-/// head) and the surface point there ([`surface_point`]).
+/// The vertex of a strip or a tessellated patch at (u, `t`) on a blade of `species`
+/// in a field that is `mixed` (`GrassParams::mixed`): its row's v along the blade
+/// (`species::row_v`: a flower's rows crowd into its head), the surface point there
+/// in its species' shape, and its species. In a field of grass alone every blade is
+/// drawn in the field's `shape` at v = `t` as grass, whatever `species` says: the
+/// shape then stays the same for every vertex of the draw, which the NVIDIA H200's
+/// paper look draws 3 to 4 % faster than a shape chosen per blade (`docs/species.md`;
+/// the natural look's stages, measured no faster so, place their rows with
+/// `species::row_v` and [`surface_point`] in every field).
 pub fn row_point(
     blade: &Blade,
-    species: u32,
+    (species, mixed): (u32, bool),
     (u, t): (f32, f32),
     shape: u32,
     tip_start: f32,
-) -> (SurfacePoint, f32) {
-    let v = species::row_v(species, t);
-    (surface_point(blade, u, v, shape, tip_start), v)
+) -> (SurfacePoint, f32, u32) {
+    if mixed {
+        let v = species::row_v(species, t);
+        let shape = species_shape(species, shape);
+        (shaped_point(blade, u, v, shape, tip_start), v, species)
+    } else {
+        (
+            shaped_point(blade, u, t, shape, tip_start),
+            t,
+            species::GRASS,
+        )
+    }
 }
 
 #[cfg(test)]

@@ -342,8 +342,10 @@ pub struct GrassParams {
     /// tiles', as many as [`COUNTER_TILE_BLADES`](crate::gpu::counters::COUNTER_TILE_BLADES) says, generated this frame and not
     /// simulated, and every blade's name is at [`BINDING_IDS`].
     pub tiled: u32,
-    /// Padding to 16 bytes.
-    pub padding: u32,
+    /// 1 where a blade may be of a species other than grass (`species`): the
+    /// geometry stages then read each blade's species and draw it in its own shape;
+    /// 0: every blade is grass, in the field's shape (`shape::row_point`).
+    pub mixed: u32,
 }
 
 /// Grass drawn through the tessellator: one patch per blade.

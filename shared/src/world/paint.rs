@@ -113,6 +113,12 @@ pub fn tallest_factor(set: &[u32], mix: crate::species::Mix) -> f32 {
     species * painted
 }
 
+/// Whether a field under the maps of `set` and the species `mix` may grow a species
+/// other than grass: a type map, or a mix with one.
+pub fn mixed(set: &[u32], mix: crate::species::Mix) -> bool {
+    has(set, TYPE) || mix != crate::species::Mix::GRASS
+}
+
 /// The tallest blade, at the course's size, a field under the maps of `set` and the
 /// species `mix` can grow: the course's tallest (`blade::HEIGHT`) times
 /// [`tallest_factor`].

@@ -60,6 +60,7 @@ impl Gpu {
                 tiles.set_species(mix);
                 let tallest = shared::world::paint::tallest(&scene.paint, mix);
                 renderer.field.reach = REACH_MARGIN * tallest;
+                renderer.field.mixed = shared::world::paint::mixed(&scene.paint, mix);
             }
             None => renderer.replace_blades(&scene.blades)?,
         }

@@ -24,7 +24,6 @@ use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::counters::COUNTER_VISIBLE;
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
 use shared::species::row_v;
-use shared::species::{self, tag_v};
 use spirv_std::glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 use spirv_std::{Sampler, spirv};
 
@@ -84,17 +83,7 @@ pub fn grass_tes(
     #[spirv(flat)] out_level: &mut f32,
 ) {
     let blade = &blades[in_blade[0] as usize];
-    let grass = &frame.grass;
-    let kind = (species::of(blade), grass.mixed != 0);
-    let (p, v, species) = row_point(
-        blade,
-        kind,
-        (coord.x, coord.y),
-        grass.shape,
-        grass.tip_start,
-    );
-    *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal_v = p.normal.extend(tag_v(v, species));
+    (*out_position, *out_normal_v, _, _) = paper_vertex(frame, blade, coord);
     *out_level = in_level[0];
 }
 
@@ -117,19 +106,11 @@ pub fn grass_taa_tes(
 ) {
     let slot = in_blade[0] as usize;
     let blade = &blades[slot];
-    let grass = &frame.grass;
-    let kind = (species::of(blade), grass.mixed != 0);
-    let (p, v, species) = row_point(
-        blade,
-        kind,
-        (coord.x, coord.y),
-        grass.shape,
-        grass.tip_start,
-    );
-    *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_normal_v = p.normal.extend(tag_v(v, species));
+    let point;
+    let v;
+    (*out_position, *out_normal_v, point, v) = paper_vertex(frame, blade, coord);
     *out_level = in_level[0];
-    let moved = point_motion(frame, motion, slot, p.position, v, blade);
+    let moved = point_motion(frame, motion, slot, point, v, blade);
     *out_motion = moved.extend(0.0).extend(0.0);
 }
 
@@ -280,6 +261,22 @@ pub fn natural_vis_tes(
 #[spirv(fragment)]
 pub fn natural_vis_fs(uv: Vec4, #[spirv(flat)] slot: f32, out_color: &mut Vec4) {
     *out_color = visibility::pack(slot as u32, uv.xy());
+}
+
+/// The paper look's vertex of a strip or a tessellated patch at (u, t, _): clip
+/// position, and the normal with its row's v (`shape::row_point`) tagged with the
+/// blade's species (the varyings of both paths), the world position and that v.
+pub(crate) fn paper_vertex(
+    frame: &FrameUniforms,
+    blade: &Blade,
+    uvl: Vec3,
+) -> (Vec4, Vec4, Vec3, f32) {
+    let grass = &frame.grass;
+    let kind = (shared::species::of(blade), grass.mixed != 0);
+    let (p, v, species) = row_point(blade, kind, (uvl.x, uvl.y), grass.shape, grass.tip_start);
+    let clip = frame.camera.view_proj * p.position.extend(1.0);
+    let tagged = shared::species::tag_v(v, species);
+    (clip, p.normal.extend(tagged), p.position, v)
 }
 
 /// The own motion of a blade's `point` at height `v`, from the previous control

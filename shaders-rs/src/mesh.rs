@@ -11,7 +11,7 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
-use crate::grass::point_motion;
+use crate::grass::{paper_vertex, point_motion};
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
 use shared::draw::look::coverage::coverage_species;
@@ -19,7 +19,7 @@ use shared::draw::meshlet::{
     MAX_STRIP_VERTICES, StripBlade, draw_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
-use shared::draw::shape::{row_point, surface_point};
+use shared::draw::shape::surface_point;
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::draw_slice;
 use shared::gpu::layout::FrameUniforms;
@@ -76,18 +76,6 @@ fn strip_vertex(
     let blade = binned[at as usize];
     let (u, v) = strip_coord(k, blade.level);
     Some((lane as usize, at, blade, Vec3::new(u, v, blade.level)))
-}
-
-/// The paper look's vertex of a strip at (u, t, level): clip position, and the
-/// normal with its row's v (`shape::row_point`) tagged with the blade's species (the
-/// tessellation evaluation stage's varyings), the world position and that v.
-fn paper_vertex(frame: &FrameUniforms, blade: &Blade, uvl: Vec3) -> (Vec4, Vec4, Vec3, f32) {
-    let grass = &frame.grass;
-    let kind = (shared::species::of(blade), grass.mixed != 0);
-    let (p, v, species) = row_point(blade, kind, (uvl.x, uvl.y), grass.shape, grass.tip_start);
-    let clip = frame.camera.view_proj * p.position.extend(1.0);
-    let tagged = shared::species::tag_v(v, species);
-    (clip, p.normal.extend(tagged), p.position, v)
 }
 
 /// The paper look's mesh stage: strips of the stored blades, with the tessellation

@@ -246,7 +246,8 @@ fn mesh_stage_vertices_equal_the_hosts() {
             "{checked} vertices ({flowers} of flowers), strips per length {per_bucket:?}, \
              worst relative difference {worst:e}, spilled by frame {spilled:?}"
         );
-        assert!(flowers > 1000, "{flowers} vertices of flowers");
+        // Measured 18,880; the flowers left grass (no mix) gave 0.
+        assert!(flowers > 9_000, "{flowers} vertices of flowers");
         // The first frame has no layout: every blade spills; one laid out by the
         // same blades' counts has room for all; between, some spill.
         assert!(

@@ -23,13 +23,13 @@ use shared::gpu::layout::{SelectPush, TilePush};
 use shared::sim;
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::sim::cut::{CUT_SLOTS, CUT_WORDS};
-use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, REACH_MARGIN};
+use shared::sim::grid::{GRID_SLOTS, GRID_WORDS};
 use std::sync::Arc;
 
 mod limits;
 mod resize;
 pub use limits::DEVICE_BYTES_PER_BLADE;
-use resize::{root_range, tallest};
+use resize::{root_range, stored_growth, tiled_growth};
 use vk::ShaderStageFlags as Stage;
 
 /// Stages that read the frame's uniform block (a storage buffer: see
@@ -346,18 +346,9 @@ impl Field {
             _ => &no_map[..],
         };
         let paint = Buffer::upload(ctx, pool, "painted maps", paint_words, U::STORAGE_BUFFER)?;
-        let tallest = match source {
-            FieldBlades::Stored { blades, .. } => tallest(blades),
-            FieldBlades::Tiled { paint, species, .. } => {
-                shared::world::paint::tallest(paint, species)
-            }
-        };
-        let reach = REACH_MARGIN * tallest;
-        let mixed = match source {
-            FieldBlades::Stored { blades, .. } => resize::mixed(blades),
-            FieldBlades::Tiled { paint, species, .. } => {
-                shared::world::paint::mixed(paint, species)
-            }
+        let (reach, mixed) = match source {
+            FieldBlades::Stored { blades, .. } => stored_growth(blades),
+            FieldBlades::Tiled { paint, species, .. } => tiled_growth(paint, species),
         };
         let roots = match source {
             FieldBlades::Stored { blades, .. } => root_range(blades),

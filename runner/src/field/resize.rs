@@ -31,9 +31,8 @@ impl Field {
         use vk::BufferUsageFlags as U;
         let usage = U::STORAGE_BUFFER | U::TRANSFER_SRC;
         self.blades = Buffer::upload(ctx, pool, "blades", blades, usage)?;
-        self.reach = REACH_MARGIN * tallest(blades);
+        (self.reach, self.mixed) = stored_growth(blades);
         self.roots = root_range(blades);
-        self.mixed = mixed(blades);
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         self.descriptors
             .write_buffer(layout::BINDING_BLADES, storage, self.blades.buffer);
@@ -42,6 +41,12 @@ impl Field {
             rec.fill_buffer(self.strengths.buffer, 0);
             rec.fill_buffer(self.cuts.buffer, shared::sim::cut::NO_CELL);
         })
+    }
+
+    /// A tiled field grown as the species `mix` under the maps `paint` from now on:
+    /// its reach and whether it is mixed ([`tiled_growth`]).
+    pub fn set_tiled_species(&mut self, paint: &[u32], mix: shared::species::Mix) {
+        (self.reach, self.mixed) = tiled_growth(paint, mix);
     }
 
     pub(super) fn pyramid_buffer(ctx: &Arc<Context>, floats: u32) -> Result<Buffer> {
@@ -76,14 +81,23 @@ pub(super) fn root_range(blades: &[Blade]) -> Option<(f32, f32)> {
     (low <= high).then_some((low, high))
 }
 
-/// Whether one of `blades` is of a species other than grass.
-pub(super) fn mixed(blades: &[Blade]) -> bool {
-    blades
+/// How far a stored field of `blades` reaches ([`Field::reach`]: its tallest, at
+/// least a hundredth, times `REACH_MARGIN`) and whether one of them is of a species
+/// other than grass ([`Field::mixed`]).
+pub(super) fn stored_growth(blades: &[Blade]) -> (f32, bool) {
+    let tallest = blades.iter().map(Blade::height).fold(0.01, f32::max);
+    let mixed = blades
         .iter()
-        .any(|b| shared::species::of(b) != shared::species::GRASS)
+        .any(|b| shared::species::of(b) != shared::species::GRASS);
+    (REACH_MARGIN * tallest, mixed)
 }
 
-/// The tallest of `blades` (at least a hundredth).
-pub(super) fn tallest(blades: &[Blade]) -> f32 {
-    blades.iter().map(Blade::height).fold(0.01, f32::max)
+/// [`stored_growth`] for a tiled field under the maps `paint` growing the species
+/// `mix` (`shared::world::paint::tallest`, `paint::mixed`).
+pub(super) fn tiled_growth(paint: &[u32], mix: shared::species::Mix) -> (f32, bool) {
+    use shared::world::paint;
+    (
+        REACH_MARGIN * paint::tallest(paint, mix),
+        paint::mixed(paint, mix),
+    )
 }

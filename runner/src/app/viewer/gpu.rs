@@ -7,7 +7,6 @@ use crate::renderer::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::{Context, ContextOptions};
 use anyhow::{Context as _, Result};
-use shared::sim::grid::REACH_MARGIN;
 use shared::species::Mix;
 use std::sync::Arc;
 use winit::raw_window_handle::HasDisplayHandle;
@@ -58,9 +57,7 @@ impl Gpu {
         match renderer.tiles.as_mut() {
             Some(tiles) => {
                 tiles.set_species(mix);
-                let tallest = shared::world::paint::tallest(&scene.paint, mix);
-                renderer.field.reach = REACH_MARGIN * tallest;
-                renderer.field.mixed = shared::world::paint::mixed(&scene.paint, mix);
+                renderer.field.set_tiled_species(&scene.paint, mix);
             }
             None => renderer.replace_blades(&scene.blades)?,
         }

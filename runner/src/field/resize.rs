@@ -44,7 +44,8 @@ impl Field {
     }
 
     /// A tiled field grown as the species `mix` under the maps `paint` from now on:
-    /// its reach and whether it is mixed ([`tiled_growth`]).
+    /// its reach and whether it may hold a species other than grass
+    /// (`shared::world::paint::tallest` and `paint::mixed`).
     pub fn set_tiled_species(&mut self, paint: &[u32], mix: shared::species::Mix) {
         (self.reach, self.mixed) = tiled_growth(paint, mix);
     }

@@ -455,7 +455,7 @@ impl Field {
             U::STORAGE_BUFFER | U::TRANSFER_DST,
         )?;
         let near_size = (layout::NEAR_LIST as u64 + u64::from(simulated)) * 4;
-        let near_usage = U::STORAGE_BUFFER | U::INDIRECT_BUFFER;
+        let near_usage = U::STORAGE_BUFFER | U::INDIRECT_BUFFER | U::TRANSFER_DST;
         let near = device_buffer("blades near colliders", near_size, near_usage)?;
         let collider_grid = device_buffer(
             "collider grid",

@@ -38,8 +38,6 @@ pub const RESOLVE_TAA: &str = "compute::temporal::resolve_taa";
 pub const SHADE_NATURAL: &str = "compute::shade::shade_natural";
 /// Compute: the colliders' grid, each frame that has colliders (`shared::sim::grid`).
 pub const BUILD_COLLIDER_GRID: &str = "compute::grid::build_collider_grid";
-/// Compute: the collision pass's indirect dispatch, from the blades handed to it.
-pub const NEAR_DISPATCH: &str = "compute::grid::near_dispatch";
 /// Compute: the frame's questions answered over every simulated blade
 /// (`shared::query`).
 pub const ANSWER_QUESTIONS: &str = "compute::query::answer_questions";

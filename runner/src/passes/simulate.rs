@@ -77,7 +77,6 @@ pub struct SimulatePass {
     write_draws: Pipeline,
     clumps: Pipeline,
     grid: Pipeline,
-    near_dispatch: Pipeline,
     answer: Pipeline,
     contacts: Pipeline,
 }
@@ -102,7 +101,6 @@ impl SimulatePass {
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
             grid: Pipeline::compute(ctx, &field.layout, module, shaders::BUILD_COLLIDER_GRID)?,
-            near_dispatch: Pipeline::compute(ctx, &field.layout, module, shaders::NEAR_DISPATCH)?,
             answer: Pipeline::compute(ctx, &field.layout, module, shaders::ANSWER_QUESTIONS)?,
             contacts: Pipeline::compute(ctx, &field.layout, module, shaders::MARK_CONTACTS)?,
         })
@@ -192,8 +190,8 @@ impl SimulatePass {
         );
     }
 
-    /// Records the collision pass after the pass over every blade: its dispatch from
-    /// the handed blades' count, then the blades near colliders simulated and tested
+    /// Records the collision pass after the pass over every blade, dispatched as that
+    /// pass left its dispatch: the blades near colliders simulated and tested
     /// with them (`layout::COLLIDERS_NEAR`), then the colliders they touch marked where
     /// the frame asks for `contacts`.
     fn record_near(
@@ -206,17 +204,12 @@ impl SimulatePass {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
         let written = (S::COMPUTE_SHADER, A::SHADER_WRITE);
-        rec.memory_barrier(
-            written,
-            (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
-        );
-        rec.bind_pipeline(compute, self.near_dispatch.pipeline, layout, set);
-        rec.dispatch((1, 1));
+        // The pass over every blade grew the dispatch (`layout::near_groups`).
         rec.memory_barrier(
             written,
             (
                 S::DRAW_INDIRECT | S::COMPUTE_SHADER,
-                A::INDIRECT_COMMAND_READ | A::SHADER_READ,
+                A::INDIRECT_COMMAND_READ | A::SHADER_READ | A::SHADER_WRITE,
             ),
         );
         let near = SimulateVariant {

@@ -61,6 +61,9 @@ impl Renderer {
             // The slots this frame's grid uses.
             let words = u64::from(uniforms.collider_grid.slots) * GRID_WORDS as u64;
             rec.fill_buffer_start(field.collider_grid.buffer, words * 4, 0);
+            // The collision pass's dispatch, grown by the pass over every blade.
+            let none: [u32; 3] = [0, 0, 1];
+            rec.update_buffer(field.near.buffer, bytemuck::cast_slice(&none));
         }
         let words = shared::query::query_words(questions);
         rec.update_buffer(field.queries.buffer, bytemuck::cast_slice(&words));

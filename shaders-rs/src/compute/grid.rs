@@ -1,9 +1,7 @@
 //! The colliders' spatial grid, built each frame that has colliders
-//! (`shared::sim::grid`), and the indirect dispatch of the compute pass's collision
-//! pass.
+//! (`shared::sim::grid`).
 
-use shared::gpu::counters::COUNTER_NEAR;
-use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, NEAR_DISPATCH};
+use shared::gpu::layout::FrameUniforms;
 use shared::sim::collide::Collider;
 use shared::sim::grid::{GRID_CORNERS, OCCUPANCY_WORDS};
 use spirv_std::arch::atomic_or;
@@ -42,22 +40,3 @@ pub fn build_collider_grid(
         }
     }
 }
-
-/// The collision pass's indirect dispatch (`layout::NEAR_DISPATCH`): a thread for
-/// each blade the pass over every blade handed over (`counters::COUNTER_NEAR`), in
-/// workgroups of `layout::CULL_WORKGROUP`, spilling into y past 65,535 of them as the
-/// pass's own dispatch does (`layout::flat_index`).
-#[spirv(compute(threads(1)))]
-pub fn near_dispatch(
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
-) {
-    let groups = counters[COUNTER_NEAR].div_ceil(CULL_WORKGROUP);
-    let x = groups.min(MAX_GROUPS_X);
-    near[NEAR_DISPATCH] = x;
-    near[NEAR_DISPATCH + 1] = groups.div_ceil(MAX_GROUPS_X);
-    near[NEAR_DISPATCH + 2] = 1;
-}
-
-/// Workgroups along x every Vulkan device can dispatch.
-const MAX_GROUPS_X: u32 = 65535;

@@ -17,15 +17,18 @@ use shared::gpu::counters::{
     COUNTER_TILE_BLADES, COUNTER_VISIBLE, far_slot, strip_counter,
 };
 use shared::gpu::layout::{
-    COLLIDERS_HAND_OVER, COLLIDERS_NEAR, IDS_WORDS, NEAR_LIST, WIND_FROM_FRAME,
+    COLLIDERS_HAND_OVER, COLLIDERS_NEAR, IDS_WORDS, NEAR_DISPATCH, NEAR_LIST, WIND_FROM_FRAME,
+    near_groups,
 };
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{Nearby, REACH_MARGIN, Slot};
-use shared::sim::simulate::{ForcesHeld, simulate, simulate_watched};
+use shared::sim::simulate::{ForcesHeld, simulate, simulate_travelled};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
+use spirv_std::arch::atomic_u_max;
 use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
+use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
 /// The per-blade buffers the simulate-and-cull pass reads and writes.
@@ -403,26 +406,25 @@ fn simulate_and_cull<T: Copy + Default>(
         // A stored blade reads the maps at its root, over the map square.
         map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
-    // A simulated blade has its steps watched against the colliders of its slot of
-    // the grid; one a collider's bounding sphere may have touched goes to the
-    // collision pass, which simulates and tests it instead, and so does one a cutter
-    // reaches. The slot's words are first needed in the first step's watch, after
-    // that step's forces: their load waits behind arithmetic, not in front of it.
-    // Only a frame with a cutter (`Environment::cutting`) tests the reach first.
+    // A simulated blade is stepped without the colliders; one a collider's bounding
+    // sphere may have held at a step (asked after the steps, of the points where they
+    // left it and their travel: `Nearby::may_have_touched`) goes to the collision
+    // pass, which simulates and tests it instead, and so does one a cutter reaches.
+    // The look-up in the grid comes after the steps: its loads wait behind them, not
+    // in front. Only a frame with a cutter (`Environment::cutting`) tests the reach
+    // first.
     let mut handed = false;
     let mut slot = Slot::default();
     let count = frame.forces.colliders;
-    if hand_over && in_field && simulated {
+    let cutting = frame.forces.cutting != 0;
+    if hand_over && in_field && simulated && cutting {
         let b = &blades[index as usize];
         slot = nearby.around(b.root(), b.height(), count);
-        if frame.forces.cutting != 0 {
-            let (reaching, cutter) =
-                nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
-            handed = cutter;
-            in_field = !handed;
-            if !reaching {
-                slot = Slot::default();
-            }
+        let (reaching, cutter) = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
+        handed = cutter;
+        in_field = !handed;
+        if !reaching {
+            slot = Slot::default();
         }
     }
     let mut drawn = in_field;
@@ -442,16 +444,18 @@ fn simulate_and_cull<T: Copy + Default>(
             let held = strengths[i];
             let strength;
             if hand_over {
-                let touched;
-                ((blade, strength), touched) = simulate_watched(
+                let travel;
+                ((blade, strength), travel) = simulate_travelled(
                     (blade, held),
                     &forces,
-                    (nearby, slot, count),
                     &frame.impulses,
                     push.first_step,
                     push.steps,
                 );
-                handed = touched;
+                if !cutting {
+                    slot = nearby.around(blade.root(), own_height, count);
+                }
+                handed = nearby.may_have_touched(&blade, travel, &slot, count);
             } else {
                 (blade, strength) = simulate(
                     (blade, held),
@@ -563,6 +567,21 @@ fn simulate_and_cull<T: Copy + Default>(
             index;
     }
     if handed {
-        near[NEAR_LIST + tally.slot(COUNTER_NEAR, near_place) as usize] = index;
+        let place = tally.slot(COUNTER_NEAR, near_place);
+        near[NEAR_LIST + place as usize] = index;
+        // The first blade of a workgroup of the collision pass grows its dispatch.
+        if place.is_multiple_of(CULL_WORKGROUP) {
+            let (x, y) = near_groups(place);
+            unsafe {
+                atomic_u_max::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut near[NEAR_DISPATCH],
+                    x,
+                );
+                atomic_u_max::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut near[NEAR_DISPATCH + 1],
+                    y,
+                );
+            }
+        }
     }
 }

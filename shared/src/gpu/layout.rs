@@ -234,8 +234,23 @@ pub const BINDING_CUTS: u32 = 28;
 /// the collision pass's blades are marked after it, and the query pass adds each
 /// blade's part to each answer.
 pub const BINDING_QUERIES: u32 = 29;
-/// Word of the collision pass's `VkDispatchIndirectCommand` in [`BINDING_NEAR`].
+/// Word of the collision pass's `VkDispatchIndirectCommand` in [`BINDING_NEAR`]:
+/// (0, 0, 1) at the frame's start, grown by the pass over every blade
+/// ([`near_groups`]).
 pub const NEAR_DISPATCH: usize = 0;
+/// Workgroups along x every Vulkan device can dispatch.
+pub const MAX_GROUPS_X: u32 = 65535;
+
+/// The collision pass's dispatch (x, y) that holds the handed blade at `place` of
+/// its list: its workgroups of [`CULL_WORKGROUP`] up to that blade's, at most
+/// [`MAX_GROUPS_X`] along x and spilling into y as [`flat_index`] reads them. Each
+/// grows only with `place`, so the first blade of each of the pass's workgroups
+/// takes the maximum of each word with its own, and the last leaves the dispatch
+/// every handed blade needs, with no pass to count them first.
+pub fn near_groups(place: u32) -> (u32, u32) {
+    let groups = place / CULL_WORKGROUP + 1;
+    (groups.min(MAX_GROUPS_X), groups.div_ceil(MAX_GROUPS_X))
+}
 /// First word of the handed blades' indices in [`BINDING_NEAR`].
 pub const NEAR_LIST: usize = 4;
 /// Word of the far blades' generation's `VkDispatchIndirectCommand` (one workgroup
@@ -517,4 +532,49 @@ pub struct ChunkPush {
     pub chunk_size: u32,
     /// Number of draw commands written.
     pub chunk_count: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The largest of [`near_groups`] over the first blade of each workgroup of `n`
+    /// handed blades: the dispatch the pass over every blade leaves.
+    fn grown(n: u32) -> (u32, u32) {
+        (0..n)
+            .step_by(CULL_WORKGROUP as usize)
+            .map(near_groups)
+            .fold((0, 0), |(x, y), (a, b)| (x.max(a), y.max(b)))
+    }
+
+    /// The dispatch grown blade by blade covers every handed blade with whole
+    /// workgroups, and no workgroup holds none, also past 65,535 along x.
+    #[test]
+    fn the_grown_dispatch_covers_the_handed_blades_and_no_more() {
+        let w = CULL_WORKGROUP;
+        assert_eq!(grown(0), (0, 0));
+        assert_eq!(grown(1), (1, 1));
+        assert_eq!(grown(w), (1, 1));
+        assert_eq!(grown(w + 1), (2, 1));
+        assert_eq!(grown(MAX_GROUPS_X * w), (MAX_GROUPS_X, 1));
+        assert_eq!(grown(MAX_GROUPS_X * w + 1), (MAX_GROUPS_X, 2));
+        for n in [
+            1,
+            77,
+            4096,
+            81_685,
+            MAX_GROUPS_X * w + 5000,
+            3 * MAX_GROUPS_X * w,
+        ] {
+            let (x, y) = grown(n);
+            let threads = u64::from(x) * u64::from(y) * u64::from(w);
+            // Every blade has a thread (`flat_index`), and a row less would not do.
+            assert!(threads >= u64::from(n), "{n}: {x} x {y}");
+            let rows_short = u64::from(x) * u64::from(y - 1) * u64::from(w);
+            assert!(rows_short < u64::from(n), "{n}: {x} x {y}");
+            if y == 1 {
+                assert!(u64::from(x - 1) * u64::from(w) < u64::from(n));
+            }
+        }
+    }
 }

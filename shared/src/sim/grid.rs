@@ -16,7 +16,7 @@
 
 use crate::Blade;
 use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, tip_push};
-use spirv_std::glam::{IVec3, Vec3, Vec4Swizzles};
+use spirv_std::glam::{IVec3, Vec2, Vec3, Vec4Swizzles};
 
 /// Words of one slot's collider bits: one bit per collider.
 pub const COLLIDER_WORDS: usize = MAX_COLLIDERS / 32;
@@ -47,6 +47,12 @@ pub const REACH_MARGIN: f32 = 1.1;
 /// How near a collider's surface a blade's tip or midpoint touches it
 /// ([`Nearby::first_touching`]), world units: a tenth of the narrowest blade's height.
 pub const TOUCH_MARGIN: f32 = 0.1;
+
+/// What [`Nearby::may_have_touched`] adds to a bounding sphere, world units: a
+/// thousand times the rounding of a distance at a thousand units from the origin,
+/// so that no rounding of the travel or the distances lets a point the forces moved
+/// into the sphere go unseen.
+pub const WATCH_MARGIN: f32 = 1e-3;
 
 /// [`Nearby::first_touching`]: no collider touches.
 pub const NONE_TOUCHING: u32 = u32::MAX;
@@ -287,14 +293,21 @@ impl Nearby<'_> {
         (found, cutter)
     }
 
-    /// Whether a collider of `slot` (of the first `count`) that pushes may hold `tip`
-    /// or `mid`: one's bounding sphere holds either ([`Collider::may_hold`], the test
-    /// before any push of [`collide_near`]).
-    pub fn may_touch(&self, tip: Vec3, mid: Vec3, slot: &Slot, count: u32) -> bool {
+    /// Whether a collider of `slot` (of the first `count`) that pushes may have held
+    /// a point that travelled to `blade`'s tip or midpoint along a path no longer than
+    /// `travel` (x: the tip's, y: the midpoint's; `simulate::simulate_travelled`):
+    /// one's bounding sphere grown by the travel and [`WATCH_MARGIN`] holds the point
+    /// (a point within the sphere lies within the grown one of every point it
+    /// travelled to). What the pass over every blade asks after its steps.
+    pub fn may_have_touched(&self, blade: &Blade, travel: Vec2, slot: &Slot, count: u32) -> bool {
+        let (tip, mid) = (blade.tip(), blade.midpoint());
         let mut found = false;
         each_marked(self.words, slot, count, |i| {
             let c = &self.colliders[i as usize];
-            found = !c.cuts() && (c.may_hold(tip) || c.may_hold(mid));
+            let r = c.bound.w + WATCH_MARGIN;
+            let holds =
+                |p: Vec3, grow: f32| (p - c.bound.xyz()).length_squared() < (r + grow) * (r + grow);
+            found = !c.cuts() && (holds(tip, travel.x) || holds(mid, travel.y));
             !found
         });
         found

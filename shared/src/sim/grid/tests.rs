@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::sim::collide::{COLLIDER_BOX, COLLIDER_CAPSULE};
-use spirv_std::glam::Quat;
+use spirv_std::glam::{Quat, Vec4};
 
 /// A small deterministic generator (a 32-bit xorshift).
 struct Rng(u32);
@@ -249,4 +249,22 @@ fn a_collider_touches_the_blades_it_pushes_and_no_others() {
     let n = set.nearby();
     let slot = n.around(b.root(), b.height(), 2);
     assert_eq!(n.first_touching((b.tip(), b.midpoint()), &slot, 2), 1);
+}
+
+/// A blade's tip 2 units from a ball of radius 0.5: with a travel 1e-4 short of the
+/// gap it may have touched (the margin covers the rounding of the travel and the
+/// distances), with a travel 2e-3 short it may not (the margin is no wider). Planted
+/// faults: a margin of −0.05 failed the first, one of 0.1 the second.
+#[test]
+fn a_grown_sphere_holds_a_point_within_its_travel_and_margin() {
+    let ball = Vec4::new(0.0, 1.0, 0.0, 0.5);
+    let set = ColliderSet::spheres(&[ball]);
+    let near = set.nearby();
+    let blade = Blade::at_rest(Vec3::new(2.0, 0.0, 0.0), Vec3::Y, 0.0, 1.0, 0.1, 5.0);
+    let slot = near.around(blade.root(), blade.height(), 1);
+    let gap = blade.tip().distance(ball.truncate()) - ball.w;
+    assert!(blade.midpoint().distance(ball.truncate()) - ball.w > gap);
+    let short = |by: f32| Vec2::new(gap - by, 0.0);
+    assert!(near.may_have_touched(&blade, short(1e-4), &slot, 1));
+    assert!(!near.may_have_touched(&blade, short(2e-3), &slot, 1));
 }

@@ -34,6 +34,22 @@ pub struct TiledSpec {
 }
 
 impl TiledSpec {
+    /// A flat world of `params` for the tests: `pool_tiles` slots within 3 units of
+    /// the camera, room for `far_blades`, drawn to 20 units, its area its square's.
+    #[cfg(test)]
+    pub(crate) fn flat_for_tests(params: TileParams, pool_tiles: u32, far_blades: u32) -> Self {
+        let side = 2.0 * f64::from(params.half_extent);
+        Self {
+            params,
+            pool_tiles,
+            pool_radius: 3.0,
+            far_blades,
+            reach: 20.0,
+            ground: (0.0, 0.0),
+            area: side * side,
+        }
+    }
+
     /// Blades of one tile.
     pub fn tile_blades(&self) -> u32 {
         self.params.per_side * self.params.per_side
@@ -335,20 +351,13 @@ mod tests {
     /// reach of grass whatever the field grows (as before) failed.
     #[test]
     fn a_collider_pins_the_tiles_its_fields_tallest_blades_reach() {
-        let spec = TiledSpec {
-            params: shared::world::tiles::TileParams {
-                size: 1.0,
-                per_side: 4,
-                half_extent: 16.0,
-                ..Default::default()
-            },
-            pool_tiles: 64,
-            pool_radius: 3.0,
-            far_blades: 1 << 10,
-            reach: 20.0,
-            ground: (0.0, 0.0),
-            area: 1024.0,
+        let params = shared::world::tiles::TileParams {
+            size: 1.0,
+            per_side: 4,
+            half_extent: 16.0,
+            ..Default::default()
         };
+        let spec = TiledSpec::flat_for_tests(params, 64, 1 << 10);
         let ball = Collider::sphere(Vec3::new(0.5, 0.5, 0.5), 0.5);
         let radius = 0.5 * 3f32.sqrt();
         let tallest = shared::blade::HEIGHT.1;

@@ -19,7 +19,7 @@ use shared::draw::look::leaf::{ambient_occlusion, rounded_normal, shade_leaf};
 use shared::draw::look::sky::fog;
 use shared::draw::look::visibility;
 use shared::draw::shade::{blade_colour, facing_normal, lod_shade, shade_tagged};
-use shared::draw::shape::{row_point, surface_point};
+use shared::draw::shape::{SurfacePoint, row_point, surface_point};
 use shared::draw::temporal::{BladeMotion, blade_point_motion};
 use shared::gpu::counters::COUNTER_VISIBLE;
 use shared::gpu::layout::{FrameUniforms, IDS_WORDS};
@@ -214,16 +214,11 @@ pub fn natural_tes(
     #[spirv(flat)] out_width_dir: &mut Vec3,
 ) {
     let drawn = &dressed[in_slot[0] as usize];
-    let grass = &frame.grass;
-    // The paper look's stages draw grass alone in the field's shape
-    // (`shape::row_point`); the natural look's measured no faster so.
-    let (u, t) = (coord.x, coord.y);
-    let v = row_v(coverage_species(drawn.tint.w), t);
-    let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
+    let (p, v) = natural_point(frame, drawn, coord);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
     *out_normal = p.normal;
     *out_world = p.position;
-    *out_uv_level = Vec3::new(u, v, in_level[0]);
+    *out_uv_level = Vec3::new(coord.x, v, in_level[0]);
     *out_tint = drawn.tint;
     *out_width_dir = p.width_dir;
 }
@@ -244,15 +239,9 @@ pub fn natural_vis_tes(
     #[spirv(flat)] out_slot: &mut f32,
 ) {
     let slot = in_slot[0];
-    let drawn = &dressed[slot as usize];
-    let grass = &frame.grass;
-    // The paper look's stages draw grass alone in the field's shape
-    // (`shape::row_point`); the natural look's measured no faster so.
-    let (u, t) = (coord.x, coord.y);
-    let v = row_v(coverage_species(drawn.tint.w), t);
-    let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
+    let (p, v) = natural_point(frame, &dressed[slot as usize], coord);
     *out_position = frame.camera.view_proj * p.position.extend(1.0);
-    *out_uv = Vec4::new(u, v, coord.z, 0.0);
+    *out_uv = Vec4::new(coord.x, v, coord.z, 0.0);
     *out_slot = slot as f32;
 }
 
@@ -277,6 +266,21 @@ pub(crate) fn paper_vertex(
     let clip = frame.camera.view_proj * p.position.extend(1.0);
     let tagged = shared::species::tag_v(v, species);
     (clip, p.normal.extend(tagged), p.position, v)
+}
+
+/// The natural look's surface point of a strip or a tessellated patch at (u, t, _) on
+/// the `drawn` blade, and its row's v (`species::row_v` of its species, from its
+/// coverage). The paper look's stages draw grass alone in the field's shape
+/// ([`paper_vertex`], `shape::row_point`); the natural look's measured no faster so.
+pub(crate) fn natural_point(
+    frame: &FrameUniforms,
+    drawn: &DressedBlade,
+    uvl: Vec3,
+) -> (SurfacePoint, f32) {
+    let grass = &frame.grass;
+    let v = row_v(coverage_species(drawn.tint.w), uvl.y);
+    let p = surface_point(&drawn.blade, uvl.x, v, grass.shape, grass.tip_start);
+    (p, v)
 }
 
 /// The own motion of a blade's `point` at height `v`, from the previous control

@@ -11,19 +11,16 @@
 //! and 30 triangles, `shared::draw::meshlet::MESHLET_VERTICES` and `MESHLET_TRIANGLES`; a
 //! test reflects the modules to check that they agree.
 
-use crate::grass::{paper_vertex, point_motion};
+use crate::grass::{natural_point, paper_vertex, point_motion};
 use shared::Blade;
 use shared::draw::look::clump::DressedBlade;
-use shared::draw::look::coverage::coverage_species;
 use shared::draw::meshlet::{
     MAX_STRIP_VERTICES, StripBlade, draw_segments, group_index, group_strips, strip_coord,
     strip_lane, strip_triangle, strip_triangles, strip_vertices, strips_per_group, top_segments,
 };
-use shared::draw::shape::surface_point;
 use shared::draw::temporal::BladeMotion;
 use shared::gpu::counters::draw_slice;
 use shared::gpu::layout::FrameUniforms;
-use shared::species::row_v;
 use spirv_std::arch::set_mesh_outputs_ext;
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
@@ -220,17 +217,12 @@ pub fn natural_mesh(
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
-        let grass = &frame.grass;
         let drawn = &dressed[strip.source as usize];
-        // The paper look's stages draw grass alone in the field's shape
-        // (`shape::row_point`); the natural look's measured no faster so.
-        let (u, t) = (uvl.x, uvl.y);
-        let v = row_v(coverage_species(drawn.tint.w), t);
-        let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
+        let (p, v) = natural_point(frame, drawn, uvl);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
         out_normal[k] = p.normal;
         out_world[k] = p.position;
-        out_uv_level[k] = Vec3::new(u, v, uvl.z);
+        out_uv_level[k] = Vec3::new(uvl.x, v, uvl.z);
         out_tint[k] = drawn.tint;
         out_width_dir[k] = p.width_dir;
     }
@@ -263,15 +255,9 @@ pub fn natural_vis_mesh(
     let top = top_segments(frame.lod.most);
     let vertex = strip_vertex(draw, top, group, groups, lane, counters, binned, indices);
     if let Some((k, _, strip, uvl)) = vertex {
-        let grass = &frame.grass;
-        let drawn = &dressed[strip.source as usize];
-        // The paper look's stages draw grass alone in the field's shape
-        // (`shape::row_point`); the natural look's measured no faster so.
-        let (u, t) = (uvl.x, uvl.y);
-        let v = row_v(coverage_species(drawn.tint.w), t);
-        let p = surface_point(&drawn.blade, u, v, grass.shape, grass.tip_start);
+        let (p, v) = natural_point(frame, &dressed[strip.source as usize], uvl);
         out_position[k] = frame.camera.view_proj * p.position.extend(1.0);
-        out_uv[k] = Vec4::new(u, v, 0.0, 0.0);
+        out_uv[k] = Vec4::new(uvl.x, v, 0.0, 0.0);
         out_slot[k] = strip.source as f32;
     }
 }

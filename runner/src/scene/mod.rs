@@ -545,21 +545,14 @@ mod tests {
         assert!(scene.rescale(0.5));
         assert_eq!(scene.blades.len(), 64);
         assert!(!scene.rescale(0.5));
-        let spec = TiledSpec {
-            params: shared::world::tiles::TileParams {
-                size: 4.0,
-                per_side: 16,
-                terrain: shared::world::tiles::TERRAIN_FLAT,
-                half_extent: 8.0,
-                ..Default::default()
-            },
-            pool_tiles: 4,
-            pool_radius: 3.0,
-            far_blades: 1 << 12,
-            reach: 20.0,
-            ground: (0.0, 0.0),
-            area: 256.0,
+        let params = shared::world::tiles::TileParams {
+            size: 4.0,
+            per_side: 16,
+            terrain: shared::world::tiles::TERRAIN_FLAT,
+            half_extent: 8.0,
+            ..Default::default()
         };
+        let spec = TiledSpec::flat_for_tests(params, 4, 1 << 12);
         scene.make_tiled(spec);
         assert!(!scene.rescale(1.0));
         assert!(scene.blades.is_empty());

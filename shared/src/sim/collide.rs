@@ -104,7 +104,14 @@ impl Collider {
 
     /// Whether `p` may be inside: within the bounding sphere [`Collider::bound`].
     pub fn may_hold(&self, p: Vec3) -> bool {
-        (p - self.bound.xyz()).length_squared() < self.bound.w * self.bound.w
+        self.within_bound(p, 0.0)
+    }
+
+    /// Whether `p` lies within the bounding sphere [`Collider::bound`] grown by
+    /// `grow`.
+    pub fn within_bound(&self, p: Vec3, grow: f32) -> bool {
+        let r = self.bound.w + grow;
+        (p - self.bound.xyz()).length_squared() < r * r
     }
 
     /// The displacement that moves `p` out of this collider onto its surface; zero

@@ -297,6 +297,7 @@ impl Nearby<'_> {
     /// a point that travelled to `blade`'s tip or midpoint along a path no longer than
     /// `travel` (x: the tip's, y: the midpoint's; `simulate::simulate_travelled`):
     /// one's bounding sphere grown by the travel and [`WATCH_MARGIN`] holds the point
+    /// ([`Collider::within_bound`])
     /// (a point within the sphere lies within the grown one of every point it
     /// travelled to). What the pass over every blade asks after its steps.
     pub fn may_have_touched(&self, blade: &Blade, travel: Vec2, slot: &Slot, count: u32) -> bool {
@@ -304,10 +305,8 @@ impl Nearby<'_> {
         let mut found = false;
         each_marked(self.words, slot, count, |i| {
             let c = &self.colliders[i as usize];
-            let r = c.bound.w + WATCH_MARGIN;
-            let holds =
-                |p: Vec3, grow: f32| (p - c.bound.xyz()).length_squared() < (r + grow) * (r + grow);
-            found = !c.cuts() && (holds(tip, travel.x) || holds(mid, travel.y));
+            let (tip_grown, mid_grown) = (WATCH_MARGIN + travel.x, WATCH_MARGIN + travel.y);
+            found = !c.cuts() && (c.within_bound(tip, tip_grown) || c.within_bound(mid, mid_grown));
             !found
         });
         found

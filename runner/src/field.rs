@@ -23,7 +23,7 @@ use shared::gpu::layout::{SelectPush, TilePush};
 use shared::sim;
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::sim::cut::{CUT_SLOTS, CUT_WORDS};
-use shared::sim::grid::{GRID_SLOTS, GRID_WORDS};
+use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, WATCH_WORDS};
 use std::sync::Arc;
 
 mod limits;
@@ -459,7 +459,7 @@ impl Field {
         let near = device_buffer("blades near colliders", near_size, near_usage)?;
         let collider_grid = device_buffer(
             "collider grid",
-            u64::from(GRID_SLOTS) * GRID_WORDS as u64 * 4,
+            u64::from(GRID_SLOTS) * (GRID_WORDS + WATCH_WORDS) as u64 * 4,
             U::STORAGE_BUFFER | U::TRANSFER_DST,
         )?;
         let cuts = device_buffer(

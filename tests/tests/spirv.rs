@@ -525,6 +525,7 @@ fn frame_block_layout_matches_the_host_struct() {
                 offset_of!(ColliderGrid, slots),
                 offset_of!(ColliderGrid, low),
                 offset_of!(ColliderGrid, high),
+                offset_of!(ColliderGrid, watch_cell),
                 offset_of!(ColliderGrid, pad),
             ],
         ),

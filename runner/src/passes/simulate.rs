@@ -9,10 +9,10 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, COLLIDERS_HAND_OVER, COLLIDERS_NEAR, COLLIDERS_NONE, CULL_WORKGROUP,
-    ChunkPush, FrameUniforms, NEAR_DISPATCH, PIPELINE_MESH, SIMULATE_WORKGROUP, SPEC_COLLIDERS,
-    SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH, SPEC_TILED, SPEC_WIND_FIELD,
-    SPEC_WORKGROUP_TALLY, SimulatePush, WIND_FROM_FRAME,
+    CHUNK_WORKGROUP, COLLIDERS_HAND_OVER, COLLIDERS_HAND_OVER_CUTTING, COLLIDERS_NEAR,
+    COLLIDERS_NONE, CULL_WORKGROUP, ChunkPush, FrameUniforms, NEAR_DISPATCH, PIPELINE_MESH,
+    SIMULATE_WORKGROUP, SPEC_COLLIDERS, SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH,
+    SPEC_TILED, SPEC_WIND_FIELD, SPEC_WORKGROUP_TALLY, SimulatePush, WIND_FROM_FRAME, hands_over,
 };
 use shared::settings::WindField;
 use shared::sim::grid::{GRID_CORNERS, GRID_WORKGROUP};
@@ -54,10 +54,12 @@ impl SimulateVariant {
             mesh: block.grass.pipeline == PIPELINE_MESH,
             wind: forces.wind_kind,
             impulses: forces.impulses > 0,
-            colliders: if forces.colliders > 0 {
-                COLLIDERS_HAND_OVER
-            } else {
+            colliders: if forces.colliders == 0 {
                 COLLIDERS_NONE
+            } else if forces.cutting != 0 {
+                COLLIDERS_HAND_OVER_CUTTING
+            } else {
+                COLLIDERS_HAND_OVER
             },
             centre: forces.centre_blend != 0.0,
             tiled: block.grass.tiled != 0,
@@ -249,7 +251,7 @@ impl SimulatePass {
         rec.bind_pipeline(compute, simulate, layout, set);
         rec.push_constants(layout, PUSH_CONSTANTS.0, bytemuck::bytes_of(&push));
         rec.dispatch(self.workgroups(field.blade_count, CULL_WORKGROUP));
-        if variant.colliders == COLLIDERS_HAND_OVER {
+        if hands_over(variant.colliders) {
             self.record_near(rec, field, push, (variant, contacts))?;
         }
         // The visible count is complete before the chunk pass reads it.

@@ -13,7 +13,6 @@ use shared::gpu::layout::{FrameUniforms, SimulatePush};
 use shared::plan::FrameRequest;
 use shared::query::{QUERY_WORDS, Question};
 use shared::sim::collide::Collider;
-use shared::sim::grid::GRID_WORDS;
 
 use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
@@ -58,8 +57,8 @@ impl Renderer {
         rec.update_buffer(field.uniforms.buffer, bytemuck::bytes_of(uniforms));
         if !colliders.is_empty() {
             rec.update_buffer(field.colliders.buffer, bytemuck::cast_slice(colliders));
-            // The slots this frame's grid uses.
-            let words = u64::from(uniforms.collider_grid.slots) * GRID_WORDS as u64;
+            // The slots this frame's grid and watch use.
+            let words = uniforms.collider_grid.words() as u64;
             rec.fill_buffer_start(field.collider_grid.buffer, words * 4, 0);
             // The collision pass's dispatch, grown by the pass over every blade.
             let none: [u32; 3] = [0, 0, 1];

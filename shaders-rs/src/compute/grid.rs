@@ -3,8 +3,10 @@
 
 use shared::gpu::layout::FrameUniforms;
 use shared::sim::collide::Collider;
-use shared::sim::grid::{GRID_CORNERS, OCCUPANCY_WORDS};
-use spirv_std::arch::atomic_or;
+use shared::sim::grid::{
+    COUNT_WORD, GRID_CORNERS, OCCUPANCY_WORDS, SHAPE_WORDS, WATCH_SHAPES, store_watched,
+};
+use spirv_std::arch::{atomic_i_add, atomic_or};
 use spirv_std::glam::UVec3;
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
@@ -12,7 +14,10 @@ use spirv_std::spirv;
 /// One thread per collider and cube it may mark (`grid::GRID_CORNERS` each,
 /// `grid::GRID_WORKGROUP` threads a workgroup): sets the collider's
 /// bit, and its word's bit of occupancy, in the slot the cube hashes to
-/// (`ColliderGrid::corner_cube`, `slot_base`), with atomic ors on the cleared grid.
+/// (`ColliderGrid::corner_cube`, `slot_base`), with atomic ors on the cleared grid;
+/// and, for a collider that pushes, counts it in the watch's slot of its
+/// `corner`th watch cube (`ColliderGrid::watch_corner`, `watch_base`) and writes its
+/// capsule there where the count leaves room.
 #[spirv(compute(threads(64)))]
 pub fn build_collider_grid(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -23,7 +28,21 @@ pub fn build_collider_grid(
     let i = id.x / GRID_CORNERS;
     if i < frame.forces.colliders {
         let g = &frame.collider_grid;
-        let (marks, cube) = g.corner_cube(&colliders[i as usize], id.x % GRID_CORNERS);
+        let collider = &colliders[i as usize];
+        let (watches, cube) = g.watch_corner(collider, id.x % GRID_CORNERS);
+        if watches {
+            let base = g.watch_base(cube);
+            let n = unsafe {
+                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                    &mut grid[base + COUNT_WORD],
+                    1,
+                )
+            };
+            if n < WATCH_SHAPES {
+                store_watched(grid, base + n as usize * SHAPE_WORDS, collider);
+            }
+        }
+        let (marks, cube) = g.corner_cube(collider, id.x % GRID_CORNERS);
         if marks {
             let base = g.slot_base(cube);
             let word = (i / 32) as usize;

@@ -17,12 +17,12 @@ use shared::gpu::counters::{
     COUNTER_TILE_BLADES, COUNTER_VISIBLE, far_slot, strip_counter,
 };
 use shared::gpu::layout::{
-    COLLIDERS_HAND_OVER, COLLIDERS_NEAR, IDS_WORDS, NEAR_DISPATCH, NEAR_LIST, WIND_FROM_FRAME,
-    near_groups,
+    COLLIDERS_HAND_OVER_CUTTING, COLLIDERS_NEAR, IDS_WORDS, NEAR_DISPATCH, NEAR_LIST,
+    WIND_FROM_FRAME, hands_over, near_groups,
 };
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
-use shared::sim::grid::{Nearby, REACH_MARGIN, Slot};
+use shared::sim::grid::{Nearby, REACH_MARGIN};
 use shared::sim::simulate::{ForcesHeld, simulate, simulate_travelled};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
@@ -325,10 +325,7 @@ fn simulate_and_cull<T: Copy + Default>(
 
     // What this pipeline does with the colliders (`layout::SPEC_COLLIDERS`): the
     // collision pass takes the blade its thread stands for from the handed list.
-    let (hand_over, near_pass) = (
-        colliders == COLLIDERS_HAND_OVER,
-        colliders == COLLIDERS_NEAR,
-    );
+    let (hand_over, near_pass) = (hands_over(colliders), colliders == COLLIDERS_NEAR);
     let mut index = flat_index(id, workgroups, CULL_WORKGROUP);
     if near_pass {
         index = if index < counters[COUNTER_NEAR] {
@@ -406,26 +403,20 @@ fn simulate_and_cull<T: Copy + Default>(
         // A stored blade reads the maps at its root, over the map square.
         map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
-    // A simulated blade is stepped without the colliders; one a collider's bounding
-    // sphere may have held at a step (asked after the steps, of the points where they
-    // left it and their travel: `Nearby::may_have_touched`) goes to the collision
-    // pass, which simulates and tests it instead, and so does one a cutter reaches.
-    // The look-up in the grid comes after the steps: its loads wait behind them, not
-    // in front. Only a frame with a cutter (`Environment::cutting`) tests the reach
-    // first.
+    // A simulated blade is stepped without the colliders; one a collider may have
+    // held at a step (asked after the steps, of the points where they left it and
+    // their travel, in the watch's slot: `Nearby::may_have_touched`) goes to the
+    // collision pass, which simulates and tests it instead, and so does one a cutter
+    // reaches. Only a frame with a cutter (`Environment::cutting`, the pipeline made
+    // for it) looks up the grid's slot of the root first.
     let mut handed = false;
-    let mut slot = Slot::default();
-    let count = frame.forces.colliders;
-    let cutting = frame.forces.cutting != 0;
-    if hand_over && in_field && simulated && cutting {
+    let cutting = colliders == COLLIDERS_HAND_OVER_CUTTING && frame.forces.cutting != 0;
+    if cutting && in_field && simulated {
         let b = &blades[index as usize];
-        slot = nearby.around(b.root(), b.height(), count);
-        let (reaching, cutter) = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
-        handed = cutter;
+        let count = frame.forces.colliders;
+        let slot = nearby.around(b.root(), b.height(), count);
+        (_, handed) = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
         in_field = !handed;
-        if !reaching {
-            slot = Slot::default();
-        }
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
@@ -452,10 +443,7 @@ fn simulate_and_cull<T: Copy + Default>(
                     push.first_step,
                     push.steps,
                 );
-                if !cutting {
-                    slot = nearby.around(blade.root(), own_height, count);
-                }
-                handed = nearby.may_have_touched(&blade, travel, &slot, count);
+                handed = nearby.may_have_touched(&blade, travel);
             } else {
                 (blade, strength) = simulate(
                     (blade, held),

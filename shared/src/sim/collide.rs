@@ -114,6 +114,25 @@ impl Collider {
         (p - self.bound.xyz()).length_squared() < r * r
     }
 
+    /// The capsule the watch tests for this collider (`sim::grid`, [`reaches`]): its
+    /// own for a capsule, one whose segment is its centre for a sphere, its bounding
+    /// sphere for a box (the segment's first end and radius, its second end).
+    pub fn watched(&self) -> (Vec4, Vec3) {
+        if self.kind == COLLIDER_CAPSULE {
+            (self.a, self.b.xyz())
+        } else if self.kind == COLLIDER_BOX {
+            (self.bound, self.bound.xyz())
+        } else {
+            (self.a, self.a.xyz())
+        }
+    }
+
+    /// Whether `p` may be nearer the surface than `within`: nearer the capsule the
+    /// watch tests ([`Collider::watched`], which holds the collider) than that.
+    pub fn may_reach(&self, p: Vec3, within: f32) -> bool {
+        reaches(self.watched(), p, within)
+    }
+
     /// The displacement that moves `p` out of this collider onto its surface; zero
     /// outside it ([`penetration`] of the nearest point of a capsule's segment, or of
     /// a box's inner box: [`box_penetration`]).
@@ -168,6 +187,16 @@ impl Collider {
             (a - r, a + r)
         }
     }
+}
+
+/// Whether `p` is nearer than `within` to the capsule around the segment from
+/// `a.xyz` to `b` of radius `a.w` (Quílez, *Distance functions*: `sdCapsule`).
+/// Where this is false for every point `p` moved to on a path of length `within` or
+/// less, no point of the path was inside it (the distance to the surface changes no
+/// faster than the point moves), and a collider it holds moved none
+/// ([`Collider::penetration`]).
+pub fn reaches((a, b): (Vec4, Vec3), p: Vec3, within: f32) -> bool {
+    (p - closest_on_segment(p, a.xyz(), b)).length() - a.w < within
 }
 
 /// The point of the segment from `a` to `b` nearest `p`.
@@ -333,6 +362,36 @@ mod tests {
         let r = Collider::cuboid(Vec3::ZERO, Vec3::ONE, Quat::IDENTITY, 0.25);
         let d = r.penetration(Vec3::new(0.5, 1.1, 0.0));
         assert!((d - Vec3::new(0.0, 0.15, 0.0)).length() < 1e-6, "{d}");
+    }
+
+    #[test]
+    fn a_point_may_be_reached_within_its_distance_from_the_surface() {
+        // A standing capsule of radius 0.3 from height 0.3 to 1.5: a point 0.2 beyond
+        // its side is inside its bounding sphere (radius 0.9) but reached only
+        // within more than 0.2.
+        let c = Collider::capsule(Vec3::new(0.0, 0.3, 0.0), Vec3::new(0.0, 1.5, 0.0), 0.3);
+        let p = Vec3::new(0.5, 1.0, 0.0);
+        assert!(c.may_hold(p));
+        assert!(c.may_reach(p, 0.25));
+        assert!(!c.may_reach(p, 0.15));
+        // Inside a sharp box the distance is 0: reached within any positive length,
+        // and pushed.
+        let b = Collider::cuboid(Vec3::ZERO, Vec3::ONE, Quat::IDENTITY, 0.0);
+        let inside = Vec3::new(0.5, 0.2, 0.0);
+        assert_ne!(b.penetration(inside), Vec3::ZERO);
+        assert!(b.may_reach(inside, 1e-3));
+        // A box's test is its bounding sphere's (radius √3): a point 0.1 beyond its
+        // corner is reached within 0.11 and not within 0.09, and so is one 0.1 beyond
+        // the sphere off its face.
+        let corner = Vec3::ONE + Vec3::ONE.normalize() * 0.1;
+        assert!(b.may_reach(corner, 0.11));
+        assert!(!b.may_reach(corner, 0.09));
+        let face = Vec3::X * (3f32.sqrt() + 0.1);
+        assert!(b.may_reach(face, 0.11));
+        // A sphere's own distance.
+        let s = Collider::sphere(Vec3::Y, 0.5);
+        assert!(s.may_reach(Vec3::new(0.0, 1.7, 0.0), 0.21));
+        assert!(!s.may_reach(Vec3::new(0.0, 1.7, 0.0), 0.19));
     }
 
     #[test]

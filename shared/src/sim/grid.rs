@@ -13,10 +13,21 @@
 //! touch (their displacement is exactly zero). The one exception is a tip one
 //! collider pushed farther from its root than the reach within a step: a collider
 //! beyond the reach is not looked at for it until validation has brought it back.
+//!
+//! The pass over every blade, which steps a blade without the colliders and hands
+//! one they may have touched to the collision pass, asks its own slots instead,
+//! after the steps ([`Nearby::may_have_touched`]): the watch's slots, past the
+//! grid's, hash cubes of side [`ColliderGrid::watch_cell`] that hold the point
+//! halfway between a blade's tip and midpoint, each with the capsules
+//! ([`Collider::watched`]) of the first [`WATCH_SHAPES`] pushing colliders whose
+//! bounds, grown by [`WATCH_ALLOWANCE`], overlap a cube hashed there, and the count
+//! of all of them. A blade reads one slot, with no bits to walk and no collider
+//! to fetch, and the cubes are small: they hold tips, not roots, so they need not
+//! grow by a blade's reach.
 
 use crate::Blade;
-use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, tip_push};
-use spirv_std::glam::{IVec3, Vec2, Vec3, Vec4Swizzles};
+use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, reaches, tip_push};
+use spirv_std::glam::{IVec3, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 /// Words of one slot's collider bits: one bit per collider.
 pub const COLLIDER_WORDS: usize = MAX_COLLIDERS / 32;
@@ -48,11 +59,33 @@ pub const REACH_MARGIN: f32 = 1.1;
 /// ([`Nearby::first_touching`]), world units: a tenth of the narrowest blade's height.
 pub const TOUCH_MARGIN: f32 = 0.1;
 
-/// What [`Nearby::may_have_touched`] adds to a bounding sphere, world units: a
-/// thousand times the rounding of a distance at a thousand units from the origin,
-/// so that no rounding of the travel or the distances lets a point the forces moved
-/// into the sphere go unseen.
+/// What [`Nearby::may_have_touched`] adds to a travel (and the watch's cubes to
+/// their allowance), world units: a thousand times the rounding of a distance at a
+/// thousand units from the origin, so that no rounding of the travel or the
+/// distances lets a point the forces moved into a collider go unseen.
 pub const WATCH_MARGIN: f32 = 1e-3;
+
+/// Pushing colliders whose capsules a slot of the watch holds: where more mark it,
+/// its blades go to the collision pass.
+pub const WATCH_SHAPES: u32 = 4;
+
+/// Words of a capsule in a watch slot: its segment's first end and radius, its
+/// second end, and one more (in the slot's first capsule, [`COUNT_WORD`]).
+pub const SHAPE_WORDS: usize = 8;
+
+/// Words of one slot of the watch.
+pub const WATCH_WORDS: usize = WATCH_SHAPES as usize * SHAPE_WORDS;
+
+/// The word of a watch slot that counts the pushing colliders marking it.
+pub const COUNT_WORD: usize = 7;
+
+/// How far from the point halfway between a blade's tip and midpoint the points the
+/// frame's steps moved them to may lie for the watch's slot to know every collider
+/// that may have held one ([`Nearby::may_have_touched`]), world units: half the
+/// distance from a tall blade's tip to its midpoint bent in a breeze (up to 0.9, 2.5
+/// units tall, 0.3 standing) and a frame's travel. A blade beyond it goes to the
+/// collision pass.
+pub const WATCH_ALLOWANCE: f32 = 1.1;
 
 /// [`Nearby::first_touching`]: no collider touches.
 pub const NONE_TOUCHING: u32 = u32::MAX;
@@ -76,8 +109,11 @@ pub struct ColliderGrid {
     pub low: f32,
     /// The highest height of a blade's root: no cube wholly above it is marked.
     pub high: f32,
+    /// Side of a cube of the watch's slots, world units: at least half the largest
+    /// collider's bounds grown by [`WATCH_ALLOWANCE`] (as many slots as the grid's).
+    pub watch_cell: f32,
     /// Padding to 32 bytes.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 impl Default for ColliderGrid {
@@ -89,7 +125,8 @@ impl Default for ColliderGrid {
             slots: 1,
             low: -ROOTS_ANYWHERE,
             high: ROOTS_ANYWHERE,
-            pad: [0; 3],
+            watch_cell: 1.0,
+            pad: [0; 2],
         }
     }
 }
@@ -103,13 +140,49 @@ impl ColliderGrid {
         (p / self.cell).floor().as_ivec3()
     }
 
-    /// The first word of the slot cube `c` hashes to: (x·73856093 ⊕ y·19349663 ⊕
-    /// z·83492791) mod slots (Teschner et al. 2003).
-    pub fn slot_base(&self, c: IVec3) -> usize {
+    /// The slot cube `c` hashes to: (x·73856093 ⊕ y·19349663 ⊕ z·83492791) mod slots
+    /// (Teschner et al. 2003).
+    pub fn slot_of(&self, c: IVec3) -> usize {
         let h = (c.x as u32).wrapping_mul(73_856_093)
             ^ (c.y as u32).wrapping_mul(19_349_663)
             ^ (c.z as u32).wrapping_mul(83_492_791);
-        (h & (self.slots - 1)) as usize * GRID_WORDS
+        (h & (self.slots - 1)) as usize
+    }
+
+    /// The first word of the slot cube `c` hashes to.
+    pub fn slot_base(&self, c: IVec3) -> usize {
+        self.slot_of(c) * GRID_WORDS
+    }
+
+    /// The first word of the watch's slot that cube `c` of the watch's cubes
+    /// hashes to: the watch's slots follow the grid's.
+    pub fn watch_base(&self, c: IVec3) -> usize {
+        self.slots as usize * GRID_WORDS + self.slot_of(c) * WATCH_WORDS
+    }
+
+    /// The watch's cube holding `p`.
+    pub fn watch_cube(&self, p: Vec3) -> IVec3 {
+        (p / self.watch_cell).floor().as_ivec3()
+    }
+
+    /// Words of the grid's slots and the watch's.
+    pub fn words(&self) -> usize {
+        self.slots as usize * (GRID_WORDS + WATCH_WORDS)
+    }
+
+    /// The `corner`th (0..[`GRID_CORNERS`]) of the watch's cubes a pushing
+    /// `collider` marks, and whether it is one: from the least to the greatest
+    /// corner of its bounds grown by [`WATCH_ALLOWANCE`] and [`WATCH_MARGIN`], at
+    /// most three along each axis.
+    pub fn watch_corner(&self, collider: &Collider, corner: u32) -> (bool, IVec3) {
+        let (lo, hi) = collider.bounds();
+        let grow = Vec3::splat(WATCH_ALLOWANCE + WATCH_MARGIN);
+        let (a, b) = (self.watch_cube(lo - grow), self.watch_cube(hi + grow));
+        let c = a + corner_step(corner);
+        (
+            !collider.cuts() && c.cmple(b.min(a + IVec3::splat(2))).all(),
+            c,
+        )
     }
 
     /// The cubes a collider marks: from the least to the greatest corner of its
@@ -137,14 +210,18 @@ impl ColliderGrid {
     /// and whether it is one of them.
     pub fn corner_cube(&self, collider: &Collider, corner: u32) -> (bool, IVec3) {
         let (lo, hi) = self.cubes_of(collider);
-        let step = IVec3::new(
-            (corner % 3) as i32,
-            ((corner / 3) % 3) as i32,
-            (corner / 9) as i32,
-        );
-        let c = lo + step;
+        let c = lo + corner_step(corner);
         (c.cmple(hi).all(), c)
     }
+}
+
+/// The step from the least cube to the `corner`th of 3 x 3 x 3.
+fn corner_step(corner: u32) -> IVec3 {
+    IVec3::new(
+        (corner % 3) as i32,
+        ((corner / 3) % 3) as i32,
+        (corner / 9) as i32,
+    )
 }
 
 /// The grid a frame's colliders need: cubes half as large as the largest collider's
@@ -163,11 +240,13 @@ pub fn fitted(colliders: &[Collider], reach: f32, most: u32) -> ColliderGrid {
     let wanted = (colliders.len() as u32)
         .saturating_mul(64)
         .next_power_of_two();
+    // A little over, so a collider exactly two cubes wide marks three at most.
+    let cell = |grow: f32| (0.5 * (largest + 2.0 * grow) * 1.001).max(0.01);
     ColliderGrid {
-        // A little over, so a collider exactly two cubes wide marks three at most.
-        cell: (0.5 * (largest + 2.0 * reach) * 1.001).max(0.01),
+        cell: cell(reach),
         reach,
         slots: wanted.max(64).min(most.max(1)),
+        watch_cell: cell(WATCH_ALLOWANCE + WATCH_MARGIN),
         ..ColliderGrid::default()
     }
 }
@@ -293,22 +372,28 @@ impl Nearby<'_> {
         (found, cutter)
     }
 
-    /// Whether a collider of `slot` (of the first `count`) that pushes may have held
-    /// a point that travelled to `blade`'s tip or midpoint along a path no longer than
-    /// `travel` (x: the tip's, y: the midpoint's; `simulate::simulate_travelled`):
-    /// one's bounding sphere grown by the travel and [`WATCH_MARGIN`] holds the point
-    /// ([`Collider::within_bound`])
-    /// (a point within the sphere lies within the grown one of every point it
-    /// travelled to). What the pass over every blade asks after its steps.
-    pub fn may_have_touched(&self, blade: &Blade, travel: Vec2, slot: &Slot, count: u32) -> bool {
+    /// Whether a pushing collider may have held a point that travelled to `blade`'s
+    /// tip or midpoint along a path no longer than `travel` (x: the tip's, y: the
+    /// midpoint's; `simulate::simulate_travelled`): one the watch's slot of the
+    /// point halfway between them holds is nearer than the travel and
+    /// [`WATCH_MARGIN`] to one of them ([`reaches`]; the distance to a surface
+    /// changes no faster than the point moves), or the slot holds more than it has
+    /// room for, or the points may lie farther than [`WATCH_ALLOWANCE`] from the
+    /// halfway point. What the pass over every blade asks after its steps.
+    pub fn may_have_touched(&self, blade: &Blade, travel: Vec2) -> bool {
         let (tip, mid) = (blade.tip(), blade.midpoint());
-        let mut found = false;
-        each_marked(self.words, slot, count, |i| {
-            let c = &self.colliders[i as usize];
-            let (tip_grown, mid_grown) = (WATCH_MARGIN + travel.x, WATCH_MARGIN + travel.y);
-            found = !c.cuts() && (c.within_bound(tip, tip_grown) || c.within_bound(mid, mid_grown));
-            !found
-        });
+        let halfway = 0.5 * (tip + mid);
+        let spread = 0.5 * tip.distance(mid) + travel.max_element();
+        let base = self.grid.watch_base(self.grid.watch_cube(halfway));
+        let count = self.words[base + COUNT_WORD];
+        let mut found = spread >= WATCH_ALLOWANCE || count > WATCH_SHAPES;
+        let mut k = 0;
+        while k < count && !found {
+            let shape = watched_at(self.words, base + k as usize * SHAPE_WORDS);
+            found = reaches(shape, tip, travel.x + WATCH_MARGIN)
+                || reaches(shape, mid, travel.y + WATCH_MARGIN);
+            k += 1;
+        }
         found
     }
 
@@ -366,9 +451,32 @@ pub const NOTHING_NEAR: Nearby<'static> = Nearby {
         slots: 1,
         low: -ROOTS_ANYWHERE,
         high: ROOTS_ANYWHERE,
-        pad: [0; 3],
+        watch_cell: 1.0,
+        pad: [0; 2],
     },
 };
+
+/// The capsule ([`Collider::watched`]) a watch slot holds at word `at`.
+fn watched_at(words: &[u32], at: usize) -> (Vec4, Vec3) {
+    let word = |i: usize| f32::from_bits(words[at + i]);
+    (
+        Vec4::new(word(0), word(1), word(2), word(3)),
+        Vec3::new(word(4), word(5), word(6)),
+    )
+}
+
+/// Writes `collider`'s capsule ([`Collider::watched`]) into a watch slot at word
+/// `at`, its last word left (a slot's count in its first capsule).
+pub fn store_watched(words: &mut [u32], at: usize, collider: &Collider) {
+    let (a, b) = collider.watched();
+    words[at] = a.x.to_bits();
+    words[at + 1] = a.y.to_bits();
+    words[at + 2] = a.z.to_bits();
+    words[at + 3] = a.w.to_bits();
+    words[at + 4] = b.x.to_bits();
+    words[at + 5] = b.y.to_bits();
+    words[at + 6] = b.z.to_bits();
+}
 
 /// Sets collider `index`'s bit in the slot at `base` (the host's build; the GPU's
 /// sets the same bits with atomic ors).
@@ -396,12 +504,21 @@ impl ColliderSet {
     /// `colliders` (the first [`MAX_COLLIDERS`]) in `grid`.
     pub fn new(colliders: &[Collider], grid: ColliderGrid) -> Self {
         let colliders = colliders[..colliders.len().min(MAX_COLLIDERS)].to_vec();
-        let mut words = vec![0; grid.slots.max(1) as usize * GRID_WORDS];
+        let mut words = vec![0; grid.words()];
         for (i, c) in colliders.iter().enumerate() {
             for corner in 0..GRID_CORNERS {
                 let (marks, cube) = grid.corner_cube(c, corner);
                 if marks {
                     mark(&mut words, grid.slot_base(cube), i);
+                }
+                let (watches, cube) = grid.watch_corner(c, corner);
+                if watches {
+                    let base = grid.watch_base(cube);
+                    let n = words[base + COUNT_WORD];
+                    words[base + COUNT_WORD] = n + 1;
+                    if n < WATCH_SHAPES {
+                        store_watched(&mut words, base + n as usize * SHAPE_WORDS, c);
+                    }
                 }
             }
         }

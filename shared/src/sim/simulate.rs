@@ -361,24 +361,23 @@ pub fn simulate_travelled(
 }
 
 /// [`simulate`] with no collider pushing (`env.colliders` is not read), and whether a
-/// collider of `slot` in `near` (of the first `count`) that pushes may have held a
-/// step's tip or midpoint as the forces moved them: the test [`collide_near`] makes
-/// before any push (`Collider::may_hold`), asked after the steps of the points where
-/// they leave the blade with their travel ([`simulate_travelled`],
-/// [`Nearby::may_have_touched`]). Where it says no, every push of [`simulate`] with
-/// those colliders would have been zero, so the blade and its strength η are what it
-/// gives, to the bit; where it says yes, the frame's steps are to be run again with
-/// the colliders (the compute pass's collision pass).
+/// collider of `near` that pushes may have held a step's tip or midpoint as the
+/// forces moved them: the test [`collide_near`] makes before any push, asked after
+/// the steps of the points where they leave the blade with their travel
+/// ([`simulate_travelled`], [`Nearby::may_have_touched`]). Where it says no, every
+/// push of [`simulate`] with those colliders would have been zero, so the blade and
+/// its strength η are what it gives, to the bit; where it says yes, the frame's
+/// steps are to be run again with the colliders (the compute pass's collision pass).
 pub fn simulate_watched(
     state: BladeState,
     env: &Environment,
-    (near, slot, count): (Nearby, Slot, u32),
+    near: Nearby,
     impulses: &[Impulse; MAX_IMPULSES],
     first_step: u32,
     steps: u32,
 ) -> (BladeState, bool) {
     let (s, travel) = simulate_travelled(state, env, impulses, first_step, steps);
-    (s, near.may_have_touched(&s.0, travel, &slot, count))
+    (s, near.may_have_touched(&s.0, travel))
 }
 
 /// The host side of fixed steps: turns frame times into a whole number of steps and

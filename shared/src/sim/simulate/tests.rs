@@ -32,11 +32,13 @@ fn run(frame_seconds: f64, total: f64) -> Blade {
 
 /// The steps watched, without the colliders' pushes, against the steps with them,
 /// under a crowd of walkers (a walker to 9 square units), from rest (so the tips
-/// travel far in the four steps): a blade whose watch saw no collider's bounding
-/// sphere ends the same to the bit, and fewer than half the blades within reach
-/// of one are touched. Measured: 3,977 of 4,096 blades within reach, 1,733
-/// touched. The watch without the travel (the points where the steps leave the
-/// blade alone) failed, and so did the one without the midpoints.
+/// travel far in the four steps): a blade whose watch saw no collider's surface
+/// ends the same to the bit, and fewer than half the blades within reach of one
+/// are handed over. Measured: 3,977 of 4,096 blades within reach, 1,671 handed
+/// over (868 touched by a test of the colliders in each blade's slot of the grid:
+/// a crowd this dense fills many of the watch's slots). The watch without the
+/// travel (the points where the steps leave the blade alone) failed; the grid's
+/// test of the watch catches the one without the midpoints.
 #[test]
 fn a_blade_whose_watch_saw_no_collider_steps_as_with_the_colliders() {
     use crate::sim::collide::Collider;
@@ -62,16 +64,15 @@ fn a_blade_whose_watch_saw_no_collider_steps_as_with_the_colliders() {
         let slot = near.around(b.root(), b.height(), e.colliders);
         let (within, cutter) = near.reaches(b.root(), b.height() * REACH_MARGIN, &slot, 100);
         assert!(!cutter);
-        let watched = if within { slot } else { Slot::default() };
         let with = simulate(state, &e, near, &NO_IMPULSES, 10, 4);
-        let (free, hit) = simulate_watched(state, &e, (near, watched, 100), &NO_IMPULSES, 10, 4);
+        let (free, hit) = simulate_watched(state, &e, near, &NO_IMPULSES, 10, 4);
         if !hit {
             assert_eq!(free, with, "{b:?}");
         }
         reaching += usize::from(within);
         touched += usize::from(hit);
     }
-    assert!(touched > 850, "{touched} touched");
+    assert!(touched > 830, "{touched} touched");
     assert!(
         2 * touched < reaching,
         "{touched} of {reaching} within reach touched"
@@ -101,14 +102,16 @@ fn the_watch_sees_a_collider_a_tip_passes_within_a_frame() {
     let at = tips[2];
     let radius = 0.3 * at.distance(end).min(at.distance(mid));
     assert!(radius > 0.01, "the tip travelled {}", at.distance(end));
-    let set = ColliderSet::spheres(&[at.extend(radius)]);
+    let ball = [crate::sim::collide::Collider::from_sphere(
+        at.extend(radius),
+    )];
+    let set = ColliderSet::new(&ball, crate::sim::grid::fitted(&ball, 2.75, 64));
     let near = set.nearby();
-    let slot = near.around(rest.root(), rest.height(), 1);
     let calm = Environment { colliders: 0, ..e };
     let free = simulate((rest, 0.0), &calm, NOTHING_NEAR, &NO_IMPULSES, 0, 8);
     let pushed = simulate((rest, 0.0), &e, near, &NO_IMPULSES, 0, 8);
     assert_ne!(free, pushed, "the ball pushes");
-    let (watched, touched) = simulate_watched((rest, 0.0), &e, (near, slot, 1), &NO_IMPULSES, 0, 8);
+    let (watched, touched) = simulate_watched((rest, 0.0), &e, near, &NO_IMPULSES, 0, 8);
     assert_eq!(watched, free);
     assert!(touched);
 }

@@ -23,7 +23,7 @@ use shared::gpu::layout::{
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{Nearby, REACH_MARGIN};
-use shared::sim::simulate::{ForcesHeld, simulate, simulate_travelled};
+use shared::sim::simulate::{ForcesHeld, simulate, simulate_watched};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::atomic_u_max;
@@ -435,15 +435,14 @@ fn simulate_and_cull<T: Copy + Default>(
             let held = strengths[i];
             let strength;
             if hand_over {
-                let travel;
-                ((blade, strength), travel) = simulate_travelled(
+                ((blade, strength), handed) = simulate_watched(
                     (blade, held),
                     &forces,
+                    nearby,
                     &frame.impulses,
                     push.first_step,
                     push.steps,
                 );
-                handed = nearby.may_have_touched(&blade, travel);
             } else {
                 (blade, strength) = simulate(
                     (blade, held),

@@ -104,17 +104,10 @@ impl Collider {
 
     /// Whether `p` may be inside: within the bounding sphere [`Collider::bound`].
     pub fn may_hold(&self, p: Vec3) -> bool {
-        self.within_bound(p, 0.0)
+        (p - self.bound.xyz()).length_squared() < self.bound.w * self.bound.w
     }
 
-    /// Whether `p` lies within the bounding sphere [`Collider::bound`] grown by
-    /// `grow`.
-    pub fn within_bound(&self, p: Vec3, grow: f32) -> bool {
-        let r = self.bound.w + grow;
-        (p - self.bound.xyz()).length_squared() < r * r
-    }
-
-    /// The capsule the watch tests for this collider (`sim::grid`, [`reaches`]): its
+    /// The capsule the watch tests for this collider (`sim::grid`, [`within_capsule`]): its
     /// own for a capsule, one whose segment is its centre for a sphere, its bounding
     /// sphere for a box (the segment's first end and radius, its second end).
     pub fn watched(&self) -> (Vec4, Vec3) {
@@ -130,7 +123,7 @@ impl Collider {
     /// Whether `p` may be nearer the surface than `within`: nearer the capsule the
     /// watch tests ([`Collider::watched`], which holds the collider) than that.
     pub fn may_reach(&self, p: Vec3, within: f32) -> bool {
-        reaches(self.watched(), p, within)
+        within_capsule(self.watched(), p, within)
     }
 
     /// The displacement that moves `p` out of this collider onto its surface; zero
@@ -195,7 +188,7 @@ impl Collider {
 /// less, no point of the path was inside it (the distance to the surface changes no
 /// faster than the point moves), and a collider it holds moved none
 /// ([`Collider::penetration`]).
-pub fn reaches((a, b): (Vec4, Vec3), p: Vec3, within: f32) -> bool {
+pub fn within_capsule((a, b): (Vec4, Vec3), p: Vec3, within: f32) -> bool {
     (p - closest_on_segment(p, a.xyz(), b)).length() - a.w < within
 }
 

@@ -26,7 +26,7 @@
 //! grow by a blade's reach.
 
 use crate::Blade;
-use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, reaches, tip_push};
+use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, tip_push, within_capsule};
 use spirv_std::glam::{IVec3, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 /// Words of one slot's collider bits: one bit per collider.
@@ -376,7 +376,7 @@ impl Nearby<'_> {
     /// tip or midpoint along a path no longer than `travel` (x: the tip's, y: the
     /// midpoint's; `simulate::simulate_travelled`): one the watch's slot of the
     /// point halfway between them holds is nearer than the travel and
-    /// [`WATCH_MARGIN`] to one of them ([`reaches`]; the distance to a surface
+    /// [`WATCH_MARGIN`] to one of them ([`within_capsule`]; the distance to a surface
     /// changes no faster than the point moves), or the slot holds more than it has
     /// room for, or the points may lie farther than [`WATCH_ALLOWANCE`] from the
     /// halfway point. What the pass over every blade asks after its steps.
@@ -390,8 +390,8 @@ impl Nearby<'_> {
         let mut k = 0;
         while k < count && !found {
             let shape = watched_at(self.words, base + k as usize * SHAPE_WORDS);
-            found = reaches(shape, tip, travel.x + WATCH_MARGIN)
-                || reaches(shape, mid, travel.y + WATCH_MARGIN);
+            found = within_capsule(shape, tip, travel.x + WATCH_MARGIN)
+                || within_capsule(shape, mid, travel.y + WATCH_MARGIN);
             k += 1;
         }
         found

@@ -413,7 +413,8 @@ pub struct Settings {
     pub gravity: Gravity,
     /// Wind.
     pub wind: Wind,
-    /// Collision strength lost per second (strength 1 holds a blade down fully).
+    /// Collision strength lost per second (strength 1 holds a blade down fully); a
+    /// negative rate is taken as 0 (strength grows only by pushes).
     pub trample_decay: f32,
     /// Seconds a cut blade takes to grow back (`sim::cut::regrown`).
     pub regrow: f32,
@@ -556,7 +557,7 @@ impl Settings {
             wind: self.wind.direction_vector().extend(self.wind.strength),
             centre_blend: g.centre_blend,
             wind_kind: self.wind.field as u32,
-            strength_decay: self.trample_decay,
+            strength_decay: self.trample_decay.max(0.0),
             stiffness_scale: self.stiffness,
             colliders,
             time: 0.0,

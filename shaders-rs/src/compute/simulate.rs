@@ -374,9 +374,6 @@ fn simulate_and_cull<T: Copy + Default>(
     // workgroup's blades of that bucket.
     let (mut bucket, mut strip_place) = (BUCKETS, 0);
     let mut name = index;
-    // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`; a
-    // stored one's: its root over the map square).
-    let mut map_at = Vec2::ZERO;
     // A pool blade's width as its distance thins it, like a far one's
     // (`world::pool::pool_blade`).
     let mut pool_width = 0.0;
@@ -386,7 +383,6 @@ fn simulate_and_cull<T: Copy + Default>(
     if in_field && tiled {
         let i = index as usize;
         name = ids[IDS_WORDS * i];
-        map_at = unpack_map_point(ids[IDS_WORDS * i + 1], &push.tiles);
         if simulated {
             let camera = frame.camera.position;
             let pool = pool_blade(index, &blades[i], tiles, &push.tiles, paint, camera);
@@ -399,9 +395,6 @@ fn simulate_and_cull<T: Copy + Default>(
         } else {
             in_field = kept(&blades[i]);
         }
-    } else if in_field {
-        // A stored blade reads the maps at its root, over the map square.
-        map_at = shared::world::tiles::map_point(blades[index as usize].root(), &push.tiles);
     }
     // A simulated blade is stepped without the colliders; one a collider may have
     // held at a step (asked after the steps, of the points where they left it and
@@ -420,8 +413,6 @@ fn simulate_and_cull<T: Copy + Default>(
     }
     let mut drawn = in_field;
     let mut blade = Blade::default();
-    // Its own height stays in the buffer, whatever a cut leaves of it.
-    let mut own_height = 0.0;
     if in_field {
         let i = index as usize;
         blade = blades[i];
@@ -429,10 +420,13 @@ fn simulate_and_cull<T: Copy + Default>(
             blade = blade.with_width(pool_width);
             drawn = pool_width > 0.0;
         }
-        own_height = blade.height();
         if simulated {
             blade = cut_blade(blade, frame, nearby, near_pass, cuts, counters);
             let held = strengths[i];
+            // Where nothing pushes, η changes only where it decays from above zero
+            // (`collide::update_strength`, `Environment::strength_decay`): a flag held
+            // through the steps instead of η.
+            let lingering = held > 0.0;
             let strength;
             if hand_over {
                 ((blade, strength), handed) = simulate_watched(
@@ -472,7 +466,12 @@ fn simulate_and_cull<T: Copy + Default>(
                 blade = fade_to_far(&blade, &cut_now(&far, frame, cuts), fade);
             }
             // Unchanged (no collider near, none lingering): nothing to write back.
-            if strength != held && !handed {
+            let changed = if near_pass {
+                strength != held
+            } else {
+                lingering
+            };
+            if changed && !handed {
                 strengths[i] = strength;
             }
         }
@@ -511,6 +510,14 @@ fn simulate_and_cull<T: Copy + Default>(
             // Its control points before this frame's steps, read again rather than
             // held in registers through the steps and the tests.
             let before = BladeMotion::of(&blades[index as usize]);
+            // Where it reads the painted maps (a tiled field's: `tiles::pack_map_point`;
+            // a stored one's: its root over the map square), found here rather than held
+            // through the steps.
+            let map_at = if tiled {
+                unpack_map_point(ids[IDS_WORDS * index as usize + 1], &push.tiles)
+            } else {
+                shared::world::tiles::map_point(blade.root(), &push.tiles)
+            };
             (prepared, moved, level) = prepare(index, name, &blade, before, paint, map_at);
             if mesh && !far && level > 0.0 {
                 // Its bucket: its strip length, and near the camera its band.
@@ -524,6 +531,9 @@ fn simulate_and_cull<T: Copy + Default>(
     // visible blade's old curve was read again above.
     if in_field && simulated {
         let i = index as usize;
+        // Its own height stays in the buffer, whatever a cut leaves of it: read
+        // again rather than held through the steps.
+        let own_height = blades[i].v1.w;
         blades[i].v1 = blade.guide().extend(own_height);
         blades[i].v2 = blade.v2;
     }

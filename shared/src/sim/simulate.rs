@@ -45,7 +45,9 @@ pub struct Environment {
     pub centre_blend: f32,
     /// Wind field, one of `wind::WIND_*`.
     pub wind_kind: u32,
-    /// Linear decay of the collision strength, per second.
+    /// Linear decay of the collision strength, per second; never negative
+    /// (`Settings::trample_decay`), so that where nothing pushes, η changes only where
+    /// it was above zero, all the pass over every blade writes back.
     pub strength_decay: f32,
     /// Factor on every blade's stiffness s (1: as generated).
     pub stiffness_scale: f32,

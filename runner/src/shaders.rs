@@ -38,6 +38,9 @@ pub const RESOLVE_TAA: &str = "compute::temporal::resolve_taa";
 pub const SHADE_NATURAL: &str = "compute::shade::shade_natural";
 /// Compute: the colliders' grid, each frame that has colliders (`shared::sim::grid`).
 pub const BUILD_COLLIDER_GRID: &str = "compute::grid::build_collider_grid";
+/// Compute: a frame's cuts committed to the cut table after its collision pass
+/// (`shared::sim::cut::commit`).
+pub const COMMIT_CUTS: &str = "compute::cut::commit_cuts";
 /// Compute: the frame's questions answered over every simulated blade
 /// (`shared::query`).
 pub const ANSWER_QUESTIONS: &str = "compute::query::answer_questions";

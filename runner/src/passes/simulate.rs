@@ -15,7 +15,9 @@ use shared::gpu::layout::{
     SPEC_TILED, SPEC_WIND_FIELD, SPEC_WORKGROUP_TALLY, SimulatePush, WIND_FROM_FRAME, hands_over,
 };
 use shared::settings::WindField;
+use shared::sim::cut::{COMMIT_WORKGROUP, CUT_SLOTS};
 use shared::sim::grid::{GRID_CORNERS, GRID_WORKGROUP};
+use shared::sim::simulate::WATCHED_STEPS;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -46,8 +48,9 @@ pub struct SimulateVariant {
 }
 
 impl SimulateVariant {
-    /// The variant a frame of `block` needs, in the `natural` look or the paper look.
-    pub fn of(block: &FrameUniforms, natural: bool) -> Self {
+    /// The variant a frame of `block` and `steps` steps needs, in the `natural` look or
+    /// the paper look.
+    pub fn of(block: &FrameUniforms, steps: u32, natural: bool) -> Self {
         let forces = &block.forces;
         Self {
             natural,
@@ -56,7 +59,7 @@ impl SimulateVariant {
             impulses: forces.impulses > 0,
             colliders: if forces.colliders == 0 {
                 COLLIDERS_NONE
-            } else if forces.cutting != 0 {
+            } else if forces.cutting != 0 || steps > WATCHED_STEPS {
                 COLLIDERS_HAND_OVER_CUTTING
             } else {
                 COLLIDERS_HAND_OVER
@@ -79,6 +82,7 @@ pub struct SimulatePass {
     write_draws: Pipeline,
     clumps: Pipeline,
     grid: Pipeline,
+    commit_cuts: Pipeline,
     answer: Pipeline,
     contacts: Pipeline,
 }
@@ -103,6 +107,7 @@ impl SimulatePass {
             write_draws: Pipeline::compute(ctx, &field.layout, module, shaders::WRITE_DRAWS)?,
             clumps: Pipeline::compute(ctx, &field.layout, module, shaders::CLUMP_BLADES)?,
             grid: Pipeline::compute(ctx, &field.layout, module, shaders::BUILD_COLLIDER_GRID)?,
+            commit_cuts: Pipeline::compute(ctx, &field.layout, module, shaders::COMMIT_CUTS)?,
             answer: Pipeline::compute(ctx, &field.layout, module, shaders::ANSWER_QUESTIONS)?,
             contacts: Pipeline::compute(ctx, &field.layout, module, shaders::MARK_CONTACTS)?,
         })
@@ -237,13 +242,14 @@ impl SimulatePass {
     /// for the indirect draw, and the counters for a transfer read.
     /// The pipeline is `variant`'s, which must agree with the frame block
     /// ([`SimulateVariant::of`]); with colliders, the `contacts` are marked after the
-    /// collision pass where asked.
+    /// collision pass where asked, and where the frame `cuts` (`Environment::cutting`)
+    /// its cuts are committed after it (`compute::cut::commit_cuts`).
     pub fn record(
         &mut self,
         rec: &Recorder,
         field: &Field,
         push: SimulatePush,
-        (variant, contacts): (SimulateVariant, bool),
+        (variant, contacts, cuts): (SimulateVariant, bool, bool),
     ) -> Result<()> {
         let (layout, set) = (field.layout.layout, field.descriptors.set);
         let compute = vk::PipelineBindPoint::COMPUTE;
@@ -254,11 +260,16 @@ impl SimulatePass {
         if hands_over(variant.colliders) {
             self.record_near(rec, field, push, (variant, contacts))?;
         }
-        // The visible count is complete before the chunk pass reads it.
+        // The visible count is complete before the chunk pass reads it, and the
+        // frame's cuts pending before their commit.
         rec.memory_barrier(
             (S::COMPUTE_SHADER, A::SHADER_WRITE),
-            (S::COMPUTE_SHADER, A::SHADER_READ),
+            (S::COMPUTE_SHADER, A::SHADER_READ | A::SHADER_WRITE),
         );
+        if cuts {
+            rec.bind_pipeline(compute, self.commit_cuts.pipeline, layout, set);
+            rec.dispatch(self.workgroups(CUT_SLOTS, COMMIT_WORKGROUP));
+        }
         let chunks = ChunkPush {
             chunk_size: field.chunk_size,
             chunk_count: field.chunk_count,

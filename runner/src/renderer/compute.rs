@@ -89,13 +89,14 @@ impl Renderer {
         push: SimulatePush,
         (natural, asks): (bool, Asked),
     ) -> Result<()> {
-        let variant = SimulateVariant::of(&self.block, natural);
+        let variant = SimulateVariant::of(&self.block, push.steps, natural);
         let colliders = self.block.forces.colliders;
         if colliders > 0 {
             self.simulate.record_grid(rec, &self.field, colliders);
         }
+        let cuts = self.block.forces.cutting != 0 && colliders > 0;
         self.simulate
-            .record(rec, &self.field, push, (variant, asks.contacts))?;
+            .record(rec, &self.field, push, (variant, asks.contacts, cuts))?;
         if asks.questions {
             self.simulate.record_questions(rec, &self.field);
         }

@@ -1,14 +1,20 @@
 //! The GPU side of cutting (`shared::sim::cut`): a simulated blade as the cut table
-//! leaves it, cut again in the collision pass by the cutters near it, the cut
-//! recorded with a compare-and-swap.
+//! leaves it, cut again in the collision pass by the cutters near it, the cut's slot
+//! claimed with a compare-and-swap and its stub left pending with an atomic maximum;
+//! then the frame's cuts committed.
 
 use shared::Blade;
 use shared::gpu::counters::{COUNTER_CUTS, COUNTER_CUTS_DROPPED};
-use shared::gpu::layout::FrameUniforms;
-use shared::sim::cut::{CUT_WORDS, as_cut, cell_key, cut_near, cut_to, place};
+use shared::gpu::layout::{FrameUniforms, flat_index};
+use shared::sim::cut::{
+    COMMIT_WORKGROUP, CUT_SLOTS, CUT_WORDS, PENDING_WORD, as_cut, cell_key, commit, cut_near,
+    cut_to, pending, place,
+};
 use shared::sim::grid::Nearby;
-use spirv_std::arch::{atomic_compare_exchange, atomic_i_increment};
+use spirv_std::arch::{atomic_compare_exchange, atomic_i_increment, atomic_u_max};
+use spirv_std::glam::UVec3;
 use spirv_std::memory::{Scope, Semantics};
+use spirv_std::spirv;
 
 /// `blade` as the cut table leaves it at the frame's time (`shared::sim::cut::as_cut`)
 /// while the frame reads it (`Environment::cutting`); else itself.
@@ -23,7 +29,8 @@ pub fn cut_now(blade: &Blade, frame: &FrameUniforms, cuts: &[u32]) -> Blade {
 /// A simulated blade as the cut table leaves it at the frame's time ([`cut_now`]);
 /// in the collision pass (`near_pass`), cut again by the
 /// cutters near it (`cut_near`), the cut recorded in its cell's slot (claimed by a
-/// compare-and-swap: `cut::place`) and counted (`COUNTER_CUTS`, or
+/// compare-and-swap: `cut::place`), its stub pending there (`cut::pending`) until
+/// the frame's commit ([`commit_cuts`]), and counted (`COUNTER_CUTS`, or
 /// `COUNTER_CUTS_DROPPED` where the table had no room).
 pub fn cut_blade(
     blade: Blade,
@@ -52,9 +59,14 @@ pub fn cut_blade(
             });
             let counter = match claimed {
                 Some(slot) => {
-                    let at = slot as usize * CUT_WORDS;
-                    cuts[at + 1] = now.to_bits();
-                    cuts[at + 2] = stub.to_bits();
+                    // Pending until the frame's commit (`commit_cuts`): the lowest stub.
+                    let at = slot as usize * CUT_WORDS + PENDING_WORD;
+                    unsafe {
+                        atomic_u_max::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
+                            &mut cuts[at],
+                            pending(stub),
+                        );
+                    }
                     COUNTER_CUTS
                 }
                 None => COUNTER_CUTS_DROPPED,
@@ -68,4 +80,20 @@ pub fn cut_blade(
         }
     }
     blade
+}
+
+/// One thread per slot of the cut table, after the collision pass of a frame that
+/// cuts: the slot's pending cut committed at the frame's time (`cut::commit`), so the
+/// next frame reads it.
+#[spirv(compute(threads(64)))]
+pub fn commit_cuts(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(num_workgroups)] workgroups: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] frame: &FrameUniforms,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 28)] cuts: &mut [u32],
+) {
+    let slot = flat_index(id, workgroups, COMMIT_WORKGROUP);
+    if slot < CUT_SLOTS {
+        commit(cuts, slot, frame.forces.time);
+    }
 }

@@ -23,7 +23,7 @@ use shared::gpu::layout::{
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{Nearby, REACH_MARGIN};
-use shared::sim::simulate::{ForcesHeld, simulate, simulate_watched};
+use shared::sim::simulate::{ForcesHeld, WATCHED_STEPS, simulate, simulate_watched};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::atomic_u_max;
@@ -403,12 +403,16 @@ fn simulate_and_cull<T: Copy + Default>(
     // reaches. Only a frame with a cutter (`Environment::cutting`, the pipeline made
     // for it) looks up the grid's slot of the root first.
     let mut handed = false;
-    let cutting = colliders == COLLIDERS_HAND_OVER_CUTTING && frame.forces.cutting != 0;
-    if cutting && in_field && simulated {
+    // So does, in a frame of more steps than the watch is for (`WATCHED_STEPS`), a
+    // blade whose root any collider reaches; the rest are not watched.
+    let looks_up = colliders == COLLIDERS_HAND_OVER_CUTTING;
+    let wide = looks_up && push.steps > WATCHED_STEPS;
+    if looks_up && (frame.forces.cutting != 0 || wide) && in_field && simulated {
         let b = &blades[index as usize];
         let count = frame.forces.colliders;
         let slot = nearby.around(b.root(), b.height(), count);
-        (_, handed) = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
+        let (found, cutter) = nearby.reaches(b.root(), b.height() * REACH_MARGIN, &slot, count);
+        handed = cutter || (wide && found);
         in_field = !handed;
     }
     let mut drawn = in_field;
@@ -428,7 +432,7 @@ fn simulate_and_cull<T: Copy + Default>(
             // through the steps instead of η.
             let lingering = held > 0.0;
             let strength;
-            if hand_over {
+            if hand_over && !wide {
                 ((blade, strength), handed) = simulate_watched(
                     (blade, held),
                     &forces,

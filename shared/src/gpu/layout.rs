@@ -81,12 +81,11 @@ pub const COLLIDERS_HAND_OVER: u32 = 1;
 /// dispatch, [`NEAR_DISPATCH`]): the same steps and tests, with the colliders.
 pub const COLLIDERS_NEAR: u32 = 2;
 /// [`SPEC_COLLIDERS`]: [`COLLIDERS_HAND_OVER`] in a frame where a cut may be growing
-/// back (`sim::simulate::Environment::cutting`): a blade a cutter reaches
-/// (`sim::grid::Nearby::reaches`, its root's slot of the grid) is handed over
-/// before its steps. Only this pipeline holds the look-up of the root's slot:
-/// without it the other has no local memory on the NVIDIA H200, and its natural
-/// look's simulate + cull with 1,024 walkers at 4 M blades took 0.468 ms against
-/// 0.475 with it (the paper look's 0.316 against 0.310).
+/// back (`sim::simulate::Environment::cutting`), a blade a cutter reaches (its root's
+/// slot, `sim::grid::Nearby::reaches`) handed over before its steps, and in a frame of
+/// more than `sim::simulate::WATCHED_STEPS` steps, a blade any collider reaches. Only
+/// this pipeline holds that look-up: without it the other has no local memory on the
+/// NVIDIA H200 (natural look, 1,024 walkers, 4 M blades: 0.468 ms against 0.475).
 pub const COLLIDERS_HAND_OVER_CUTTING: u32 = 3;
 
 /// Whether a pipeline made for `colliders` ([`SPEC_COLLIDERS`]) is the pass over
@@ -239,8 +238,8 @@ pub const BINDING_COLLIDER_GRID: u32 = 26;
 /// dispatch at [`NEAR_DISPATCH`], then the blades' indices from [`NEAR_LIST`].
 pub const BINDING_NEAR: u32 = 27;
 /// Binding of the cut table (storage, `sim::cut::CUT_SLOTS` slots of
-/// `sim::cut::CUT_WORDS` words): written by the collision pass where a cutter cuts a
-/// blade, read by the compute pass and the far tiles' generation while
+/// `sim::cut::CUT_WORDS` words): a cut left pending by the collision pass and
+/// committed after it, read by the compute pass and the far tiles' generation while
 /// `Environment::cutting` is set.
 pub const BINDING_CUTS: u32 = 28;
 /// Binding of the query buffer (storage, `u32` words laid out by `query::ASKED`,

@@ -6,8 +6,11 @@
 //! Cuts are kept by place, not by blade: the ground is cut into square cells of
 //! [`CUT_CELL`] units, and a cut cell holds its slot of a table of [`CUT_SLOTS`]
 //! slots ([`CUT_WORDS`] words each: the cell's key, the time of the cut, the stub's
-//! height), found by hashing the cell and probing up to [`CUT_PROBES`] slots (open
-//! addressing). Every blade rooted in a cut cell reads the same cut, so a cut survives
+//! height, and the frame's pending cut), found by hashing the cell and probing up to
+//! [`CUT_PROBES`] slots (open addressing). A frame's cuts wait in their slots'
+//! pending words, the lowest stub kept, until the frame commits them ([`commit`]),
+//! so every blade of the frame reads the table as the frame found it, whatever the
+//! order the GPU runs them in. Every blade rooted in a cut cell reads the same cut, so a cut survives
 //! a tiled world's pool turning over and reaches the far blades generated each frame;
 //! the table is the same 4 MiB for any field, and a slot whose cell has grown back is
 //! free again. A cut that finds its probes full of cells still growing back is
@@ -26,8 +29,15 @@ pub const CUT_CELL: f32 = 0.25;
 /// Slots of the cut table (a power of two): 262,144 cells, 16,384 square units.
 pub const CUT_SLOTS: u32 = 1 << 18;
 /// Words of a slot: the cell's key ([`NO_CELL`] where none), the time of its cut and
-/// its stub's height (`f32` bits), one unused.
+/// its stub's height (`f32` bits; a stub of 0 where the cell was never cut), and the
+/// frame's pending cut ([`PENDING_WORD`]).
 pub const CUT_WORDS: usize = 4;
+/// Threads of a workgroup of the commit of a frame's cuts (`compute::cut`), a thread a
+/// slot.
+pub const COMMIT_WORKGROUP: u32 = 64;
+/// The word of a slot that holds the lowest stub this frame's cuts leave its cell,
+/// as [`pending`] writes it (0: none), until the frame commits it ([`commit`]).
+pub const PENDING_WORD: usize = 3;
 /// Slots a cell's key is looked for in, from its hashed slot on.
 pub const CUT_PROBES: u32 = 8;
 /// The key of a slot no cell has held.
@@ -121,13 +131,12 @@ pub fn cut_to(blade: &Blade, height: f32) -> Blade {
 }
 
 /// `blade` as the cuts of table `words` leave it at `now` with regrowth over `regrow`
-/// seconds ([`regrown`] for its cell's cut, itself where its cell has none). A cut
-/// made at `now` (this frame's, written while other blades read) is left to the next
-/// frame, so every blade of a frame reads the same table whatever the order the GPU
-/// runs them in.
+/// seconds ([`regrown`] for its cell's cut, itself where its cell has none). A slot
+/// this frame claimed for a cell never cut before holds a stub of 0 until the frame
+/// commits its cut, and reads as no cut.
 pub fn as_cut(blade: &Blade, words: &[u32], now: f32, regrow: f32) -> Blade {
     match find(words, cell_key(blade.root())) {
-        Some(cut) if cut.time < now => cut_to(
+        Some(cut) if cut.time < now && cut.stub > 0.0 => cut_to(
             blade,
             regrown(blade.height(), cut.stub, now - cut.time, regrow),
         ),
@@ -201,8 +210,8 @@ pub fn cut_near(blade: &Blade, near: &Nearby, count: u32) -> f32 {
 }
 
 /// The slot a cut of the cell keyed `key` takes at `now` (regrowth over `regrow`
-/// seconds) in table `words`: its own, or the first of its probes that no cell holds
-/// or whose cell has grown back, which `claim(words, at, held)` must take from `held`
+/// seconds) in table `words`: its own wherever along its probes, else the first of
+/// them that no cell holds or whose cell has grown back, which `claim(words, at, held)` must take from `held`
 /// (its key word at `at`; a compare-and-swap on the GPU; true where the slot then
 /// holds `key`). `None` where every probe holds another cell still growing back: the
 /// cut is dropped.
@@ -213,7 +222,21 @@ pub fn place(
     regrow: f32,
     mut claim: impl FnMut(&mut [u32], usize, u32) -> bool,
 ) -> Option<u32> {
+    // The cell's own slot first, wherever along its probes it lies: a slot freed
+    // before it must not take a second one, which blades would find first.
     let mut probe = 0;
+    while probe < CUT_PROBES {
+        let slot = probe_slot(key, probe);
+        let held = words[slot as usize * CUT_WORDS];
+        if held == key {
+            return Some(slot);
+        }
+        if held == NO_CELL {
+            break;
+        }
+        probe += 1;
+    }
+    probe = 0;
     while probe < CUT_PROBES {
         let slot = probe_slot(key, probe);
         let at = slot as usize * CUT_WORDS;
@@ -225,6 +248,26 @@ pub fn place(
         probe += 1;
     }
     None
+}
+
+/// A cut leaving `stub` as a slot's pending word holds it: the complement of its bits,
+/// so that the greatest of them, which an atomic maximum keeps, is the lowest stub (a
+/// positive `f32`'s bits order as the numbers do), and 0 is none.
+pub fn pending(stub: f32) -> u32 {
+    !stub.max(MIN_STUB).to_bits()
+}
+
+/// Commits slot `slot`'s pending cut at `now`, the frame's time: its time and stub
+/// become the cut's and the pending word none. What the frame's last pass over the
+/// table does, after every cut of the frame is pending.
+pub fn commit(words: &mut [u32], slot: u32, now: f32) {
+    let at = slot as usize * CUT_WORDS;
+    let held = words[at + PENDING_WORD];
+    if held != 0 {
+        words[at + 1] = now.to_bits();
+        words[at + 2] = !held;
+        words[at + PENDING_WORD] = 0;
+    }
 }
 
 /// The host's cut table: the same slots the GPU's cuts fill.
@@ -246,18 +289,32 @@ impl Default for CutTable {
 
 #[cfg(not(target_arch = "spirv"))]
 impl CutTable {
-    /// Records a cut of `key`'s cell leaving `stub` at `now`; false where it was
-    /// dropped.
-    pub fn cut(&mut self, key: u32, stub: f32, now: f32, regrow: f32) -> bool {
+    /// Records a cut of `key`'s cell leaving `stub` at `now`, pending until
+    /// [`CutTable::commit`]; false where it was dropped.
+    pub fn pend(&mut self, key: u32, stub: f32, now: f32, regrow: f32) -> bool {
         let claimed = place(&mut self.words, key, now, regrow, |words, at, _| {
             words[at] = key;
             true
         });
         if let Some(slot) = claimed {
-            let at = slot as usize * CUT_WORDS;
-            self.words[at..at + 3].copy_from_slice(&[key, now.to_bits(), stub.to_bits()]);
+            let at = slot as usize * CUT_WORDS + PENDING_WORD;
+            self.words[at] = self.words[at].max(pending(stub));
         }
         claimed.is_some()
+    }
+
+    /// Commits every slot's pending cut at `now` ([`commit`]).
+    pub fn commit(&mut self, now: f32) {
+        for slot in 0..CUT_SLOTS {
+            commit(&mut self.words, slot, now);
+        }
+    }
+
+    /// A whole frame's one cut: [`CutTable::pend`], then [`CutTable::commit`].
+    pub fn cut(&mut self, key: u32, stub: f32, now: f32, regrow: f32) -> bool {
+        let kept = self.pend(key, stub, now, regrow);
+        self.commit(now);
+        kept
     }
 }
 

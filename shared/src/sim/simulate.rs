@@ -29,6 +29,14 @@ pub const DEFAULT_REGROW: f32 = 30.0;
 /// that loses the excess time instead of stalling the GPU for ever longer.
 pub const MAX_STEPS_PER_FRAME: u32 = 240;
 
+/// Most steps of a frame whose blades are watched ([`simulate_watched`]): in a slower
+/// frame the travel passes the watch's allowance for most blades near a collider, and
+/// the collision pass would step each of them again. Such a frame hands over, before
+/// its steps, the blades whose root a collider reaches (`grid::Nearby::reaches`, the
+/// pipeline `layout::COLLIDERS_HAND_OVER_CUTTING`) and steps the rest without the
+/// colliders.
+pub const WATCHED_STEPS: u32 = 16;
+
 /// The forces' environment, as the frame block carries it: the paper's 4-vectors D
 /// (gravity direction and acceleration) and C (gravity centre and acceleration), the
 /// wind, and the scalars of the step.

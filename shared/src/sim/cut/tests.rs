@@ -211,3 +211,71 @@ fn a_thin_cutter_cuts_a_tall_blade_through_it() {
     let beside = Blade::at_rest(Vec3::new(2.0, 0.0, 0.0), Vec3::Y, 0.0, 2.5, 0.05, 4.0);
     assert_eq!(stub_left(&beside, &thin), None);
 }
+
+/// A frame's cuts wait in their slots until the frame commits them: until then the
+/// table reads as the frame found it (a cell cut before keeps its old cut, a cell
+/// never cut reads as uncut), two cuts of one cell in a frame leave the lower stub
+/// whichever comes first, and the commit gives the cut the frame's time. Planted
+/// fault: a cut written straight into its slot's time and stub failed the first read
+/// (the cell cut before read as never cut: its blades stood at full height for the
+/// frame).
+#[test]
+fn a_frames_cuts_wait_for_its_commit() {
+    let regrow = 10.0;
+    let mut table = CutTable::default();
+    let blade = Blade::at_rest(Vec3::new(0.6, 0.0, 0.6), Vec3::Y, 0.0, 1.0, 0.05, 4.0);
+    let fresh = Blade::at_rest(Vec3::new(3.1, 0.0, 0.6), Vec3::Y, 0.0, 1.0, 0.05, 4.0);
+    let key = cell_key(blade.root());
+    assert!(table.cut(key, 0.3, 1.0, regrow));
+    let before = as_cut(&blade, &table.words, 5.0, regrow);
+    assert_eq!(before.height(), regrown(1.0, 0.3, 4.0, regrow));
+    // The frame at 5 s cuts the cell twice, the higher stub second, and a new cell.
+    assert!(table.pend(key, 0.1, 5.0, regrow));
+    assert!(table.pend(key, 0.2, 5.0, regrow));
+    assert!(table.pend(cell_key(fresh.root()), 0.1, 5.0, regrow));
+    assert_eq!(as_cut(&blade, &table.words, 5.0, regrow), before);
+    assert_eq!(as_cut(&fresh, &table.words, 5.0, regrow), fresh);
+    table.commit(5.0);
+    assert_eq!(
+        find(&table.words, key),
+        Some(Cut {
+            time: 5.0,
+            stub: 0.1
+        })
+    );
+    // The next frame reads both cuts.
+    let after = regrown(1.0, 0.1, 1.0, regrow);
+    assert_eq!(as_cut(&blade, &table.words, 6.0, regrow).height(), after);
+    assert_eq!(as_cut(&fresh, &table.words, 6.0, regrow).height(), after);
+}
+
+/// A cell cut again while a slot before its own has grown back keeps its own slot:
+/// it does not take the freed one, which `find` would reach first (reading the freed
+/// slot's old cut, grown back, while the frame's cut waits for its commit). Planted
+/// fault: `place` taking the first free probe failed it.
+#[test]
+fn a_cell_cut_again_keeps_its_slot() {
+    let regrow = 10.0;
+    let mut table = CutTable::default();
+    let key = cell_key(Vec3::new(5.0, 0.0, 7.0));
+    let home = home_slot(key);
+    let cell = |i: u32| Vec3::new((i % 8000) as f32, 0.0, (i / 8000) as f32) * CUT_CELL;
+    let other = (0..8_000_000u32)
+        .map(|i| cell_key(cell(i) + Vec3::splat(0.5 * CUT_CELL)))
+        .find(|&k| k != key && home_slot(k) == home)
+        .expect("a cell hashing to the same slot");
+    // The other cell takes the home slot at 1 s, ours the next at 2 s.
+    assert!(table.cut(other, 0.1, 1.0, regrow));
+    assert!(table.cut(key, 0.1, 2.0, regrow));
+    // At 11.5 s the other has grown back; ours is cut again and waits for the commit.
+    assert!(table.pend(key, 0.05, 11.5, regrow));
+    assert_eq!(find(&table.words, key).map(|c| c.time), Some(2.0));
+    table.commit(11.5);
+    assert_eq!(
+        find(&table.words, key),
+        Some(Cut {
+            time: 11.5,
+            stub: 0.05
+        })
+    );
+}

@@ -9,7 +9,7 @@ use crate::vulkan::{Context, Recorder};
 use anyhow::{Context as _, Result};
 use ash::vk;
 use shared::gpu::layout::{
-    CHUNK_WORKGROUP, COLLIDERS_HAND_OVER, COLLIDERS_HAND_OVER_CUTTING, COLLIDERS_NEAR,
+    CHUNK_WORKGROUP, COLLIDERS_HAND_OVER, COLLIDERS_HAND_OVER_ROOTS, COLLIDERS_NEAR,
     COLLIDERS_NONE, CULL_WORKGROUP, ChunkPush, FrameUniforms, NEAR_DISPATCH, PIPELINE_MESH,
     SIMULATE_WORKGROUP, SPEC_COLLIDERS, SPEC_GRAVITY_CENTRE, SPEC_IMPULSES, SPEC_MESH_PATH,
     SPEC_TILED, SPEC_WIND_FIELD, SPEC_WORKGROUP_TALLY, SimulatePush, WIND_FROM_FRAME, hands_over,
@@ -17,7 +17,7 @@ use shared::gpu::layout::{
 use shared::settings::WindField;
 use shared::sim::cut::{COMMIT_WORKGROUP, CUT_SLOTS};
 use shared::sim::grid::{GRID_CORNERS, GRID_WORKGROUP};
-use shared::sim::simulate::WATCHED_STEPS;
+use shared::sim::simulate::watches;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -59,8 +59,8 @@ impl SimulateVariant {
             impulses: forces.impulses > 0,
             colliders: if forces.colliders == 0 {
                 COLLIDERS_NONE
-            } else if forces.cutting != 0 || steps > WATCHED_STEPS {
-                COLLIDERS_HAND_OVER_CUTTING
+            } else if forces.cutting != 0 || !watches(steps) {
+                COLLIDERS_HAND_OVER_ROOTS
             } else {
                 COLLIDERS_HAND_OVER
             },

@@ -3,9 +3,7 @@
 
 use shared::gpu::layout::FrameUniforms;
 use shared::sim::collide::Collider;
-use shared::sim::grid::{
-    COUNT_WORD, GRID_CORNERS, OCCUPANCY_WORDS, SHAPE_WORDS, WATCH_SHAPES, store_watched,
-};
+use shared::sim::grid::{GRID_CORNERS, OCCUPANCY_WORDS, watch_collider};
 use spirv_std::arch::{atomic_i_add, atomic_or};
 use spirv_std::glam::UVec3;
 use spirv_std::memory::{Scope, Semantics};
@@ -31,16 +29,9 @@ pub fn build_collider_grid(
         let collider = &colliders[i as usize];
         let (watches, cube) = g.watch_corner(collider, id.x % GRID_CORNERS);
         if watches {
-            let base = g.watch_base(cube);
-            let n = unsafe {
-                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(
-                    &mut grid[base + COUNT_WORD],
-                    1,
-                )
-            };
-            if n < WATCH_SHAPES {
-                store_watched(grid, base + n as usize * SHAPE_WORDS, collider);
-            }
+            watch_collider(grid, g.watch_base(cube), collider, |n| unsafe {
+                atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(n, 1)
+            });
         }
         let (marks, cube) = g.corner_cube(collider, id.x % GRID_CORNERS);
         if marks {

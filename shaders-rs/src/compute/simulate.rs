@@ -17,13 +17,13 @@ use shared::gpu::counters::{
     COUNTER_TILE_BLADES, COUNTER_VISIBLE, far_slot, strip_counter,
 };
 use shared::gpu::layout::{
-    COLLIDERS_HAND_OVER_CUTTING, COLLIDERS_NEAR, IDS_WORDS, NEAR_DISPATCH, NEAR_LIST,
+    COLLIDERS_HAND_OVER_ROOTS, COLLIDERS_NEAR, IDS_WORDS, NEAR_DISPATCH, NEAR_LIST,
     WIND_FROM_FRAME, hands_over, near_groups,
 };
 use shared::gpu::layout::{CULL_WORKGROUP, FrameUniforms, SimulatePush, flat_index};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{Nearby, REACH_MARGIN};
-use shared::sim::simulate::{ForcesHeld, WATCHED_STEPS, simulate, simulate_watched};
+use shared::sim::simulate::{ForcesHeld, simulate, simulate_watched, watches};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::atomic_u_max;
@@ -399,14 +399,13 @@ fn simulate_and_cull<T: Copy + Default>(
     // A simulated blade is stepped without the colliders; one a collider may have
     // held at a step (asked after the steps, of the points where they left it and
     // their travel, in the watch's slot: `Nearby::may_have_touched`) goes to the
-    // collision pass, which simulates and tests it instead, and so does one a cutter
-    // reaches. Only a frame with a cutter (`Environment::cutting`, the pipeline made
-    // for it) looks up the grid's slot of the root first.
+    // collision pass, which simulates and tests it instead, and so does, before its
+    // steps, one a cutter reaches, and in a frame of more steps than the watch is for
+    // (`simulate::watches`) one any collider reaches, the rest not watched. Only the
+    // pipeline made for those frames looks up the grid's slot of the root.
     let mut handed = false;
-    // So does, in a frame of more steps than the watch is for (`WATCHED_STEPS`), a
-    // blade whose root any collider reaches; the rest are not watched.
-    let looks_up = colliders == COLLIDERS_HAND_OVER_CUTTING;
-    let wide = looks_up && push.steps > WATCHED_STEPS;
+    let looks_up = colliders == COLLIDERS_HAND_OVER_ROOTS;
+    let wide = looks_up && !watches(push.steps);
     if looks_up && (frame.forces.cutting != 0 || wide) && in_field && simulated {
         let b = &blades[index as usize];
         let count = frame.forces.colliders;

@@ -80,18 +80,19 @@ pub const COLLIDERS_HAND_OVER: u32 = 1;
 /// [`SPEC_COLLIDERS`]: the collision pass, a thread a handed blade (an indirect
 /// dispatch, [`NEAR_DISPATCH`]): the same steps and tests, with the colliders.
 pub const COLLIDERS_NEAR: u32 = 2;
-/// [`SPEC_COLLIDERS`]: [`COLLIDERS_HAND_OVER`] in a frame where a cut may be growing
-/// back (`sim::simulate::Environment::cutting`), a blade a cutter reaches (its root's
-/// slot, `sim::grid::Nearby::reaches`) handed over before its steps, and in a frame of
-/// more than `sim::simulate::WATCHED_STEPS` steps, a blade any collider reaches. Only
+/// [`SPEC_COLLIDERS`]: [`COLLIDERS_HAND_OVER`] with the roots looked up: in a frame
+/// where a cut may be growing back (`sim::simulate::Environment::cutting`), a blade a
+/// cutter reaches (its root's slot, `sim::grid::Nearby::reaches`) is handed over
+/// before its steps, and in a frame the watch is not for (`sim::simulate::watches`),
+/// a blade any collider reaches. Only
 /// this pipeline holds that look-up: without it the other has no local memory on the
 /// NVIDIA H200 (natural look, 1,024 walkers, 4 M blades: 0.468 ms against 0.475).
-pub const COLLIDERS_HAND_OVER_CUTTING: u32 = 3;
+pub const COLLIDERS_HAND_OVER_ROOTS: u32 = 3;
 
 /// Whether a pipeline made for `colliders` ([`SPEC_COLLIDERS`]) is the pass over
 /// every blade that hands blades to the collision pass.
 pub fn hands_over(colliders: u32) -> bool {
-    colliders == COLLIDERS_HAND_OVER || colliders == COLLIDERS_HAND_OVER_CUTTING
+    colliders == COLLIDERS_HAND_OVER || colliders == COLLIDERS_HAND_OVER_ROOTS
 }
 /// Specialisation constant of the simulate-and-cull pass: 1 where the frame's gravity
 /// pulls towards a centre (`Environment::centre_blend` above 0), 0 where it does not,

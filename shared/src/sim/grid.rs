@@ -465,9 +465,25 @@ fn watched_at(words: &[u32], at: usize) -> (Vec4, Vec3) {
     )
 }
 
+/// Counts pushing `collider` in the watch's slot at word `base`, through `count`
+/// (which adds one to the slot's count word and gives the count before it: an atomic
+/// add on the GPU, `compute::grid`), and writes its capsule there where the slot has
+/// room for it.
+pub fn watch_collider(
+    words: &mut [u32],
+    base: usize,
+    collider: &Collider,
+    count: impl FnOnce(&mut u32) -> u32,
+) {
+    let n = count(&mut words[base + COUNT_WORD]);
+    if n < WATCH_SHAPES {
+        store_watched(words, base + n as usize * SHAPE_WORDS, collider);
+    }
+}
+
 /// Writes `collider`'s capsule ([`Collider::watched`]) into a watch slot at word
 /// `at`, its last word left (a slot's count in its first capsule).
-pub fn store_watched(words: &mut [u32], at: usize, collider: &Collider) {
+fn store_watched(words: &mut [u32], at: usize, collider: &Collider) {
     let (a, b) = collider.watched();
     words[at] = a.x.to_bits();
     words[at + 1] = a.y.to_bits();
@@ -513,12 +529,10 @@ impl ColliderSet {
                 }
                 let (watches, cube) = grid.watch_corner(c, corner);
                 if watches {
-                    let base = grid.watch_base(cube);
-                    let n = words[base + COUNT_WORD];
-                    words[base + COUNT_WORD] = n + 1;
-                    if n < WATCH_SHAPES {
-                        store_watched(&mut words, base + n as usize * SHAPE_WORDS, c);
-                    }
+                    watch_collider(&mut words, grid.watch_base(cube), c, |n| {
+                        *n += 1;
+                        *n - 1
+                    });
                 }
             }
         }

@@ -33,9 +33,15 @@ pub const MAX_STEPS_PER_FRAME: u32 = 240;
 /// frame the travel passes the watch's allowance for most blades near a collider, and
 /// the collision pass would step each of them again. Such a frame hands over, before
 /// its steps, the blades whose root a collider reaches (`grid::Nearby::reaches`, the
-/// pipeline `layout::COLLIDERS_HAND_OVER_CUTTING`) and steps the rest without the
+/// pipeline `layout::COLLIDERS_HAND_OVER_ROOTS`) and steps the rest without the
 /// colliders.
 pub const WATCHED_STEPS: u32 = 16;
+
+/// Whether a frame of `steps` steps watches its blades ([`WATCHED_STEPS`]): the
+/// runner's choice of pipeline and the pass over every blade ask the same.
+pub fn watches(steps: u32) -> bool {
+    steps <= WATCHED_STEPS
+}
 
 /// The forces' environment, as the frame block carries it: the paper's 4-vectors D
 /// (gravity direction and acceleration) and C (gravity centre and acceleration), the

@@ -450,6 +450,12 @@ fn simulate_and_cull<T: Copy + Default>(
                     push.steps,
                 );
             }
+            // Its orientation and width, which no step reads, taken again rather than
+            // held through the steps beside the travel (a cut leaves both).
+            if hand_over {
+                blade.v0.w = blades[i].v0.w;
+                blade.v2.w = if tiled { pool_width } else { blades[i].v2.w };
+            }
             if handed {
                 in_field = false;
                 drawn = false;
@@ -478,10 +484,6 @@ fn simulate_and_cull<T: Copy + Default>(
                 strengths[i] = strength;
             }
         }
-    }
-    let mut near_place = 0;
-    if handed {
-        near_place = tally.claim(counters, COUNTER_NEAR);
     }
     if drawn {
         (caster, near_caster) = casts(&blade);
@@ -529,6 +531,9 @@ fn simulate_and_cull<T: Copy + Default>(
                 strip_place = tally.claim(counters, strip_counter(bucket));
             }
         }
+    } else if handed {
+        // A handed blade is not drawn: its place is among the collision pass's.
+        place = tally.claim(counters, COUNTER_NEAR);
     }
     // Only the curve moved: one 32-byte sector written back (`Blade`), after the
     // visible blade's old curve was read again above.
@@ -567,7 +572,7 @@ fn simulate_and_cull<T: Copy + Default>(
             index;
     }
     if handed {
-        let place = tally.slot(COUNTER_NEAR, near_place);
+        let place = tally.slot(COUNTER_NEAR, place);
         near[NEAR_LIST + place as usize] = index;
         // The first blade of a workgroup of the collision pass grows its dispatch.
         if place.is_multiple_of(CULL_WORKGROUP) {

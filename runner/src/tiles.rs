@@ -84,7 +84,7 @@ impl TiledSpec {
     /// The tiles inside the world whose square comes within `radius` of `at` on the
     /// ground plane (x, z), nearest first.
     pub fn tiles_within(&self, at: Vec2, radius: f32) -> Vec<IVec2> {
-        use shared::world::tiles::{tile_in_world, tile_of, tile_square};
+        use shared::world::tiles::{tile_in_world, tile_of};
         let params = &self.params;
         let lo = tile_of(at - Vec2::splat(radius), params);
         let hi = tile_of(at + Vec2::splat(radius), params);
@@ -92,19 +92,19 @@ impl TiledSpec {
         for z in lo.y..=hi.y {
             for x in lo.x..=hi.x {
                 let tile = IVec2::new(x, z);
-                let (min, max) = tile_square(tile, params);
-                let distance = at.clamp(min, max).distance(at);
+                let distance = self.distance(tile, at);
                 if tile_in_world(tile, params) && distance <= radius {
                     near.push((distance, tile));
                 }
             }
         }
-        near.sort_by(|a, b| {
-            a.0.total_cmp(&b.0)
-                .then(a.1.x.cmp(&b.1.x))
-                .then(a.1.y.cmp(&b.1.y))
-        });
-        near.into_iter().map(|(_, t)| t).collect()
+        nearest_first(near)
+    }
+
+    /// How far `tile`'s square lies from `at` on the ground plane (0 inside it).
+    fn distance(&self, tile: IVec2, at: Vec2) -> f32 {
+        let (min, max) = shared::world::tiles::tile_square(tile, &self.params);
+        at.clamp(min, max).distance(at)
     }
 
     /// The tiles the pool should hold for a camera at `camera`: those within
@@ -112,6 +112,26 @@ impl TiledSpec {
     /// keeps its state while the camera turns).
     pub fn needed(&self, camera: Vec3) -> Vec<IVec2> {
         self.tiles_within(Vec2::new(camera.x, camera.z), self.pool_radius)
+    }
+
+    /// The tiles the pool should hold ([`Self::needed`]), then the trampled tiles
+    /// `trails` names that are not among them, nearest the camera first: in an order
+    /// that does not depend on the order the trails are kept in (a hash map's), so
+    /// that every run places the same tiles in the same slots.
+    pub fn needed_with_trails(
+        &self,
+        camera: Vec3,
+        trails: impl IntoIterator<Item = IVec2>,
+    ) -> Vec<IVec2> {
+        let mut needed = self.needed(camera);
+        let at = Vec2::new(camera.x, camera.z);
+        let trampled: Vec<(f32, IVec2)> = trails
+            .into_iter()
+            .filter(|t| !needed.contains(t))
+            .map(|t| (self.distance(t, at), t))
+            .collect();
+        needed.extend(nearest_first(trampled));
+        needed
     }
 
     /// The tiles a collider can bend blades in: those its bounding sphere's ground
@@ -159,6 +179,16 @@ impl TiledSpec {
         }
         Ok(())
     }
+}
+
+/// The tiles of `tiles` (each with its distance) nearest first, then by x and z.
+fn nearest_first(mut tiles: Vec<(f32, IVec2)>) -> Vec<IVec2> {
+    tiles.sort_by(|a, b| {
+        a.0.total_cmp(&b.0)
+            .then(a.1.x.cmp(&b.1.x))
+            .then(a.1.y.cmp(&b.1.y))
+    });
+    tiles.into_iter().map(|(_, t)| t).collect()
 }
 
 /// How long a trampled tile keeps its slot after a collider last touched it: until
@@ -373,6 +403,38 @@ mod tests {
         let grass = spec.touched(&ball, tallest).len();
         let seed = spec.touched(&ball, 1.5 * tallest).len();
         assert!(seed > grass, "{seed} against {grass} tiles");
+    }
+
+    /// The trampled tiles come after the camera's, nearest it first, whatever order
+    /// the trails are kept in. Planted fault: taken in the trails' order (as a hash
+    /// map gives them, differently in every run) failed.
+    #[test]
+    fn trampled_tiles_are_needed_in_one_order() {
+        let params = shared::world::tiles::TileParams {
+            size: 1.0,
+            per_side: 4,
+            half_extent: 16.0,
+            ..Default::default()
+        };
+        let spec = TiledSpec::flat_for_tests(params, 64, 1 << 10);
+        let camera = Vec3::new(0.5, 1.0, 0.5);
+        let near = spec.needed(camera);
+        let trails: Vec<IVec2> = [(9, 2), (-6, 0), (5, 5), (0, 0), (2, -9), (-6, 1)]
+            .into_iter()
+            .map(|(x, z)| IVec2::new(x, z))
+            .collect();
+        let forward = spec.needed_with_trails(camera, trails.iter().copied());
+        let backward = spec.needed_with_trails(camera, trails.iter().rev().copied());
+        assert_eq!(forward, backward);
+        // The camera's own tile is needed already; the rest follow it, nearest first.
+        assert_eq!(forward[..near.len()], near[..]);
+        // From (0.5, 0.5) to the squares: 5.5, √30.5, √40.5, then √74.5 twice (x
+        // decides).
+        let trampled: Vec<IVec2> = [(-6, 0), (-6, 1), (5, 5), (2, -9), (9, 2)]
+            .into_iter()
+            .map(|(x, z)| IVec2::new(x, z))
+            .collect();
+        assert_eq!(forward[near.len()..], trampled[..]);
     }
 
     #[test]

@@ -153,15 +153,8 @@ impl TilesPass {
                 self.trails.insert(tile, hold);
             }
         }
-        let mut needed = spec.needed(camera);
         // A trampled tile out of the pool's reach is needed too (after the near ones).
-        let trampled: Vec<IVec2> = self
-            .trails
-            .keys()
-            .filter(|t| !needed.contains(t))
-            .copied()
-            .collect();
-        needed.extend(trampled);
+        let needed = spec.needed_with_trails(camera, self.trails.keys().copied());
         let trails = &self.trails;
         let update = self.pool.update(&needed, |t| trails.contains_key(&t));
 

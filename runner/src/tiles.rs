@@ -320,6 +320,17 @@ mod tests {
         range.map(|x| IVec2::new(x, 0)).collect()
     }
 
+    /// A flat world of unit tiles, 32 a side, with 64 slots.
+    fn unit_tiles() -> TiledSpec {
+        let params = shared::world::tiles::TileParams {
+            size: 1.0,
+            per_side: 4,
+            half_extent: 16.0,
+            ..Default::default()
+        };
+        TiledSpec::flat_for_tests(params, 64, 1 << 10)
+    }
+
     #[test]
     fn a_needed_tile_keeps_its_slot() {
         let mut pool = TilePool::new(8);
@@ -381,13 +392,7 @@ mod tests {
     /// reach of grass whatever the field grows (as before) failed.
     #[test]
     fn a_collider_pins_the_tiles_its_fields_tallest_blades_reach() {
-        let params = shared::world::tiles::TileParams {
-            size: 1.0,
-            per_side: 4,
-            half_extent: 16.0,
-            ..Default::default()
-        };
-        let spec = TiledSpec::flat_for_tests(params, 64, 1 << 10);
+        let spec = unit_tiles();
         let ball = Collider::sphere(Vec3::new(0.5, 0.5, 0.5), 0.5);
         let radius = 0.5 * 3f32.sqrt();
         let tallest = shared::blade::HEIGHT.1;
@@ -410,13 +415,7 @@ mod tests {
     /// map gives them, differently in every run) failed.
     #[test]
     fn trampled_tiles_are_needed_in_one_order() {
-        let params = shared::world::tiles::TileParams {
-            size: 1.0,
-            per_side: 4,
-            half_extent: 16.0,
-            ..Default::default()
-        };
-        let spec = TiledSpec::flat_for_tests(params, 64, 1 << 10);
+        let spec = unit_tiles();
         let camera = Vec3::new(0.5, 1.0, 0.5);
         let near = spec.needed(camera);
         let trails: Vec<IVec2> = [(9, 2), (-6, 0), (5, 5), (0, 0), (2, -9), (-6, 1)]

@@ -242,8 +242,8 @@ impl SimulatePass {
     /// for the indirect draw, and the counters for a transfer read.
     /// The pipeline is `variant`'s, which must agree with the frame block
     /// ([`SimulateVariant::of`]); with colliders, the `contacts` are marked after the
-    /// collision pass where asked, and where the frame `cuts` (`Environment::cutting`)
-    /// its cuts are committed after it (`compute::cut::commit_cuts`).
+    /// collision pass where asked, and where the frame has a cutter (`cuts`) its cuts
+    /// are committed after it (`compute::cut::commit_cuts`).
     pub fn record(
         &mut self,
         rec: &Recorder,

@@ -18,13 +18,16 @@ use vk::AccessFlags2 as A;
 use vk::PipelineStageFlags2 as S;
 
 /// What a frame asks of the grass besides its picture: its questions answered
-/// (`shared::query`), the colliders touching blades marked.
+/// (`shared::query`), the colliders touching blades marked, its cuts recorded.
 #[derive(Copy, Clone, Debug, Default)]
 pub(crate) struct Asked {
     /// It has questions.
     pub questions: bool,
     /// It marks the contacts.
     pub contacts: bool,
+    /// It has a cutter (`Collider::cuts`): its cuts wait in the cut table until the
+    /// commit after the collision pass (`compute::cut::commit_cuts`).
+    pub cuts: bool,
 }
 
 impl Asked {
@@ -33,6 +36,7 @@ impl Asked {
         Self {
             questions: !request.questions().is_empty(),
             contacts: request.contacts(),
+            cuts: request.colliders().iter().any(Collider::cuts),
         }
     }
 }
@@ -94,9 +98,8 @@ impl Renderer {
         if colliders > 0 {
             self.simulate.record_grid(rec, &self.field, colliders);
         }
-        let cuts = self.block.forces.cutting != 0 && colliders > 0;
         self.simulate
-            .record(rec, &self.field, push, (variant, asks.contacts, cuts))?;
+            .record(rec, &self.field, push, (variant, asks.contacts, asks.cuts))?;
         if asks.questions {
             self.simulate.record_questions(rec, &self.field);
         }

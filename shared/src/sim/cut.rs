@@ -96,15 +96,24 @@ impl Cut {
 /// The cut of the cell keyed `key` in table `words` ([`CUT_WORDS`] a slot), if any:
 /// its slots probed until its key or a slot no cell has held.
 pub fn find(words: &[u32], key: u32) -> Option<Cut> {
+    slot_of(words, key).map(|slot| {
+        let at = slot as usize * CUT_WORDS;
+        Cut {
+            time: f32::from_bits(words[at + 1]),
+            stub: f32::from_bits(words[at + 2]),
+        }
+    })
+}
+
+/// The slot holding the cell keyed `key` in table `words`, along its probes up to the
+/// first no cell has held.
+fn slot_of(words: &[u32], key: u32) -> Option<u32> {
     let mut probe = 0;
     while probe < CUT_PROBES {
-        let at = probe_slot(key, probe) as usize * CUT_WORDS;
-        let held = words[at];
+        let slot = probe_slot(key, probe);
+        let held = words[slot as usize * CUT_WORDS];
         if held == key {
-            return Some(Cut {
-                time: f32::from_bits(words[at + 1]),
-                stub: f32::from_bits(words[at + 2]),
-            });
+            return Some(slot);
         }
         if held == NO_CELL {
             return None;
@@ -224,19 +233,10 @@ pub fn place(
 ) -> Option<u32> {
     // The cell's own slot first, wherever along its probes it lies: a slot freed
     // before it must not take a second one, which blades would find first.
-    let mut probe = 0;
-    while probe < CUT_PROBES {
-        let slot = probe_slot(key, probe);
-        let held = words[slot as usize * CUT_WORDS];
-        if held == key {
-            return Some(slot);
-        }
-        if held == NO_CELL {
-            break;
-        }
-        probe += 1;
+    if let Some(slot) = slot_of(words, key) {
+        return Some(slot);
     }
-    probe = 0;
+    let mut probe = 0;
     while probe < CUT_PROBES {
         let slot = probe_slot(key, probe);
         let at = slot as usize * CUT_WORDS;

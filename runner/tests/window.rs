@@ -139,6 +139,18 @@ fn run_viewer(
     run_program(grass, display, args, env, limit)
 }
 
+/// [`run_viewer`] without an environment, calling `watch` with each line of standard
+/// error as it comes.
+fn run_viewer_watched(
+    display: &str,
+    args: &[&str],
+    limit: Duration,
+    watch: impl FnMut(&str) + Send + 'static,
+) -> (bool, String) {
+    let grass = Path::new(env!("CARGO_BIN_EXE_grass"));
+    run_watched(grass, display, args, &[], limit, watch)
+}
+
 /// Runs `program` with `args` and `env` on `display`; fails the test if it has not
 /// quit by `limit`. Its log is standard error and output together.
 fn run_program(
@@ -204,7 +216,22 @@ fn run_watched(
 
 #[test]
 fn the_viewer_draws_through_a_resize_storm() {
-    let Some((_windows, display)) = display_for("the_viewer_draws_through_a_resize_storm") else {
+    resize_storm("swapchain", "swapchain");
+}
+
+/// The storm with frames put into the window through its shared memory
+/// (`runner::app::shm`, what a software device under X11 takes by itself).
+#[test]
+fn the_viewer_draws_through_a_resize_storm_in_shared_memory() {
+    resize_storm("shared-memory", "shared-memory frames");
+}
+
+/// Runs the viewer through its resize storm, frames reaching the window by `present`,
+/// whose every size the log names after `made`.
+fn resize_storm(present: &str, made: &str) {
+    let Some((_windows, display)) = display_for(&format!(
+        "the_viewer_draws_through_a_resize_storm ({present})"
+    )) else {
         return;
     };
     // The natural look with shadows and 4x MSAA: every image of the frame is made
@@ -221,6 +248,8 @@ fn the_viewer_draws_through_a_resize_storm() {
         "--shadows",
         "--msaa",
         "4",
+        "--present",
+        present,
     ];
     let (ok, log) = run_viewer(&display, &args, &[], Duration::from_secs(300));
     assert!(ok, "{log}");
@@ -242,12 +271,12 @@ fn the_viewer_draws_through_a_resize_storm() {
         gusts >= runner::app::storm::SCRIPT.len() as u64,
         "{summary}"
     );
-    assert!(number("swapchains made") >= 12, "{summary}");
+    assert!(number("window targets made") >= 12, "{summary}");
     for expected in [
         "storm: Zero",
         "storm: Minimise",
         "storm: restored",
-        "swapchain 1x1",
+        &format!("{made} 1x1"),
     ] {
         assert!(log.contains(expected), "no \"{expected}\": {log}");
     }
@@ -382,6 +411,107 @@ fn screenshots_are_the_window_s_frame_and_never_overwrite() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// What the X server shows of the viewer's window when its frames go through the
+/// window's shared memory (`--present shared-memory`, `runner::app::shm`): read from
+/// the server (`GetImage` of the window's place on the root) when the viewer has taken
+/// a screenshot at frame 40, it is the default scene (at least 5 % of its pixels grass
+/// green, 0.2 % the ball's orange, as in the screenshot test) and within a mean of 1.5
+/// (of 255; 0.16 measured) of the screenshot, a frame or two apart (the grass sways). Planted
+/// fault: the window's buffer not presented (a black window: no green pixel).
+#[test]
+fn the_x_server_shows_the_shared_memory_frames() {
+    let Some((_windows, display)) = display_for("the_x_server_shows_the_shared_memory_frames")
+    else {
+        return;
+    };
+    let dir = scratch("shm-window");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("the folder");
+    let dir_arg = dir.to_str().expect("utf-8 path").to_string();
+    let (width, height) = (640u16, 360u16);
+    let args = [
+        "--frames",
+        "120",
+        "--screenshot-at",
+        "40",
+        "--screenshot-dir",
+        &dir_arg,
+        "--width",
+        "640",
+        "--height",
+        "360",
+        "--no-overlay",
+        "--present",
+        "shared-memory",
+    ];
+    let (sender, shown) = mpsc::channel();
+    let server = display.clone();
+    let (ok, log) = run_viewer_watched(&display, &args, Duration::from_secs(300), move |line| {
+        if line.contains("screenshot: ") {
+            let _ = sender.send(screen(&server, (width, height)));
+        }
+    });
+    assert!(ok, "{log}");
+    assert!(log.contains("by SharedMemory"), "{log}");
+    let shown = shown
+        .try_recv()
+        .expect("the screen read when the screenshot was taken");
+    let shot = std::fs::read_dir(&dir)
+        .expect("the folder")
+        .find_map(|e| e.ok().map(|e| e.path()))
+        .expect("a screenshot");
+    let shot = image::open(&shot).expect("a PNG").to_rgb8();
+    let pixels = f32::from(width) * f32::from(height);
+    let share = |f: &dyn Fn(i32, i32, i32) -> bool| {
+        let n = shown
+            .as_chunks::<3>()
+            .0
+            .iter()
+            .filter(|p| f(i32::from(p[0]), i32::from(p[1]), i32::from(p[2])))
+            .count();
+        n as f32 / pixels
+    };
+    let green = share(&|r, g, b| g > r + 20 && g > b + 20);
+    let orange = share(&|r, g, _| r > g + 60);
+    let apart = shown
+        .iter()
+        .zip(shot.as_raw())
+        .map(|(a, b)| f64::from(a.abs_diff(*b)))
+        .sum::<f64>()
+        / shown.len() as f64;
+    println!(
+        "the window on the X server: grass green {green}, ball orange {orange}, {apart} from the screenshot"
+    );
+    assert!(
+        green > 0.05 && orange > 0.002,
+        "green {green}, orange {orange}"
+    );
+    assert!(apart < 1.5, "the window is {apart} from the screenshot");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The RGB pixels the X server on `display` shows in the root window's top-left
+/// `size` (where an X server without a window manager puts the viewer's window).
+fn screen(display: &str, (width, height): (u16, u16)) -> Vec<u8> {
+    use x11rb::connection::Connection as _;
+    use x11rb::protocol::xproto::{ConnectionExt as _, ImageFormat};
+    let (conn, screen) = x11rb::connect(Some(display)).expect("connect to the X server");
+    let root = conn.setup().roots[screen].root;
+    let image = conn
+        .get_image(ImageFormat::Z_PIXMAP, root, 0, 0, width, height, !0)
+        .expect("ask for the screen")
+        .reply()
+        .expect("the screen");
+    // Depth 24 in 32-bit words: B, G, R and a pad byte a pixel.
+    image
+        .data
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .flat_map(|p| [p[2], p[1], p[0]])
+        .collect()
+}
+
 /// The share of the pixels in the frame's top-left corner (x 20 to 200, y 40 to 200)
 /// as dark as the overlay's panel (every channel under 70); the default scene's sky
 /// and grass there are lighter.
@@ -426,15 +556,7 @@ fn a_screenshot_that_cannot_be_written_ends_nothing() {
             let _ = std::fs::remove_dir_all(&gone);
         }
     };
-    let grass = Path::new(env!("CARGO_BIN_EXE_grass"));
-    let (ok, log) = run_watched(
-        grass,
-        &display,
-        &args,
-        &[],
-        Duration::from_secs(300),
-        remove,
-    );
+    let (ok, log) = run_viewer_watched(&display, &args, Duration::from_secs(300), remove);
     assert!(ok, "{log}");
     assert!(!dir.exists(), "the folder was not removed: {log}");
     assert!(log.contains("screenshot not saved"), "{log}");

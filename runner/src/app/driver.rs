@@ -2,7 +2,9 @@
 //! buffer, fence, image-available semaphore and read-back objects of each frame in
 //! flight), the simulation's fixed-step clock and the newest read-back, and drives a
 //! [`FrameTarget`]: a [`Presenter`](super::presenter::Presenter) acquires and presents
-//! swapchain images, an [`Offscreen`](super::headless::Offscreen) image is captured.
+//! swapchain images (or, for a software device, copies each frame to the window's
+//! shared memory: [`ShmPresenter`](super::shm::ShmPresenter)), an
+//! [`Offscreen`](super::headless::Offscreen) image is captured.
 //!
 //! A client (the viewer, `render`, `soak`, `bench`, the GPU tests) says what each
 //! frame shows: [`FrameDriver::begin`] waits for the next slot, reads back what its
@@ -45,8 +47,9 @@ pub trait FrameTarget {
     /// The image of the next frame; `available` is signalled when it may be written.
     /// `None` skips the frame (an out-of-date swapchain, to be made again).
     fn acquire(&mut self, available: vk::Semaphore) -> Result<Option<Acquired>>;
-    /// Hands the submitted frame over (presents it), if there is anything to do.
-    fn present(&mut self, frame: &Acquired) -> Result<()>;
+    /// Hands the submitted frame over (presents it), if there is anything to do;
+    /// `done` is the fence its submission signals.
+    fn present(&mut self, frame: &Acquired, done: vk::Fence) -> Result<()>;
 }
 
 /// One frame in flight, between [`FrameDriver::begin`] and [`FrameDriver::submit`].
@@ -219,9 +222,10 @@ impl FrameDriver {
         slot.pool
             .submit(slot.cmd, acquired.wait, acquired.signal, &slot.fence)?;
         slot.submitted = true;
+        let done = slot.fence.fence;
         self.next = (frame.slot + 1) % self.slots.len();
         self.renderer.submitted(&input)?;
-        target.present(acquired)
+        target.present(acquired, done)
     }
 
     /// One frame of `seconds` showing what `request` asks (`Settings::request`),

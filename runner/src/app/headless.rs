@@ -88,7 +88,7 @@ impl FrameTarget for Offscreen {
         }))
     }
 
-    fn present(&mut self, _frame: &Acquired) -> Result<()> {
+    fn present(&mut self, _frame: &Acquired, _done: vk::Fence) -> Result<()> {
         Ok(())
     }
 }

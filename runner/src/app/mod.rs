@@ -12,6 +12,7 @@ pub mod quality;
 pub mod query;
 pub mod record;
 pub mod render;
+pub mod shm;
 pub mod soak;
 pub mod storm;
 pub mod viewer;

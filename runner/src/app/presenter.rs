@@ -1,7 +1,10 @@
 //! The window side of the frame driver: the swapchain, made again when the window's
-//! size changes or the surface says it is out of date, and never for a 0x0 surface.
+//! size changes or the surface says it is out of date, and never for a 0x0 surface;
+//! or, for a software device, the window's shared memory ([`ShmPresenter`]).
 
 use super::driver::{Acquired, FrameTarget};
+use super::shm::ShmPresenter;
+use crate::cli::PresentPath;
 use crate::renderer::Target;
 use crate::vulkan::Buffer;
 use crate::vulkan::Context;
@@ -11,15 +14,19 @@ use ash::vk;
 use gpu_allocator::MemoryLocation::GpuToCpu;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use winit::window::Window;
 
-/// Acquires and presents swapchain images.
+/// Acquires and presents swapchain images, or copies frames to the window's shared
+/// memory.
 pub struct Presenter {
     swapchain: Option<Swapchain>,
+    /// The shared-memory path, where it is taken instead of the swapchain.
+    shm: Option<ShmPresenter>,
     /// The swapchains' pixel format, which the renderer's pipelines are built for.
     format: vk::Format,
     /// Make the swapchain again before the next frame.
     pub recreate: bool,
-    /// Swapchains made so far.
+    /// Swapchains (or shared-memory frame sets) made so far.
     pub swapchains: u64,
     /// Copy the next frame to [`Presenter::screenshot`]'s buffer.
     pub screenshot: bool,
@@ -33,6 +40,7 @@ impl Presenter {
     pub fn new(ctx: &Arc<Context>) -> Result<Self> {
         Ok(Self {
             swapchain: None,
+            shm: None,
             format: Swapchain::surface_format(ctx)?.format,
             recreate: false,
             swapchains: 0,
@@ -40,6 +48,39 @@ impl Presenter {
             capture: None,
             ctx: ctx.clone(),
         })
+    }
+
+    /// A presenter for `window` on the way `path` asks: `Auto` takes the window's
+    /// shared memory on a software device under X11 ([`PresentPath::resolve`]).
+    pub fn for_window(ctx: &Arc<Context>, window: &Arc<Window>, path: PresentPath) -> Result<Self> {
+        use winit::raw_window_handle::{HasDisplayHandle, RawDisplayHandle};
+        let display = window.display_handle().context("display handle")?.as_raw();
+        let x11 = matches!(
+            display,
+            RawDisplayHandle::Xlib(_) | RawDisplayHandle::Xcb(_)
+        );
+        let mut presenter = Self::new(ctx)?;
+        if path.resolve(ctx.is_software(), x11) == PresentPath::SharedMemory {
+            match ShmPresenter::new(ctx, window) {
+                Ok(shm) => {
+                    presenter.shm = Some(shm);
+                    presenter.format = super::shm::FORMAT;
+                }
+                // Asked for, it is an error; chosen by itself, the swapchain stands in.
+                Err(e) if path == PresentPath::SharedMemory => return Err(e),
+                Err(e) => log::warn!("{e:#}: frames go to the window by its swapchain"),
+            }
+        }
+        Ok(presenter)
+    }
+
+    /// The way frames reach the window.
+    pub fn path(&self) -> PresentPath {
+        if self.shm.is_some() {
+            PresentPath::SharedMemory
+        } else {
+            PresentPath::Swapchain
+        }
     }
 
     /// The surface's colour format.
@@ -50,6 +91,14 @@ impl Presenter {
     /// Makes the swapchain for a window of `size` when it is missing or out of date;
     /// false while there is nothing to draw to (a 0x0 surface).
     pub fn prepare(&mut self, size: (u32, u32)) -> Result<bool> {
+        if let Some(shm) = self.shm.as_mut() {
+            let Some(remade) = shm.prepare(size, self.recreate)? else {
+                return Ok(false);
+            };
+            self.swapchains += u64::from(remade);
+            self.recreate = false;
+            return Ok(true);
+        }
         if size.0 == 0 || size.1 == 0 {
             return Ok(false);
         }
@@ -81,8 +130,14 @@ impl Presenter {
     /// added when that is taken), and returns its path; the request is then done.
     pub fn save_screenshot(&mut self, folder: &Path) -> Result<PathBuf> {
         self.screenshot = false;
-        let (buffer, extent) = self.capture.as_ref().context("no screenshot was taken")?;
-        let mut pixels = buffer.read::<u8>((extent.width * extent.height * 4) as usize)?;
+        let (mut pixels, extent) = match self.shm.as_ref() {
+            Some(shm) => shm.last_frame()?.context("no screenshot was taken")?,
+            None => {
+                let (buffer, extent) = self.capture.as_ref().context("no screenshot was taken")?;
+                let bytes = (extent.width * extent.height * 4) as usize;
+                (buffer.read::<u8>(bytes)?, *extent)
+            }
+        };
         // The swapchain's BGRA as the PNG's RGBA.
         if matches!(
             self.format,
@@ -115,6 +170,9 @@ impl Presenter {
 
 impl FrameTarget for Presenter {
     fn acquire(&mut self, available: vk::Semaphore) -> Result<Option<Acquired>> {
+        if let Some(shm) = self.shm.as_mut() {
+            return shm.acquire(available);
+        }
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(None);
         };
@@ -151,7 +209,10 @@ impl FrameTarget for Presenter {
         }))
     }
 
-    fn present(&mut self, frame: &Acquired) -> Result<()> {
+    fn present(&mut self, frame: &Acquired, done: vk::Fence) -> Result<()> {
+        if let Some(shm) = self.shm.as_mut() {
+            return shm.present(frame, done);
+        }
         if let Some(swapchain) = self.swapchain.as_ref()
             && (!swapchain.present(frame.image)? || frame.suboptimal)
         {

@@ -142,6 +142,41 @@ pub enum CameraPreset {
     Flight,
 }
 
+/// How the viewer's frames reach its window (`--present`).
+#[derive(ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum PresentPath {
+    /// The window's shared memory for a software device under X11, else a swapchain.
+    #[default]
+    Auto,
+    /// A Vulkan swapchain.
+    Swapchain,
+    /// Each frame copied into the window's shared memory (MIT-SHM on X11): Mesa's X11
+    /// swapchain sends each frame of a software device through the X server's socket
+    /// where the server has no DRI3 (Xvfb, VNC servers).
+    SharedMemory,
+}
+
+impl PresentPath {
+    /// The way taken: `Auto` is the shared memory for a `software` device whose window
+    /// is on `x11`, else the swapchain.
+    pub fn resolve(self, software: bool, x11: bool) -> Self {
+        match self {
+            Self::Auto if software && x11 => Self::SharedMemory,
+            Self::Auto => Self::Swapchain,
+            chosen => chosen,
+        }
+    }
+
+    /// As the overlay names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "chosen by the device",
+            Self::Swapchain => "swapchain",
+            Self::SharedMemory => "shared-memory frames",
+        }
+    }
+}
+
 /// Options of the viewer.
 #[derive(Args, Debug, Clone)]
 pub struct ViewArgs {
@@ -168,6 +203,9 @@ pub struct ViewArgs {
     /// Start with the overlay hidden (the O key shows it).
     #[arg(long)]
     pub no_overlay: bool,
+    /// How frames reach the window.
+    #[arg(long, value_enum, default_value_t = PresentPath::Auto)]
+    pub present: PresentPath,
 }
 
 impl Default for ViewArgs {
@@ -180,6 +218,7 @@ impl Default for ViewArgs {
             screenshot_at: Vec::new(),
             screenshot_dir: PathBuf::from("."),
             no_overlay: false,
+            present: PresentPath::Auto,
         }
     }
 }

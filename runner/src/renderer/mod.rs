@@ -84,7 +84,8 @@ pub struct Target {
     pub view: vk::ImageView,
     /// Its size.
     pub extent: vk::Extent2D,
-    /// Layout it must be left in (present, or transfer source for a capture).
+    /// Layout it must be left in (present, transfer source for a capture, or general
+    /// for a host-linear image the host reads).
     pub final_layout: vk::ImageLayout,
     /// The image takes transfer writes: the overlay copies its opaque part into it
     /// (false: it blends all it covers).

@@ -397,10 +397,11 @@ fn blit_up(rec: &Recorder, shown: &Image, target: &Target) {
 /// Leaves the target in its final layout.
 fn finish_target(rec: &Recorder, target: &Target) {
     let color_out = (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_WRITE);
-    let (dst, dst_access) = if target.final_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
-        (S::COPY, A::TRANSFER_READ)
-    } else {
-        (S::NONE, A::NONE)
+    let (dst, dst_access) = match target.final_layout {
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL => (S::COPY, A::TRANSFER_READ),
+        // A host-linear image, read by the host once the frame is done.
+        vk::ImageLayout::GENERAL => (S::HOST, A::HOST_READ),
+        _ => (S::NONE, A::NONE),
     };
     rec.image_barrier(
         target.image,

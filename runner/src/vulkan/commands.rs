@@ -148,23 +148,23 @@ impl Fence {
     /// Waits for the fence (a minute at most, ten on a software device: a longer
     /// wait is a lost device).
     pub fn wait(&self) -> Result<()> {
-        let timeout = if self.ctx.is_software() {
-            SOFTWARE_TIMEOUT_NS
-        } else {
-            GPU_TIMEOUT_NS
-        };
-        unsafe {
-            self.ctx
-                .device
-                .wait_for_fences(&[self.fence], true, timeout)
-        }
-        .context("wait for the GPU")
+        wait_for(&self.ctx, self.fence)
     }
 
     /// Back to unsignalled.
     pub fn reset(&self) -> Result<()> {
         unsafe { self.ctx.device.reset_fences(&[self.fence]) }.context("reset fence")
     }
+}
+
+/// Waits for `fence` as [`Fence::wait`] does.
+pub fn wait_for(ctx: &Context, fence: vk::Fence) -> Result<()> {
+    let timeout = if ctx.is_software() {
+        SOFTWARE_TIMEOUT_NS
+    } else {
+        GPU_TIMEOUT_NS
+    };
+    unsafe { ctx.device.wait_for_fences(&[fence], true, timeout) }.context("wait for the GPU")
 }
 
 impl Drop for Fence {

@@ -46,6 +46,76 @@ impl Image {
         aspect: vk::ImageAspectFlags,
         samples: vk::SampleCountFlags,
     ) -> Result<Self> {
+        let kind = (format, usage, aspect, samples);
+        Self::made(
+            ctx,
+            name,
+            extent,
+            kind,
+            (vk::ImageTiling::OPTIMAL, MemoryLocation::GpuOnly),
+        )
+    }
+
+    /// A colour image in host-visible memory with its rows one after another
+    /// (linear tiling), whose pixels the host reads ([`Image::host_rows`]) once the
+    /// frame that wrote them is done: a software device's frames for the window's
+    /// shared memory (`app::shm`).
+    pub fn host_linear(
+        ctx: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
+        let one = vk::SampleCountFlags::TYPE_1;
+        let kind = (format, usage, vk::ImageAspectFlags::COLOR, one);
+        Self::made(
+            ctx,
+            name,
+            extent,
+            kind,
+            (vk::ImageTiling::LINEAR, MemoryLocation::GpuToCpu),
+        )
+    }
+
+    /// A host-linear image's bytes ([`Image::host_linear`]) and the bytes from one row
+    /// to the next.
+    pub fn host_rows(&self) -> Result<(&[u8], usize)> {
+        let subresource = vk::ImageSubresource::default().aspect_mask(vk::ImageAspectFlags::COLOR);
+        let layout = unsafe {
+            self.ctx
+                .device
+                .get_image_subresource_layout(self.image, subresource)
+        };
+        let bytes = self
+            .allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .context("image is not host visible")?;
+        let start = layout.offset as usize;
+        let end = start + layout.size as usize;
+        let rows = bytes
+            .get(start..end)
+            .context("image layout past its memory")?;
+        Ok((rows, layout.row_pitch as usize))
+    }
+
+    /// An image of `kind` (format, usage, aspect of its view, samples) with `memory`
+    /// (tiling, and where its memory lies).
+    fn made(
+        ctx: &Arc<Context>,
+        name: &str,
+        extent: vk::Extent2D,
+        kind: (
+            vk::Format,
+            vk::ImageUsageFlags,
+            vk::ImageAspectFlags,
+            vk::SampleCountFlags,
+        ),
+        memory: (vk::ImageTiling, MemoryLocation),
+    ) -> Result<Self> {
+        let (format, usage, aspect, samples) = kind;
+        let (tiling, location) = memory;
         let device = &ctx.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -58,13 +128,14 @@ impl Image {
             .mip_levels(1)
             .array_layers(1)
             .samples(samples)
-            .tiling(vk::ImageTiling::OPTIMAL)
+            .tiling(tiling)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         let image = unsafe { device.create_image(&info, None) }
             .with_context(|| format!("create image {name}"))?;
         let requirements = unsafe { device.get_image_memory_requirements(image) };
-        let allocation = match ctx.allocate(name, requirements, MemoryLocation::GpuOnly, false) {
+        let linear = tiling == vk::ImageTiling::LINEAR;
+        let allocation = match ctx.allocate(name, requirements, location, linear) {
             Ok(a) => a,
             Err(e) => {
                 unsafe { device.destroy_image(image, None) };

@@ -2,7 +2,7 @@
 
 use crate::app::driver::{FRAMES_IN_FLIGHT, FrameDriver};
 use crate::app::presenter::Presenter;
-use crate::cli::Common;
+use crate::cli::{Common, PresentPath};
 use crate::renderer::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::{Context, ContextOptions};
@@ -34,10 +34,16 @@ impl Gpu {
         })
     }
 
-    /// The presenter, the renderer of `scene` (its blades as the seed made them) with
-    /// the overlay, and the frame driver, on `ctx`.
-    pub(super) fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self> {
-        let presenter = Presenter::new(ctx)?;
+    /// The presenter for `window` (`present` asks how), the renderer of `scene` (its
+    /// blades as the seed made them) with the overlay, and the frame driver, on `ctx`.
+    pub(super) fn new(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        window: &Arc<Window>,
+        present: PresentPath,
+    ) -> Result<Self> {
+        let presenter = Presenter::for_window(ctx, window, present)?;
+        log::info!("frames reach the window by {:?}", presenter.path());
         let mut renderer = Renderer::new(ctx, &scene.meshes(), presenter.format())?;
         renderer.enable_overlay(FRAMES_IN_FLIGHT)?;
         let driver = FrameDriver::new(ctx, renderer)?;
@@ -46,6 +52,11 @@ impl Gpu {
 }
 
 impl Gpu {
+    /// The device's name and how frames reach the window, as the overlay shows them.
+    pub(super) fn shown_device(&self, ctx: &Context) -> String {
+        format!("{}, {}", ctx.device_name(), self.presenter.path().name())
+    }
+
     /// The field of `scene` grown as the species `mix` from the next frame on
     /// (`Scene::set_species`): a stored field's blades replaced, a tiled field's pool
     /// made anew; the collisions reach the tallest of them.

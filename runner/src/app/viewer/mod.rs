@@ -11,7 +11,7 @@ use super::overlay::{Overlay, Readings, said};
 use super::storm::{Gust, Storm};
 use crate::app::overlay::Actors;
 use crate::camera::{Fly, OrbitCamera};
-use crate::cli::{Common, ViewArgs};
+use crate::cli::{Common, PresentPath, ViewArgs};
 use crate::collider::{Ball, drop_onto};
 use crate::passes::overlay::OverlayFrame;
 use crate::scene::{Scene, SceneFile};
@@ -21,6 +21,7 @@ use glam::{Vec2, Vec3, Vec3Swizzles};
 use gpu::{Gpu, MAX_RECOVERIES, device_lost};
 use shared::settings::Settings;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses, MAX_IMPULSES};
+use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -171,7 +172,9 @@ struct Running {
     screenshot_dir: std::path::PathBuf,
     /// What became of the last screenshot or settings file, for the overlay.
     saved: Option<(String, bool)>,
-    window: Window,
+    /// How frames reach the window (`--present`).
+    present: PresentPath,
+    window: Arc<Window>,
 }
 
 impl Running {
@@ -184,13 +187,15 @@ impl Running {
         let attributes = Window::default_attributes()
             .with_title("grass")
             .with_inner_size(PhysicalSize::new(args.width, args.height));
-        let window = event_loop
-            .create_window(attributes)
-            .context("create window")?;
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .context("create window")?,
+        );
         let ctx = Gpu::context(&window, common)?;
         let (scene, settings) = super::prepare(common, &ctx, file)?;
-        let gpu = Gpu::new(&ctx, &scene)?;
-        let mut overlay = Overlay::new(&window, ctx.device_name());
+        let gpu = Gpu::new(&ctx, &scene, &window, args.present)?;
+        let mut overlay = Overlay::new(&window, gpu.shown_device(&ctx));
         overlay.visible = !args.no_overlay;
         log::info!("{CONTROLS}");
         // The ball starts at the path's start, else in front of the camera's target.
@@ -222,6 +227,7 @@ impl Running {
             saved: None,
             recoveries: 0,
             notice: None,
+            present: args.present,
             window,
         })
     }
@@ -254,9 +260,10 @@ impl Running {
             .context("make the device again after it was lost")?;
         // The new objects are made before the old ones go: the old device is lost, and
         // its objects only wait to be destroyed.
-        self.gpu = Gpu::new(&ctx, &self.scene).context("make the renderer again")?;
+        self.gpu = Gpu::new(&ctx, &self.scene, &self.window, self.present)
+            .context("make the renderer again")?;
         let visible = self.overlay.visible;
-        self.overlay = Overlay::new(&self.window, ctx.device_name());
+        self.overlay = Overlay::new(&self.window, self.gpu.shown_device(&ctx));
         self.overlay.visible = visible;
         let notice = format!(
             "The GPU device was lost and has been made again ({} of {MAX_RECOVERIES}); the \
@@ -565,7 +572,7 @@ impl ApplicationHandler for Viewer {
         if let Some(state) = &self.state {
             let gusts = state.storm.as_ref().map_or(0, |s| s.gusts);
             log::info!(
-                "{} frames drawn, {} swapchains made, {gusts} storm gusts",
+                "{} frames drawn, {} window targets made, {gusts} storm gusts",
                 state.pace.frames,
                 state.gpu.presenter.swapchains
             );

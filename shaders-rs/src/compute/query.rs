@@ -12,7 +12,7 @@ use shared::query::{ASKED, MAX_QUESTIONS, Question, contact_bit};
 use shared::sim::collide::Collider;
 use shared::sim::grid::{NONE_TOUCHING, Nearby};
 use spirv_std::arch::{atomic_i_add, atomic_or, workgroup_memory_barrier_with_group_sync};
-use spirv_std::glam::UVec3;
+use spirv_std::glam::{UVec3, UVec4};
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
@@ -68,6 +68,7 @@ pub fn mark_contacts(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] colliders: &[Collider],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] shapes: &[UVec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 29)] queries: &mut [u32],
 ) {
@@ -79,6 +80,7 @@ pub fn mark_contacts(
     let nearby = Nearby {
         colliders,
         words: grid,
+        shapes,
         grid: frame.collider_grid,
     };
     let count = frame.forces.colliders;

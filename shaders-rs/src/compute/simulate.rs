@@ -27,7 +27,7 @@ use shared::sim::simulate::{ForcesHeld, simulate, simulate_watched, watches};
 use shared::world::pool::pool_blade;
 use shared::world::tiles::{fade_to_far, far_blade, kept, unpack_map_point};
 use spirv_std::arch::atomic_u_max;
-use spirv_std::glam::{IVec2, UVec3, Vec2, Vec4, Vec4Swizzles};
+use spirv_std::glam::{IVec2, UVec3, UVec4, Vec2, Vec4, Vec4Swizzles};
 use spirv_std::memory::{Scope, Semantics};
 use spirv_std::spirv;
 
@@ -46,6 +46,7 @@ pub struct BladeBuffers<'a> {
     motion: &'a mut [BladeMotion],
     colliders: &'a [Collider],
     grid: &'a [u32],
+    shapes: &'a [UVec4],
     near: &'a mut [u32],
     cuts: &'a mut [u32],
 }
@@ -86,6 +87,7 @@ pub fn simulate_cull(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] collider_list: &[Collider],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] shapes: &[UVec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 28)] cuts: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
@@ -112,6 +114,7 @@ pub fn simulate_cull(
         motion,
         colliders: collider_list,
         grid,
+        shapes,
         near,
         cuts,
     };
@@ -174,6 +177,7 @@ pub fn simulate_cull_natural(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 24)] motion: &mut [BladeMotion],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] collider_list: &[Collider],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] shapes: &[UVec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &mut [u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 28)] cuts: &mut [u32],
     #[spirv(workgroup)] tally: &mut [u32; COUNTER_COUNT],
@@ -200,6 +204,7 @@ pub fn simulate_cull_natural(
         motion,
         colliders: collider_list,
         grid,
+        shapes,
         near,
         cuts,
     };
@@ -318,6 +323,7 @@ fn simulate_and_cull<T: Copy + Default>(
         motion,
         colliders: collider_list,
         grid,
+        shapes,
         near,
         cuts,
     } = buffers;
@@ -351,6 +357,7 @@ fn simulate_and_cull<T: Copy + Default>(
     let nearby = Nearby {
         colliders: collider_list,
         words: grid,
+        shapes,
         grid: frame.collider_grid,
     };
     let grass = &frame.grass;

@@ -27,7 +27,7 @@
 
 use crate::Blade;
 use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, tip_push, within_capsule};
-use spirv_std::glam::{IVec3, Vec2, Vec3, Vec4, Vec4Swizzles};
+use spirv_std::glam::{IVec3, UVec4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 /// Words of one slot's collider bits: one bit per collider.
 pub const COLLIDER_WORDS: usize = MAX_COLLIDERS / 32;
@@ -155,9 +155,15 @@ impl ColliderGrid {
     }
 
     /// The first word of the watch's slot that cube `c` of the watch's cubes
-    /// hashes to: the watch's slots follow the grid's.
+    /// hashes to: the watch's slots follow the grid's ([`Self::watch_start`]).
     pub fn watch_base(&self, c: IVec3) -> usize {
-        self.slots as usize * GRID_WORDS + self.slot_of(c) * WATCH_WORDS
+        self.watch_start() + self.slot_of(c) * WATCH_WORDS
+    }
+
+    /// The first word of the watch's slots: after the grid's, at a multiple of four
+    /// words, so that a slot's capsules are read 16 bytes a load ([`Nearby::shapes`]).
+    pub fn watch_start(&self) -> usize {
+        (self.slots as usize * GRID_WORDS).next_multiple_of(4)
     }
 
     /// The watch's cube holding `p`.
@@ -167,7 +173,7 @@ impl ColliderGrid {
 
     /// Words of the grid's slots and the watch's.
     pub fn words(&self) -> usize {
-        self.slots as usize * (GRID_WORDS + WATCH_WORDS)
+        self.watch_start() + self.slots as usize * WATCH_WORDS
     }
 
     /// The `corner`th (0..[`GRID_CORNERS`]) of the watch's cubes a pushing
@@ -343,6 +349,8 @@ pub struct Nearby<'a> {
     pub colliders: &'a [Collider],
     /// The grid's slots, [`GRID_WORDS`] words each.
     pub words: &'a [u32],
+    /// The same words four at a time, how the watch reads its slots (a capsule in two).
+    pub shapes: &'a [UVec4],
     /// The grid.
     pub grid: ColliderGrid,
 }
@@ -384,12 +392,18 @@ impl Nearby<'_> {
         let (tip, mid) = (blade.tip(), blade.midpoint());
         let halfway = 0.5 * (tip + mid);
         let spread = 0.5 * tip.distance(mid) + travel.max_element();
-        let base = self.grid.watch_base(self.grid.watch_cube(halfway));
-        let count = self.words[base + COUNT_WORD];
+        // The slot's first capsule and its count (the first capsule's last word) in
+        // two loads, the rest as the count asks.
+        let base = self.grid.watch_base(self.grid.watch_cube(halfway)) / 4;
+        let (a, b) = (self.shapes[base], self.shapes[base + 1]);
+        let count = b.w;
         let mut found = spread >= WATCH_ALLOWANCE || count > WATCH_SHAPES;
+        let mut shape = (as_floats(a), as_floats(b).xyz());
         let mut k = 0;
         while k < count && !found {
-            let shape = watched_at(self.words, base + k as usize * SHAPE_WORDS);
+            if k > 0 {
+                shape = watched_at(self.shapes, base + k as usize * SHAPE_WORDS / 4);
+            }
             found = within_capsule(shape, tip, travel.x + WATCH_MARGIN)
                 || within_capsule(shape, mid, travel.y + WATCH_MARGIN);
             k += 1;
@@ -445,6 +459,7 @@ impl Nearby<'_> {
 pub const NOTHING_NEAR: Nearby<'static> = Nearby {
     colliders: &[],
     words: &[],
+    shapes: &[],
     grid: ColliderGrid {
         cell: 1.0,
         reach: 0.0,
@@ -456,13 +471,20 @@ pub const NOTHING_NEAR: Nearby<'static> = Nearby {
     },
 };
 
-/// The capsule ([`Collider::watched`]) a watch slot holds at word `at`.
-fn watched_at(words: &[u32], at: usize) -> (Vec4, Vec3) {
-    let word = |i: usize| f32::from_bits(words[at + i]);
-    (
-        Vec4::new(word(0), word(1), word(2), word(3)),
-        Vec3::new(word(4), word(5), word(6)),
+/// Four words as the floats whose bits they are.
+fn as_floats(w: UVec4) -> Vec4 {
+    Vec4::new(
+        f32::from_bits(w.x),
+        f32::from_bits(w.y),
+        f32::from_bits(w.z),
+        f32::from_bits(w.w),
     )
+}
+
+/// The capsule ([`Collider::watched`]) a watch slot holds at word `4 · at` (`at` in
+/// [`Nearby::shapes`]).
+fn watched_at(shapes: &[UVec4], at: usize) -> (Vec4, Vec3) {
+    (as_floats(shapes[at]), as_floats(shapes[at + 1]).xyz())
 }
 
 /// Counts pushing `collider` in the watch's slot at word `base`, through `count`
@@ -513,6 +535,8 @@ pub struct ColliderSet {
     pub grid: ColliderGrid,
     /// Its slots.
     pub words: Vec<u32>,
+    /// The same words four at a time ([`Nearby::shapes`]).
+    pub shapes: Vec<UVec4>,
 }
 
 #[cfg(not(target_arch = "spirv"))]
@@ -536,10 +560,17 @@ impl ColliderSet {
                 }
             }
         }
+        let shapes = words
+            .as_chunks::<4>()
+            .0
+            .iter()
+            .map(|w| UVec4::from_array(*w))
+            .collect();
         Self {
             colliders,
             grid,
             words,
+            shapes,
         }
     }
 
@@ -559,6 +590,7 @@ impl ColliderSet {
         Nearby {
             colliders: &self.colliders,
             words: &self.words,
+            shapes: &self.shapes,
             grid: self.grid,
         }
     }

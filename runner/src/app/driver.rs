@@ -44,9 +44,10 @@ pub struct Acquired {
 
 /// Where frames go: a window's swapchain or an offscreen image.
 pub trait FrameTarget {
-    /// The image of the next frame; `available` is signalled when it may be written.
-    /// `None` skips the frame (an out-of-date swapchain, to be made again).
-    fn acquire(&mut self, available: vk::Semaphore) -> Result<Option<Acquired>>;
+    /// The image of the next frame, recorded in frame slot `slot` (whose previous
+    /// frame is done); `available` is signalled when it may be written. `None` skips
+    /// the frame (an out-of-date swapchain, to be made again).
+    fn acquire(&mut self, available: vk::Semaphore, slot: usize) -> Result<Option<Acquired>>;
     /// Hands the submitted frame over (presents it), if there is anything to do;
     /// `done` is the fence its submission signals.
     fn present(&mut self, frame: &Acquired, done: vk::Fence) -> Result<()>;
@@ -184,7 +185,7 @@ impl FrameDriver {
     pub fn begin(&mut self, target: &mut dyn FrameTarget, seconds: f64) -> Result<Option<Frame>> {
         let slot = self.next_slot()?;
         let available = self.slots[slot].image_available.semaphore;
-        let Some(acquired) = target.acquire(available)? else {
+        let Some(acquired) = target.acquire(available, slot)? else {
             return Ok(None);
         };
         let (first_step, steps) = self.clock.advance(seconds);

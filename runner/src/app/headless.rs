@@ -77,7 +77,7 @@ impl Offscreen {
 impl FrameTarget for Offscreen {
     /// The same image every frame: frames in flight are ordered by the renderer's
     /// barriers, and nothing waits for the image.
-    fn acquire(&mut self, _available: vk::Semaphore) -> Result<Option<Acquired>> {
+    fn acquire(&mut self, _available: vk::Semaphore, _slot: usize) -> Result<Option<Acquired>> {
         Ok(Some(Acquired {
             target: self.target(),
             wait: None,

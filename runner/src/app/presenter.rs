@@ -169,9 +169,9 @@ impl Presenter {
 }
 
 impl FrameTarget for Presenter {
-    fn acquire(&mut self, available: vk::Semaphore) -> Result<Option<Acquired>> {
+    fn acquire(&mut self, available: vk::Semaphore, slot: usize) -> Result<Option<Acquired>> {
         if let Some(shm) = self.shm.as_mut() {
-            return shm.acquire(available);
+            return shm.acquire(available, slot);
         }
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(None);

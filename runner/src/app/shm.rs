@@ -33,9 +33,9 @@ pub const FORMAT: vk::Format = vk::Format::B8G8R8A8_SRGB;
 /// window's shared-memory buffer.
 pub struct ShmPresenter {
     surface: softbuffer::Surface<Arc<Window>, Arc<Window>>,
-    /// One image per frame in flight, by the frame slot's image-available semaphore
-    /// (the driver waits for a slot's fence before the slot's next frame).
-    frames: Vec<(vk::Semaphore, Image)>,
+    /// One image per frame slot of the driver (which waits for a slot's fence before
+    /// the slot's next frame), made on its first use.
+    frames: [Option<Image>; FRAMES_IN_FLIGHT],
     /// The window size the images are made for.
     size: (u32, u32),
     /// The frame submitted last and not yet shown: its image, and the fence its
@@ -70,7 +70,7 @@ impl ShmPresenter {
             .context("shared-memory presentation: the window")?;
         Ok(Self {
             surface,
-            frames: Vec::new(),
+            frames: Default::default(),
             size: (0, 0),
             pending: None,
             shown: None,
@@ -91,7 +91,7 @@ impl ShmPresenter {
             // A frame of the old size is not shown.
             self.pending = None;
             self.shown = None;
-            self.frames.clear();
+            self.frames = Default::default();
             self.surface
                 .resize(width, height)
                 .map_err(|e| anyhow!("{e}"))
@@ -108,30 +108,35 @@ impl ShmPresenter {
         let Some(at) = self.pending.map(|(i, _)| i).or(self.shown) else {
             return Ok(None);
         };
-        let image = &self.frames[at].1;
+        let image = self.frames[at]
+            .as_ref()
+            .context("no image of the last frame")?;
         let extent = image.extent;
         let mut pixels = vec![0; extent.width as usize * extent.height as usize * 4];
         copy_rows(image, &mut pixels)?;
         Ok(Some((pixels, extent)))
     }
 
-    /// The image of the frame slot whose image-available semaphore is `available`,
-    /// made on its first use.
-    fn image_of(&mut self, available: vk::Semaphore) -> Result<usize> {
-        if let Some(at) = self.frames.iter().position(|(s, _)| *s == available) {
-            return Ok(at);
-        }
-        anyhow::ensure!(
-            self.frames.len() < FRAMES_IN_FLIGHT,
-            "more frame slots than frames in flight"
-        );
+    /// The image of frame slot `slot`, made on its first use at the window's size.
+    fn image_of(&mut self, slot: usize) -> Result<&Image> {
         let (width, height) = self.size;
         let extent = vk::Extent2D { width, height };
         // The overlay copies its opaque part in (transfer writes).
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_DST;
-        let image = Image::host_linear(&self.ctx, "window frame", extent, FORMAT, usage)?;
-        self.frames.push((available, image));
-        Ok(self.frames.len() - 1)
+        let frame = self
+            .frames
+            .get_mut(slot)
+            .context("a frame slot past those in flight")?;
+        if frame.is_none() {
+            *frame = Some(Image::host_linear(
+                &self.ctx,
+                "window frame",
+                extent,
+                FORMAT,
+                usage,
+            )?);
+        }
+        frame.as_ref().context("the frame's image")
     }
 
     /// Waits for the pending frame and hands its pixels to the window.
@@ -146,7 +151,10 @@ impl ShmPresenter {
             .map_err(|e| anyhow!("{e}"))
             .context("shared-memory presentation: the window's buffer")?;
         let words: &mut [u32] = &mut buffer;
-        copy_rows(&self.frames[at].1, bytemuck::cast_slice_mut(words))?;
+        let image = self.frames[at]
+            .as_ref()
+            .context("no image of the pending frame")?;
+        copy_rows(image, bytemuck::cast_slice_mut(words))?;
         buffer
             .present()
             .map_err(|e| anyhow!("{e}"))
@@ -157,12 +165,11 @@ impl ShmPresenter {
 }
 
 impl FrameTarget for ShmPresenter {
-    fn acquire(&mut self, available: vk::Semaphore) -> Result<Option<Acquired>> {
+    fn acquire(&mut self, _available: vk::Semaphore, slot: usize) -> Result<Option<Acquired>> {
         if self.size.0 == 0 || self.size.1 == 0 {
             return Ok(None);
         }
-        let at = self.image_of(available)?;
-        let image = &self.frames[at].1;
+        let image = self.image_of(slot)?;
         Ok(Some(Acquired {
             target: Target {
                 image: image.image,
@@ -175,7 +182,7 @@ impl FrameTarget for ShmPresenter {
             wait: None,
             signal: None,
             capture: None,
-            image: at as u32,
+            image: slot as u32,
             suboptimal: false,
         }))
     }

@@ -19,6 +19,8 @@ pub struct Image {
     /// Size in pixels.
     pub extent: vk::Extent2D,
     allocation: Option<Allocation>,
+    /// Where a linear image's rows lie in its memory (`None` for an optimal one).
+    rows: Option<vk::SubresourceLayout>,
 }
 
 impl Image {
@@ -81,12 +83,7 @@ impl Image {
     /// A host-linear image's bytes ([`Image::host_linear`]) and the bytes from one row
     /// to the next.
     pub fn host_rows(&self) -> Result<(&[u8], usize)> {
-        let subresource = vk::ImageSubresource::default().aspect_mask(vk::ImageAspectFlags::COLOR);
-        let layout = unsafe {
-            self.ctx
-                .device
-                .get_image_subresource_layout(self.image, subresource)
-        };
+        let layout = self.rows.context("image is not linear")?;
         let bytes = self
             .allocation
             .as_ref()
@@ -144,6 +141,10 @@ impl Image {
         };
         unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
             .with_context(|| format!("bind memory of image {name}"))?;
+        let rows = linear.then(|| {
+            let color = vk::ImageSubresource::default().aspect_mask(aspect);
+            unsafe { device.get_image_subresource_layout(image, color) }
+        });
         let view_info = vk::ImageViewCreateInfo::default()
             .image(image)
             .view_type(vk::ImageViewType::TYPE_2D)
@@ -158,6 +159,7 @@ impl Image {
             format,
             extent,
             allocation: Some(allocation),
+            rows,
         })
     }
 }

@@ -68,6 +68,7 @@ pub fn mark_contacts(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] counters: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 25)] colliders: &[Collider],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] grid: &[u32],
+    // The same buffer four words at a time (`Nearby::shapes`).
     #[spirv(storage_buffer, descriptor_set = 0, binding = 26)] shapes: &[UVec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 27)] near: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 29)] queries: &mut [u32],

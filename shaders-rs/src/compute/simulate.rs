@@ -46,6 +46,7 @@ pub struct BladeBuffers<'a> {
     motion: &'a mut [BladeMotion],
     colliders: &'a [Collider],
     grid: &'a [u32],
+    /// The grid's buffer again (the same binding), four words at a time: `Nearby::shapes`.
     shapes: &'a [UVec4],
     near: &'a mut [u32],
     cuts: &'a mut [u32],

@@ -533,9 +533,8 @@ pub struct ColliderSet {
     pub colliders: Vec<Collider>,
     /// The grid.
     pub grid: ColliderGrid,
-    /// Its slots.
-    pub words: Vec<u32>,
-    /// The same words four at a time ([`Nearby::shapes`]).
+    /// Its slots' words, four at a time ([`Nearby::shapes`]; [`Self::words`] one at
+    /// a time).
     pub shapes: Vec<UVec4>,
 }
 
@@ -544,34 +543,34 @@ impl ColliderSet {
     /// `colliders` (the first [`MAX_COLLIDERS`]) in `grid`.
     pub fn new(colliders: &[Collider], grid: ColliderGrid) -> Self {
         let colliders = colliders[..colliders.len().min(MAX_COLLIDERS)].to_vec();
-        let mut words = vec![0; grid.words()];
+        // The grid's words are a whole number of four (`ColliderGrid::watch_start`).
+        let mut shapes = vec![UVec4::ZERO; grid.words() / 4];
+        let words: &mut [u32] = bytemuck::cast_slice_mut(&mut shapes);
         for (i, c) in colliders.iter().enumerate() {
             for corner in 0..GRID_CORNERS {
                 let (marks, cube) = grid.corner_cube(c, corner);
                 if marks {
-                    mark(&mut words, grid.slot_base(cube), i);
+                    mark(words, grid.slot_base(cube), i);
                 }
                 let (watches, cube) = grid.watch_corner(c, corner);
                 if watches {
-                    watch_collider(&mut words, grid.watch_base(cube), c, |n| {
+                    watch_collider(words, grid.watch_base(cube), c, |n| {
                         *n += 1;
                         *n - 1
                     });
                 }
             }
         }
-        let shapes = words
-            .as_chunks::<4>()
-            .0
-            .iter()
-            .map(|w| UVec4::from_array(*w))
-            .collect();
         Self {
             colliders,
             grid,
-            words,
             shapes,
         }
+    }
+
+    /// Its slots' words.
+    pub fn words(&self) -> &[u32] {
+        bytemuck::cast_slice(&self.shapes)
     }
 
     /// Every collider tested by every blade (one slot).
@@ -589,7 +588,7 @@ impl ColliderSet {
     pub fn nearby(&self) -> Nearby<'_> {
         Nearby {
             colliders: &self.colliders,
-            words: &self.words,
+            words: self.words(),
             shapes: &self.shapes,
             grid: self.grid,
         }

@@ -53,8 +53,8 @@ fn a_collider_marks_every_cube_a_blade_it_can_touch_stands_in() {
                     let root = (lo - g.reach) + (hi - lo + 2.0 * g.reach) * t;
                     let base = g.slot_base(g.cube(root));
                     let w = i / 32;
-                    assert!(set.words[base + OCCUPANCY_WORDS + w] & (1 << (i % 32)) != 0);
-                    assert!(set.words[base + w / 32] & (1 << (w % 32)) != 0);
+                    assert!(set.words()[base + OCCUPANCY_WORDS + w] & (1 << (i % 32)) != 0);
+                    assert!(set.words()[base + w / 32] & (1 << (w % 32)) != 0);
                 }
             }
         }

@@ -23,7 +23,7 @@ use shared::gpu::layout::{SelectPush, TilePush};
 use shared::sim;
 use shared::sim::collide::{Collider, MAX_COLLIDERS};
 use shared::sim::cut::{CUT_SLOTS, CUT_WORDS};
-use shared::sim::grid::{GRID_SLOTS, GRID_WORDS, WATCH_WORDS};
+use shared::sim::grid::ColliderGrid;
 use std::sync::Arc;
 
 mod limits;
@@ -459,8 +459,8 @@ impl Field {
         let near = device_buffer("blades near colliders", near_size, near_usage)?;
         let collider_grid = device_buffer(
             "collider grid",
-            u64::from(GRID_SLOTS) * (GRID_WORDS + WATCH_WORDS) as u64 * 4,
-            U::STORAGE_BUFFER | U::TRANSFER_DST,
+            ColliderGrid::largest().words() as u64 * 4,
+            U::STORAGE_BUFFER | U::TRANSFER_DST | U::TRANSFER_SRC,
         )?;
         let cuts = device_buffer(
             "cut table",

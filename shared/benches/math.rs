@@ -11,7 +11,7 @@ use shared::cull::lod::{focal_pixels, screen_level};
 use shared::draw::shape::{SHAPE_QUADRATIC, surface_point};
 use shared::glam::camera::rh;
 use shared::glam::{Mat4, Vec3, Vec4};
-use shared::sim::grid::ColliderSet;
+use shared::sim::colliders::ColliderSet;
 use shared::sim::impulse::NO_IMPULSES;
 use shared::sim::simulate::{Environment, simulate};
 use shared::world::generate::{side_for, square_field};

@@ -22,7 +22,8 @@ use crate::settings::{
     Settings, View, Viewpoint, shadow_sphere,
 };
 use crate::sim::collide::{Collider, MAX_COLLIDERS};
-use crate::sim::grid::{ColliderGrid, GRID_SLOTS, fitted};
+use crate::sim::colliders::fitted;
+use crate::sim::grid::{ColliderGrid, GRID_SLOTS};
 use crate::sim::impulse::Impulses;
 use crate::sim::simulate::Environment;
 use spirv_std::glam::{Mat4, Vec4};
@@ -285,7 +286,7 @@ impl Settings {
     /// The whole frame block, built once: these settings drawn as `plan` says (its
     /// look, view, pipeline, shadow map, occlusion test and far blades), seen from
     /// `eye`, with the `colliders` (the first `MAX_COLLIDERS`, in a grid fitted to
-    /// them: `sim::grid::fitted`) and the wind `impulses` around, and what the renderer
+    /// them: `sim::colliders::fitted`) and the wind `impulses` around, and what the renderer
     /// knows of the frame (`facts`).
     pub fn uniforms(
         &self,

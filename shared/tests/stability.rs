@@ -31,7 +31,7 @@ use proptest::prelude::*;
 use shared::Blade;
 use shared::glam::{Vec3, Vec4};
 use shared::sim::collide::MAX_STRENGTH;
-use shared::sim::grid::ColliderSet;
+use shared::sim::colliders::ColliderSet;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, MAX_IMPULSES, NO_IMPULSES};
 use shared::sim::simulate::{
     BladeState, Environment, MAX_STEPS_PER_FRAME, STEP_SECONDS, STEPS_PER_SECOND, SimClock,

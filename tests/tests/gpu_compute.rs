@@ -18,11 +18,13 @@ use shared::plan::FrameRequest;
 use shared::query::{Around, Question, Sight, Tally};
 use shared::settings::WindField;
 use shared::sim::collide::Collider;
+use shared::sim::colliders::{ColliderSet, fitted};
 use shared::sim::cut::{CUT_SLOTS, CUT_WORDS, as_cut, cell_key, cut_near, cut_to, find, regrown};
-use shared::sim::grid::{ColliderSet, REACH_MARGIN, fitted};
+use shared::sim::grid::REACH_MARGIN;
 use shared::sim::impulse::{IMPULSE_BLAST, IMPULSE_DOWNWASH, Impulse, Impulses};
 use shared::sim::simulate::{WATCHED_STEPS, simulate};
 use shared::sim::validate::paper_length;
+use shared::sim::watch::{COUNT_WORD, SHAPE_WORDS, WATCH_SHAPES, WATCH_WORDS};
 use std::collections::HashSet;
 use tests::with_device;
 
@@ -370,7 +372,46 @@ fn the_collision_pass_matches_the_host_under_a_crowd() {
         let near = counters[COUNTER_NEAR];
         println!("{near} of {BLADES} blades handed to the collision pass");
         assert!(near > 0, "no blade handed over");
+        grid_as_on_the_host(renderer, crowded.colliders());
     });
+}
+
+/// The colliders' grid the GPU built for the last frame against the host's build of
+/// the same colliders (`ColliderSet`): the grid's bits, the watch's marks and each
+/// watch slot's count the same, and the capsules of a slot that has room for all it
+/// counts the same but for their order (the GPU's threads claim places in turn; a
+/// full slot holds the first four to claim one). Planted fault: the GPU's build not
+/// setting the marks failed it (the rest of the test passed: every blade of this
+/// field is handed over).
+fn grid_as_on_the_host(renderer: &Renderer, colliders: &[Collider]) {
+    let grid = renderer.block().collider_grid;
+    let host = ColliderSet::new(colliders, grid);
+    let words: Vec<u32> = renderer
+        .download(&renderer.field.collider_grid, grid.words())
+        .unwrap();
+    let (start, marks) = (grid.watch_start(), grid.marks_start());
+    assert!(words[..start] == host.words()[..start], "the grid's bits");
+    assert!(words[marks..] == host.words()[marks..], "the watch's marks");
+    let capsules = |slot: &[u32]| {
+        let room = slot[COUNT_WORD] <= WATCH_SHAPES;
+        let mut held: Vec<Vec<u32>> = slot
+            .chunks(SHAPE_WORDS)
+            .take(if room { slot[COUNT_WORD] as usize } else { 0 })
+            .map(|shape| shape[..SHAPE_WORDS - 1].to_vec())
+            .collect();
+        held.sort();
+        (slot[COUNT_WORD], held)
+    };
+    let slots = words[start..marks].chunks(WATCH_WORDS);
+    let on_host = host.words()[start..marks].chunks(WATCH_WORDS);
+    let (mut counted, mut full) = (0, 0);
+    for (at, (gpu, host)) in slots.zip(on_host).enumerate() {
+        assert_eq!(capsules(gpu), capsules(host), "watch slot {at}");
+        counted += usize::from(gpu[COUNT_WORD] > 0);
+        full += usize::from(gpu[COUNT_WORD] > WATCH_SHAPES);
+    }
+    println!("{counted} watch slots count a collider, {full} of them more than they hold");
+    assert!(counted > full, "no watch slot holds its colliders");
 }
 
 /// Frames of more steps than the watch is for (`simulate::WATCHED_STEPS`), under a

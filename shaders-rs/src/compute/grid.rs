@@ -3,7 +3,8 @@
 
 use shared::gpu::layout::FrameUniforms;
 use shared::sim::collide::Collider;
-use shared::sim::grid::{GRID_CORNERS, OCCUPANCY_WORDS, watch_collider};
+use shared::sim::grid::{GRID_CORNERS, OCCUPANCY_WORDS};
+use shared::sim::watch::watch_collider;
 use spirv_std::arch::{atomic_i_add, atomic_or};
 use spirv_std::glam::UVec3;
 use spirv_std::memory::{Scope, Semantics};
@@ -14,8 +15,9 @@ use spirv_std::spirv;
 /// bit, and its word's bit of occupancy, in the slot the cube hashes to
 /// (`ColliderGrid::corner_cube`, `slot_base`), with atomic ors on the cleared grid;
 /// and, for a collider that pushes, counts it in the watch's slot of its
-/// `corner`th watch cube (`ColliderGrid::watch_corner`, `watch_base`) and writes its
-/// capsule there where the count leaves room.
+/// `corner`th watch cube (`ColliderGrid::watch_corner`, `watch_base`), writes its
+/// capsule there where the count leaves room and sets the cube's mark
+/// (`shared::sim::watch::watch_collider`).
 #[spirv(compute(threads(64)))]
 pub fn build_collider_grid(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -29,9 +31,13 @@ pub fn build_collider_grid(
         let collider = &colliders[i as usize];
         let (watches, cube) = g.watch_corner(collider, id.x % GRID_CORNERS);
         if watches {
-            watch_collider(grid, g.watch_base(cube), collider, |n| unsafe {
+            let count = |n: &mut u32| unsafe {
                 atomic_i_add::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(n, 1)
-            });
+            };
+            let mark = |word: &mut u32, bit: u32| unsafe {
+                atomic_or::<u32, { Scope::Device as u32 }, { Semantics::NONE.bits() }>(word, bit);
+            };
+            watch_collider(grid, (g, cube), collider, count, mark);
         }
         let (marks, cube) = g.corner_cube(collider, id.x % GRID_CORNERS);
         if marks {

@@ -14,20 +14,12 @@
 //! collider pushed farther from its root than the reach within a step: a collider
 //! beyond the reach is not looked at for it until validation has brought it back.
 //!
-//! The pass over every blade, which steps a blade without the colliders and hands
-//! one they may have touched to the collision pass, asks its own slots instead,
-//! after the steps ([`Nearby::may_have_touched`]): the watch's slots, past the
-//! grid's, hash cubes of side [`ColliderGrid::watch_cell`] that hold the point
-//! halfway between a blade's tip and midpoint, each with the capsules
-//! ([`Collider::watched`]) of the first [`WATCH_SHAPES`] pushing colliders whose
-//! bounds, grown by [`WATCH_ALLOWANCE`], overlap a cube hashed there, and the count
-//! of all of them. A blade reads one slot, with no bits to walk and no collider
-//! to fetch, and the cubes are small: they hold tips, not roots, so they need not
-//! grow by a blade's reach.
+//! The pass over every blade asks the watch's slots, past the grid's, instead
+//! ([`crate::sim::watch`]).
 
 use crate::Blade;
-use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, tip_push, within_capsule};
-use spirv_std::glam::{IVec3, UVec4, Vec2, Vec3, Vec4, Vec4Swizzles};
+use crate::sim::collide::{Collider, MAX_COLLIDERS, fixed_midpoint, tip_push};
+use spirv_std::glam::{IVec3, UVec4, Vec3, Vec4Swizzles};
 
 /// Words of one slot's collider bits: one bit per collider.
 pub const COLLIDER_WORDS: usize = MAX_COLLIDERS / 32;
@@ -41,7 +33,7 @@ pub const GRID_WORDS: usize = OCCUPANCY_WORDS + COLLIDER_WORDS;
 const _: () = assert!(OCCUPANCY_WORDS == 2, "Slot holds two occupancy words");
 
 /// Most slots of the renderer's grid (a power of two): 17 MB. A frame uses as many
-/// as [`fitted`] gives for its colliders, and clears those.
+/// as [`fitted`](crate::sim::colliders::fitted) gives for its colliders, and clears those.
 pub const GRID_SLOTS: u32 = 65536;
 
 /// Cubes a collider marks at most, and threads of the grid's build per collider.
@@ -58,34 +50,6 @@ pub const REACH_MARGIN: f32 = 1.1;
 /// How near a collider's surface a blade's tip or midpoint touches it
 /// ([`Nearby::first_touching`]), world units: a tenth of the narrowest blade's height.
 pub const TOUCH_MARGIN: f32 = 0.1;
-
-/// What [`Nearby::may_have_touched`] adds to a travel (and the watch's cubes to
-/// their allowance), world units: a thousand times the rounding of a distance at a
-/// thousand units from the origin, so that no rounding of the travel or the
-/// distances lets a point the forces moved into a collider go unseen.
-pub const WATCH_MARGIN: f32 = 1e-3;
-
-/// Pushing colliders whose capsules a slot of the watch holds: where more mark it,
-/// its blades go to the collision pass.
-pub const WATCH_SHAPES: u32 = 4;
-
-/// Words of a capsule in a watch slot: its segment's first end and radius, its
-/// second end, and one more (in the slot's first capsule, [`COUNT_WORD`]).
-pub const SHAPE_WORDS: usize = 8;
-
-/// Words of one slot of the watch.
-pub const WATCH_WORDS: usize = WATCH_SHAPES as usize * SHAPE_WORDS;
-
-/// The word of a watch slot that counts the pushing colliders marking it.
-pub const COUNT_WORD: usize = 7;
-
-/// How far from the point halfway between a blade's tip and midpoint the points the
-/// frame's steps moved them to may lie for the watch's slot to know every collider
-/// that may have held one ([`Nearby::may_have_touched`]), world units: half the
-/// distance from a tall blade's tip to its midpoint bent in a breeze (up to 0.9, 2.5
-/// units tall, 0.3 standing) and a frame's travel. A blade beyond it goes to the
-/// collision pass.
-pub const WATCH_ALLOWANCE: f32 = 1.1;
 
 /// [`Nearby::first_touching`]: no collider touches.
 pub const NONE_TOUCHING: u32 = u32::MAX;
@@ -110,7 +74,7 @@ pub struct ColliderGrid {
     /// The highest height of a blade's root: no cube wholly above it is marked.
     pub high: f32,
     /// Side of a cube of the watch's slots, world units: at least half the largest
-    /// collider's bounds grown by [`WATCH_ALLOWANCE`] (as many slots as the grid's).
+    /// collider's bounds grown by [`WATCH_ALLOWANCE`](crate::sim::watch::WATCH_ALLOWANCE) (as many slots as the grid's).
     pub watch_cell: f32,
     /// Padding to 32 bytes.
     pub pad: [u32; 2],
@@ -143,52 +107,12 @@ impl ColliderGrid {
     /// The slot cube `c` hashes to: (x·73856093 ⊕ y·19349663 ⊕ z·83492791) mod slots
     /// (Teschner et al. 2003).
     pub fn slot_of(&self, c: IVec3) -> usize {
-        let h = (c.x as u32).wrapping_mul(73_856_093)
-            ^ (c.y as u32).wrapping_mul(19_349_663)
-            ^ (c.z as u32).wrapping_mul(83_492_791);
-        (h & (self.slots - 1)) as usize
+        (hash(c) & (self.slots - 1)) as usize
     }
 
     /// The first word of the slot cube `c` hashes to.
     pub fn slot_base(&self, c: IVec3) -> usize {
         self.slot_of(c) * GRID_WORDS
-    }
-
-    /// The first word of the watch's slot that cube `c` of the watch's cubes
-    /// hashes to: the watch's slots follow the grid's ([`Self::watch_start`]).
-    pub fn watch_base(&self, c: IVec3) -> usize {
-        self.watch_start() + self.slot_of(c) * WATCH_WORDS
-    }
-
-    /// The first word of the watch's slots: after the grid's, at a multiple of four
-    /// words, so that a slot's capsules are read 16 bytes a load ([`Nearby::shapes`]).
-    pub fn watch_start(&self) -> usize {
-        (self.slots as usize * GRID_WORDS).next_multiple_of(4)
-    }
-
-    /// The watch's cube holding `p`.
-    pub fn watch_cube(&self, p: Vec3) -> IVec3 {
-        (p / self.watch_cell).floor().as_ivec3()
-    }
-
-    /// Words of the grid's slots and the watch's.
-    pub fn words(&self) -> usize {
-        self.watch_start() + self.slots as usize * WATCH_WORDS
-    }
-
-    /// The `corner`th (0..[`GRID_CORNERS`]) of the watch's cubes a pushing
-    /// `collider` marks, and whether it is one: from the least to the greatest
-    /// corner of its bounds grown by [`WATCH_ALLOWANCE`] and [`WATCH_MARGIN`], at
-    /// most three along each axis.
-    pub fn watch_corner(&self, collider: &Collider, corner: u32) -> (bool, IVec3) {
-        let (lo, hi) = collider.bounds();
-        let grow = Vec3::splat(WATCH_ALLOWANCE + WATCH_MARGIN);
-        let (a, b) = (self.watch_cube(lo - grow), self.watch_cube(hi + grow));
-        let c = a + corner_step(corner);
-        (
-            !collider.cuts() && c.cmple(b.min(a + IVec3::splat(2))).all(),
-            c,
-        )
     }
 
     /// The cubes a collider marks: from the least to the greatest corner of its
@@ -221,40 +145,20 @@ impl ColliderGrid {
     }
 }
 
+/// (x·73856093 ⊕ y·19349663 ⊕ z·83492791) (Teschner et al. 2003).
+fn hash(c: IVec3) -> u32 {
+    (c.x as u32).wrapping_mul(73_856_093)
+        ^ (c.y as u32).wrapping_mul(19_349_663)
+        ^ (c.z as u32).wrapping_mul(83_492_791)
+}
+
 /// The step from the least cube to the `corner`th of 3 x 3 x 3.
-fn corner_step(corner: u32) -> IVec3 {
+pub(crate) fn corner_step(corner: u32) -> IVec3 {
     IVec3::new(
         (corner % 3) as i32,
         ((corner / 3) % 3) as i32,
         (corner / 9) as i32,
     )
-}
-
-/// The grid a frame's colliders need: cubes half as large as the largest collider's
-/// bounds grown by `reach` on every side, and 64 slots a collider (about seven for
-/// each cube it marks on a flat field, [`ColliderGrid::over_roots`]), a power of two
-/// from 64 to `most`.
-#[cfg(not(target_arch = "spirv"))]
-pub fn fitted(colliders: &[Collider], reach: f32, most: u32) -> ColliderGrid {
-    let largest = colliders
-        .iter()
-        .map(|c| {
-            let (lo, hi) = c.bounds();
-            (hi - lo).max_element()
-        })
-        .fold(0.0f32, f32::max);
-    let wanted = (colliders.len() as u32)
-        .saturating_mul(64)
-        .next_power_of_two();
-    // A little over, so a collider exactly two cubes wide marks three at most.
-    let cell = |grow: f32| (0.5 * (largest + 2.0 * grow) * 1.001).max(0.01);
-    ColliderGrid {
-        cell: cell(reach),
-        reach,
-        slots: wanted.max(64).min(most.max(1)),
-        watch_cell: cell(WATCH_ALLOWANCE + WATCH_MARGIN),
-        ..ColliderGrid::default()
-    }
 }
 
 /// Where a blade finds its colliders, the same for each of its steps in a frame: the
@@ -342,7 +246,7 @@ fn low_bits(n: u32) -> u32 {
 }
 
 /// A frame's colliders with the grid that finds them: what a blade's steps collide
-/// with (the GPU's buffers, or the host's [`ColliderSet`]).
+/// with (the GPU's buffers, or the host's [`ColliderSet`](crate::sim::colliders::ColliderSet)).
 #[derive(Copy, Clone)]
 pub struct Nearby<'a> {
     /// The colliders.
@@ -378,37 +282,6 @@ impl Nearby<'_> {
             !cutter
         });
         (found, cutter)
-    }
-
-    /// Whether a pushing collider may have held a point that travelled to `blade`'s
-    /// tip or midpoint along a path no longer than `travel` (x: the tip's, y: the
-    /// midpoint's; `simulate::simulate_travelled`): one the watch's slot of the
-    /// point halfway between them holds is nearer than the travel and
-    /// [`WATCH_MARGIN`] to one of them ([`within_capsule`]; the distance to a surface
-    /// changes no faster than the point moves), or the slot holds more than it has
-    /// room for, or the points may lie farther than [`WATCH_ALLOWANCE`] from the
-    /// halfway point. What the pass over every blade asks after its steps.
-    pub fn may_have_touched(&self, blade: &Blade, travel: Vec2) -> bool {
-        let (tip, mid) = (blade.tip(), blade.midpoint());
-        let halfway = 0.5 * (tip + mid);
-        let spread = 0.5 * tip.distance(mid) + travel.max_element();
-        // The slot's first capsule and its count (the first capsule's last word) in
-        // two loads, the rest as the count asks.
-        let base = self.grid.watch_base(self.grid.watch_cube(halfway)) / 4;
-        let (a, b) = (self.shapes[base], self.shapes[base + 1]);
-        let count = b.w;
-        let mut found = spread >= WATCH_ALLOWANCE || count > WATCH_SHAPES;
-        let mut shape = (as_floats(a), as_floats(b).xyz());
-        let mut k = 0;
-        while k < count && !found {
-            if k > 0 {
-                shape = watched_at(self.shapes, base + k as usize * SHAPE_WORDS / 4);
-            }
-            found = within_capsule(shape, tip, travel.x + WATCH_MARGIN)
-                || within_capsule(shape, mid, travel.y + WATCH_MARGIN);
-            k += 1;
-        }
-        found
     }
 
     /// The first collider of `slot` (of the first `count`) that pushes and that `tip`
@@ -471,129 +344,5 @@ pub const NOTHING_NEAR: Nearby<'static> = Nearby {
     },
 };
 
-/// Four words as the floats whose bits they are.
-fn as_floats(w: UVec4) -> Vec4 {
-    Vec4::new(
-        f32::from_bits(w.x),
-        f32::from_bits(w.y),
-        f32::from_bits(w.z),
-        f32::from_bits(w.w),
-    )
-}
-
-/// The capsule ([`Collider::watched`]) a watch slot holds at word `4 · at` (`at` in
-/// [`Nearby::shapes`]).
-fn watched_at(shapes: &[UVec4], at: usize) -> (Vec4, Vec3) {
-    (as_floats(shapes[at]), as_floats(shapes[at + 1]).xyz())
-}
-
-/// Counts pushing `collider` in the watch's slot at word `base`, through `count`
-/// (which adds one to the slot's count word and gives the count before it: an atomic
-/// add on the GPU, `compute::grid`), and writes its capsule there where the slot has
-/// room for it.
-pub fn watch_collider(
-    words: &mut [u32],
-    base: usize,
-    collider: &Collider,
-    count: impl FnOnce(&mut u32) -> u32,
-) {
-    let n = count(&mut words[base + COUNT_WORD]);
-    if n < WATCH_SHAPES {
-        store_watched(words, base + n as usize * SHAPE_WORDS, collider);
-    }
-}
-
-/// Writes `collider`'s capsule ([`Collider::watched`]) into a watch slot at word
-/// `at`, its last word left (a slot's count in its first capsule).
-fn store_watched(words: &mut [u32], at: usize, collider: &Collider) {
-    let (a, b) = collider.watched();
-    words[at] = a.x.to_bits();
-    words[at + 1] = a.y.to_bits();
-    words[at + 2] = a.z.to_bits();
-    words[at + 3] = a.w.to_bits();
-    words[at + 4] = b.x.to_bits();
-    words[at + 5] = b.y.to_bits();
-    words[at + 6] = b.z.to_bits();
-}
-
-/// Sets collider `index`'s bit in the slot at `base` (the host's build; the GPU's
-/// sets the same bits with atomic ors).
-#[cfg(not(target_arch = "spirv"))]
-pub fn mark(words: &mut [u32], base: usize, index: usize) {
-    let w = index / 32;
-    words[base + w / 32] |= 1 << (w % 32);
-    words[base + OCCUPANCY_WORDS + w] |= 1 << (index % 32);
-}
-
-/// Colliders and their grid built on the host: the same slots the GPU builds.
-#[cfg(not(target_arch = "spirv"))]
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ColliderSet {
-    /// The colliders.
-    pub colliders: Vec<Collider>,
-    /// The grid.
-    pub grid: ColliderGrid,
-    /// Its slots' words, four at a time ([`Nearby::shapes`]; [`Self::words`] one at
-    /// a time).
-    pub shapes: Vec<UVec4>,
-}
-
-#[cfg(not(target_arch = "spirv"))]
-impl ColliderSet {
-    /// `colliders` (the first [`MAX_COLLIDERS`]) in `grid`.
-    pub fn new(colliders: &[Collider], grid: ColliderGrid) -> Self {
-        let colliders = colliders[..colliders.len().min(MAX_COLLIDERS)].to_vec();
-        // The grid's words are a whole number of four (`ColliderGrid::watch_start`).
-        let mut shapes = vec![UVec4::ZERO; grid.words() / 4];
-        let words: &mut [u32] = bytemuck::cast_slice_mut(&mut shapes);
-        for (i, c) in colliders.iter().enumerate() {
-            for corner in 0..GRID_CORNERS {
-                let (marks, cube) = grid.corner_cube(c, corner);
-                if marks {
-                    mark(words, grid.slot_base(cube), i);
-                }
-                let (watches, cube) = grid.watch_corner(c, corner);
-                if watches {
-                    watch_collider(words, grid.watch_base(cube), c, |n| {
-                        *n += 1;
-                        *n - 1
-                    });
-                }
-            }
-        }
-        Self {
-            colliders,
-            grid,
-            shapes,
-        }
-    }
-
-    /// Its slots' words.
-    pub fn words(&self) -> &[u32] {
-        bytemuck::cast_slice(&self.shapes)
-    }
-
-    /// Every collider tested by every blade (one slot).
-    pub fn every(colliders: &[Collider]) -> Self {
-        Self::new(colliders, ColliderGrid::default())
-    }
-
-    /// Spheres (centre xyz, radius w), every one tested.
-    pub fn spheres(spheres: &[spirv_std::glam::Vec4]) -> Self {
-        let colliders: Vec<Collider> = spheres.iter().map(|s| Collider::from_sphere(*s)).collect();
-        Self::every(&colliders)
-    }
-
-    /// What the blades' steps read.
-    pub fn nearby(&self) -> Nearby<'_> {
-        Nearby {
-            colliders: &self.colliders,
-            words: self.words(),
-            shapes: &self.shapes,
-            grid: self.grid,
-        }
-    }
-}
-
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

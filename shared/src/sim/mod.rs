@@ -5,6 +5,8 @@
 //! blades nobody simulates.
 
 pub mod collide;
+#[cfg(not(target_arch = "spirv"))]
+pub mod colliders;
 pub mod cut;
 pub mod forces;
 pub mod grid;
@@ -12,4 +14,5 @@ pub mod impulse;
 pub mod simulate;
 pub mod sway;
 pub mod validate;
+pub mod watch;
 pub mod wind;

@@ -143,7 +143,8 @@ fn a_blade_reads_its_cells_cut() {
 /// (every collider cutting) fails it.
 #[test]
 fn the_grid_finds_every_cutter_near_a_blade() {
-    use crate::sim::grid::{ColliderSet, GRID_SLOTS, fitted};
+    use crate::sim::colliders::{ColliderSet, fitted};
+    use crate::sim::grid::GRID_SLOTS;
     let mut colliders = Vec::new();
     for i in 0..340u32 {
         let r = |k: u32| crate::noise::hash_unit(crate::noise::hash_u32(i * 4 + k));

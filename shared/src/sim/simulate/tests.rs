@@ -1,7 +1,8 @@
 //! Unit tests of `simulate`.
 
 use super::*;
-use crate::sim::grid::{ColliderSet, NOTHING_NEAR};
+use crate::sim::colliders::ColliderSet;
+use crate::sim::grid::NOTHING_NEAR;
 use crate::sim::impulse::NO_IMPULSES;
 
 fn env() -> Environment {
@@ -43,7 +44,8 @@ fn run(frame_seconds: f64, total: f64) -> Blade {
 #[test]
 fn a_blade_whose_watch_saw_no_collider_steps_as_with_the_colliders() {
     use crate::sim::collide::Collider;
-    use crate::sim::grid::{REACH_MARGIN, fitted};
+    use crate::sim::colliders::fitted;
+    use crate::sim::grid::REACH_MARGIN;
     let blades = crate::world::generate::square_field(4096, 30.0, 3);
     let walkers: Vec<Collider> = (0..100)
         .map(|i| {
@@ -106,7 +108,7 @@ fn the_watch_sees_a_collider_a_tip_passes_within_a_frame() {
     let ball = [crate::sim::collide::Collider::from_sphere(
         at.extend(radius),
     )];
-    let set = ColliderSet::new(&ball, crate::sim::grid::fitted(&ball, 2.75, 64));
+    let set = ColliderSet::new(&ball, crate::sim::colliders::fitted(&ball, 2.75, 64));
     let near = set.nearby();
     let calm = Environment { colliders: 0, ..e };
     let free = simulate((rest, 0.0), &calm, NOTHING_NEAR, &NO_IMPULSES, 0, 8);

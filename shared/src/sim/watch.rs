@@ -12,10 +12,11 @@
 //!
 //! Slots and marks are laid out as a grid that wraps around (4 layers of W x W
 //! columns, x fastest: [`wrapped`]) rather than hashed: a warp's blades stand in
-//! neighbouring cubes, whose marks share a word that stays in the cache, and a field
-//! narrower than the grid's period (the marks' W is 512 cubes for 65,536 slots) has
-//! no two cubes in one slot. Where two do, the slot holds both cubes' colliders:
-//! more to test, never one missed.
+//! neighbouring cubes, whose marks share a word that stays in the cache, and ground
+//! narrower than the period (W is 128 cubes for 65,536 slots and 512 for their
+//! marks: 256 and 1,024 units with walkers' cubes of 2) has no two cubes in one
+//! place. Where two share a slot, it holds both cubes' colliders: more to test,
+//! never one missed; a mark shared only sends a blade to the slot.
 
 use super::grid::{ColliderGrid, GRID_WORDS, Nearby, corner_step};
 use crate::Blade;

@@ -32,7 +32,9 @@ fn a_cube_has_its_place_in_the_wrapped_grid() {
 /// walkers on the bench's 4 M-blade field), a watch cube whose mark is set has a
 /// slot that counts a collider (`watch_collider` sets both), and the marks, four
 /// times as long a period as the slots, share fewer cubes: of 20,000 points,
-/// measured 7,536 in a marked cube against 8,352 in a counting slot.
+/// measured 7,536 in a marked cube against 8,352 in a counting slot. Planted faults:
+/// the marks not set (none marked), and marks of the slots' period (8,352 and 8,352),
+/// each failed.
 #[test]
 fn a_marked_cube_has_a_slot_that_counts_a_collider() {
     let colliders = crowd(1500, 400.0);
@@ -56,7 +58,7 @@ fn a_marked_cube_has_a_slot_that_counts_a_collider() {
         counted += usize::from(count > 0);
     }
     println!("{marked} marked, {counted} counted");
-    assert!(marked > 1000, "{marked} of 20,000 points marked");
+    assert!(marked > 6000, "{marked} of 20,000 points marked");
     assert!(marked < counted, "{marked} marked, {counted} counted");
 }
 
@@ -86,7 +88,7 @@ fn a_grown_sphere_holds_a_point_within_its_travel_and_margin() {
 /// have been touched wherever a test of every pushing collider's capsule
 /// ([`Collider::watched`]) does, and otherwise only where its slot is full or the
 /// points spread past the allowance. Measured: 918 of 20,000 touched by the test of
-/// every collider, 1,233 more from full slots and the allowance (most of the points
+/// every collider, 1,170 more from full slots and the allowance (most of the points
 /// that travelled far). Planted faults: the
 /// watch's cubes grown by the margin alone, or the allowance not asked, each missed
 /// a touch; every slot taken as full gave 11,268 more, and the crowd spread over

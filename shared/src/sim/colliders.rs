@@ -4,7 +4,7 @@
 //! tests.
 
 use crate::sim::collide::{Collider, MAX_COLLIDERS};
-use crate::sim::grid::{ColliderGrid, GRID_CORNERS, GRID_SLOTS, Nearby, OCCUPANCY_WORDS};
+use crate::sim::grid::{ColliderGrid, GRID_CORNERS, GRID_SLOTS, Nearby, mark_collider};
 use crate::sim::watch::{WATCH_ALLOWANCE, WATCH_MARGIN, watch_on_host};
 use spirv_std::glam::UVec4;
 
@@ -44,14 +44,6 @@ pub fn fitted(colliders: &[Collider], reach: f32, most: u32) -> ColliderGrid {
     }
 }
 
-/// Sets collider `index`'s bit in the slot at `base` (the host's build; the GPU's
-/// sets the same bits with atomic ors).
-pub fn mark(words: &mut [u32], base: usize, index: usize) {
-    let w = index / 32;
-    words[base + w / 32] |= 1 << (w % 32);
-    words[base + OCCUPANCY_WORDS + w] |= 1 << (index % 32);
-}
-
 /// Colliders and their grid built on the host: the same slots the GPU builds.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ColliderSet {
@@ -75,7 +67,7 @@ impl ColliderSet {
             for corner in 0..GRID_CORNERS {
                 let (marks, cube) = grid.corner_cube(c, corner);
                 if marks {
-                    mark(words, grid.slot_base(cube), i);
+                    mark_collider(words, grid.slot_base(cube), i, |w, bit| *w |= bit);
                 }
                 watch_on_host(words, &grid, c, corner);
             }

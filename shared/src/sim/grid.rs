@@ -95,6 +95,19 @@ impl Default for ColliderGrid {
     }
 }
 
+/// Sets collider `index`'s bit in the slot at word `base`, and its word's bit of the
+/// slot's occupancy, through `or` (an atomic or on the GPU, `compute::grid`).
+pub fn mark_collider(
+    words: &mut [u32],
+    base: usize,
+    index: usize,
+    mut or: impl FnMut(&mut u32, u32),
+) {
+    let w = index / 32;
+    or(&mut words[base + w / 32], 1 << (w % 32));
+    or(&mut words[base + OCCUPANCY_WORDS + w], 1 << (index % 32));
+}
+
 /// The roots' height range of a grid that knows none: every height.
 pub const ROOTS_ANYWHERE: f32 = 1e30;
 
